@@ -1,0 +1,88 @@
+"""The Python API: bind, compile, solve, recover and certify in one call.
+
+>>> import lmidsl
+>>> sol = lmidsl.solve("wang_l2linf.thm3", example="paper-full")
+>>> sol.gamma, sol.recovered["Af"], sol.analysis.gamma
+"""
+from __future__ import annotations
+
+import time
+
+from .backends import get_backend
+from .certify import certify_by_analysis
+from .errors import InputError
+from .instance import Instance, bind
+from .recovery import recover
+from .registry import get_example, get_theorem
+from .solution import Solution
+from .theorem import Theorem
+
+
+def _theorem(theorem) -> Theorem:
+    return theorem if isinstance(theorem, Theorem) else get_theorem(theorem)
+
+
+def instance_inputs(theorem: Theorem, example: str | None = None, data: dict | None = None,
+                    overrides: dict | None = None) -> dict:
+    """Inputs from an example or a data dictionary, with single names overridden."""
+    if example is not None and data is not None:
+        raise InputError(f"{theorem.id}: give an example or a data file, not both")
+    if data is not None:
+        if not isinstance(data, dict):
+            raise InputError(f"{theorem.id}: the data must be a JSON object of names to values")
+        inputs = dict(data)
+    elif example is not None:
+        inputs = get_example(theorem, example).inputs()
+    else:
+        if not theorem.examples:
+            raise InputError(f"{theorem.id}: no example; give --data")
+        inputs = next(iter(theorem.examples.values())).inputs()
+    for name, value in (overrides or {}).items():
+        inputs[name] = value
+    return inputs
+
+
+def make_instance(theorem, example: str | None = None, data: dict | None = None,
+                  overrides: dict | None = None) -> Instance:
+    """Bind an example (or data) with overrides to a theorem."""
+    thm = _theorem(theorem)
+    if example is None and data is None and thm.examples:
+        example = next(iter(thm.examples))
+    return bind(thm, instance_inputs(thm, example, data, overrides), example=example)
+
+
+def solve_instance(instance: Instance, solver: str | None = None, backend: str = "cvxpy",
+                   margin: float | None = None, certify: bool = True, **options) -> Solution:
+    """Compile, solve, recover the filter and (optionally) certify it by analysis."""
+    model = get_backend(backend)(instance, margin=margin)
+    solution = model.solve(solver, **options)
+    finish_solution(solution, solver=solver, backend=backend, certify=certify)
+    return solution
+
+
+def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=True) -> Solution:
+    """Recovery and analysis certificate for a solved point (in place)."""
+    instance = solution.instance
+    solution.analysis = None
+    if solution.ok and instance.theorem.recovery:
+        t0 = time.perf_counter()
+        solution.recovered, solution.inverted = recover(instance, solution.values)
+        solution.times["recover"] = time.perf_counter() - t0
+        if certify and instance.theorem.analysis is not None:
+            t0 = time.perf_counter()
+            solution.analysis = certify_by_analysis(instance, solution.recovered, solution.gamma,
+                                                    solver=solver, backend=backend)
+            solution.times["analysis"] = time.perf_counter() - t0
+    return solution
+
+
+def solve(theorem, example: str | None = None, data: dict | None = None,
+          overrides: dict | None = None, solver: str | None = None, backend: str = "cvxpy",
+          margin: float | None = None, certify: bool = True, **options) -> Solution:
+    """Solve a theorem on an example or data; returns a :class:`Solution`."""
+    t0 = time.perf_counter()
+    instance = make_instance(theorem, example, data, overrides)
+    bind_time = time.perf_counter() - t0
+    solution = solve_instance(instance, solver, backend, margin, certify, **options)
+    solution.times = {"bind": bind_time, **solution.times}
+    return solution

@@ -1,0 +1,205 @@
+"""What every backend shares: the compiling walk, the parameter store, the solve bookkeeping.
+
+A backend subclasses :class:`CompiledModel` and fills in a handful of hooks (make a variable,
+a parameter, a block matrix, an LMI constraint, a problem; solve; read a value).  Everything
+else -- which sub-trees are constants (folded once with numpy), which scalar sub-expressions
+of parameters become one backend parameter each (so that changing r̄ re-solves without
+rebuilding, and products of parameters stay DPP-compliant), per-vertex instantiation,
+the strictness margin, and the backend-independent certificate -- lives here.
+
+Strictness policy: a strict LMI ``N ≺ 0`` is imposed as ``N ⪯ −ε I`` and ``X ≻ 0`` as
+``X ⪰ ε I`` with ``ε = margin`` (default :data:`DEFAULT_MARGIN`), an absolute number applied
+after any exact rescaling of the data; non-strict LMIs get ε = 0.  Whatever the solver says,
+the reported certificate is the largest eigenvalue of each N at the returned point.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import sympy as sp
+
+from ..instance import Instance
+from ..numeric import NumericEvaluator
+from ..solution import Solution, evaluate_performance, lmi_certificate
+from ..symbols import DECISION_TYPES, DerivedParam, Param, ScalarVariable, expand_derived
+from ..walker import ExpressionWalker
+
+DEFAULT_MARGIN = 1e-7
+
+
+def _classify(expr) -> tuple[bool, bool]:
+    """(contains a decision variable, contains a parameter)."""
+    atoms = expr.atoms(sp.Symbol, sp.MatrixSymbol)
+    return (any(isinstance(a, DECISION_TYPES) for a in atoms),
+            any(isinstance(a, (Param, DerivedParam)) for a in atoms))
+
+
+class BackendCompiler(ExpressionWalker):
+    """The compiling walk: constants folded with numpy, parameters and variables from the model."""
+
+    def __init__(self, model: "CompiledModel", vertex: int | None):
+        super().__init__(model.instance.dims, vertex)
+        self.model = model
+        self.constants = NumericEvaluator(model.instance.dims, model.instance.data, {}, vertex)
+
+    def _dispatch(self, expr):
+        has_decision, has_param = _classify(expr)
+        if not has_decision:
+            if not has_param:
+                return self.constants.visit(expr)
+            if not isinstance(expr, sp.MatrixExpr):
+                return self.model.parameter_for(expr)
+        return super()._dispatch(expr)
+
+    def data(self, symbol):
+        return self.constants.data(symbol)
+
+    def variable(self, symbol):
+        return self.model.variable_for(symbol, self.vertex)
+
+    scalar_variable = variable
+
+    def parameter(self, symbol):
+        return self.model.parameter_for(symbol)
+
+    def identity(self, n):
+        return np.eye(n)
+
+    def block(self, rows):
+        return self.model.assemble(rows)
+
+
+class CompiledModel:
+    """A bound theorem compiled once for one backend; parameters can be changed and re-solved."""
+
+    backend = "abstract"
+    compiler_class = BackendCompiler
+
+    def __init__(self, instance: Instance, margin: float | None = None):
+        t0 = time.perf_counter()
+        self.instance = instance
+        self.margin = DEFAULT_MARGIN if margin is None else float(margin)
+        self._variables: dict = {}
+        self._parameters: dict = {}
+        self.constraints: list = []
+        theorem = instance.theorem
+        for lmi in theorem.lmis:
+            vertices = range(instance.nvertices) if lmi.per_vertex else [None]
+            negative = lmi.negative_form()
+            for v in vertices:
+                compiler = self.compiler_class(self, v)
+                lower = [[compiler.visit(b) for b in row] for row in negative.lower]
+                rows = [[lower[i][j] if j <= i else compiler.transpose(lower[j][i])
+                         for j in range(negative.nblocks)] for i in range(negative.nblocks)]
+                size = sum(compiler.size(s) for s in negative.sizes)
+                eps = self.margin if lmi.strict else 0.0
+                self.constraints.append(((lmi.label, v), self.lmi_constraint(self.assemble(rows), size, eps)))
+        objective = None
+        if theorem.objective is not None:
+            objective = self.compiler_class(self, None).visit(theorem.objective)
+        self.problem = self.make_problem(objective, [c for _, c in self.constraints])
+        self.compile_time = time.perf_counter() - t0
+
+    # -- shared bookkeeping -------------------------------------------------------------
+    def variable_for(self, symbol, vertex):
+        per_vertex = getattr(symbol, "per_vertex", False)
+        key = (symbol.name, vertex if per_vertex else None)
+        if key not in self._variables:
+            if isinstance(symbol, ScalarVariable):
+                decl = self.instance.theorem.var_decl[symbol.name]
+                self._variables[key] = self.new_scalar(symbol.name, decl.extra.get("nonneg", False))
+            else:
+                shape = tuple(int(sp.sympify(d).xreplace(self.instance.dims)) for d in symbol.shape)
+                label = symbol.name if key[1] is None else f"{symbol.name}_{key[1] + 1}"
+                self._variables[key] = self.new_variable(label, shape, symbol.kind)
+        return self._variables[key]
+
+    def _parameter_value(self, expr) -> float:
+        params = self.instance.params
+        if isinstance(expr, (Param, DerivedParam)):
+            return float(params[expr.name])
+        subs = {s: params[s.name] for s in expand_derived(expr).free_symbols if isinstance(s, Param)}
+        return float(expand_derived(expr).xreplace(subs))
+
+    def parameter_for(self, expr):
+        """One backend parameter per distinct scalar expression of parameters."""
+        if expr not in self._parameters:
+            self._parameters[expr] = self.new_parameter(str(expr), self._parameter_value(expr))
+        return self._parameters[expr]
+
+    def update(self, instance: Instance) -> None:
+        """Take new parameter values (same data and dimensions) without recompiling."""
+        self.instance = instance
+        for expr, p in self._parameters.items():
+            self.set_parameter(p, self._parameter_value(expr))
+
+    def values(self) -> dict:
+        """Solved values of every declared decision variable (per-vertex ones as lists)."""
+        out = {}
+        for name, decl in self.instance.theorem.var_decl.items():
+            symbol = decl.symbol
+            if symbol.kind == "structured":
+                continue
+            if getattr(symbol, "per_vertex", False):
+                keys = [(name, v) for v in range(self.instance.nvertices)]
+                if all(k in self._variables for k in keys):
+                    out[name] = [self.value_of(self._variables[k]) for k in keys]
+            elif (name, None) in self._variables:
+                out[name] = self.value_of(self._variables[(name, None)])
+        return out
+
+    def solve(self, solver: str | None = None, **options) -> Solution:
+        """Solve, then evaluate the certificate at the returned point with numpy."""
+        instance = self.instance
+        t0 = time.perf_counter()
+        status, objective, message, solver_time = self.run_solver(solver, **options)
+        wall = time.perf_counter() - t0
+        solution = Solution(instance.theorem.id, instance.example, self.backend,
+                            self.solver_name(solver), status, objective, margin=self.margin,
+                            message=message, params=dict(instance.params), instance=instance)
+        solution.times = {"compile": self.compile_time, "solve": wall}
+        if solver_time is not None:
+            solution.times["solver"] = solver_time
+        if status in ("optimal", "optimal_inaccurate"):
+            t1 = time.perf_counter()
+            values = self.values()
+            solution.values = values
+            point = dict(instance.data)
+            point.update(values)
+            solution.lmis = lmi_certificate(instance, point)
+            solution.gamma = evaluate_performance(instance, point)
+            solution.times["certificate"] = time.perf_counter() - t1
+        return solution
+
+    # -- backend hooks ------------------------------------------------------------------
+    def new_variable(self, name: str, shape: tuple, kind: str):
+        raise NotImplementedError
+
+    def new_scalar(self, name: str, nonneg: bool):
+        raise NotImplementedError
+
+    def new_parameter(self, name: str, value: float):
+        raise NotImplementedError
+
+    def set_parameter(self, parameter, value: float) -> None:
+        raise NotImplementedError
+
+    def assemble(self, rows):
+        raise NotImplementedError
+
+    def lmi_constraint(self, N, size: int, eps: float):
+        raise NotImplementedError
+
+    def make_problem(self, objective, constraints):
+        raise NotImplementedError
+
+    def run_solver(self, solver, **options):
+        """Return (status, objective value, message, solver time or None)."""
+        raise NotImplementedError
+
+    def solver_name(self, solver) -> str:
+        raise NotImplementedError
+
+    def value_of(self, variable):
+        raise NotImplementedError

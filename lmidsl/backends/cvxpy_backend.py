@@ -1,0 +1,104 @@
+"""The cvxpy backend: a bound theorem as a ``cvxpy.Problem`` with parameters kept as Parameters.
+
+Node mapping (the rest is in :mod:`lmidsl.backends.base`): a block matrix is ``cp.bmat``, an
+LMI ``N ⪯ −εI`` is ``N << -ε I``, variables are ``cp.Variable`` with ``symmetric=True`` or
+``diag=True`` as declared, scalar parameter expressions are ``cp.Parameter``.  The problem is
+DPP-compliant, so changing parameters and re-solving reuses cvxpy's compiled form.
+"""
+from __future__ import annotations
+
+import cvxpy as cp
+import numpy as np
+
+from ..errors import SolverUnavailableError
+from .base import CompiledModel
+
+DEFAULT_SOLVER = "CLARABEL"
+
+_STATUS = {
+    cp.OPTIMAL: "optimal",
+    cp.OPTIMAL_INACCURATE: "optimal_inaccurate",
+    cp.INFEASIBLE: "infeasible",
+    cp.INFEASIBLE_INACCURATE: "infeasible_inaccurate",
+    cp.UNBOUNDED: "unbounded",
+    cp.UNBOUNDED_INACCURATE: "unbounded_inaccurate",
+}
+
+
+def sdp_solvers() -> list[str]:
+    """Installed cvxpy solvers that accept semidefinite constraints."""
+    from cvxpy.reductions.solvers.defines import INSTALLED_CONIC_SOLVERS, SOLVER_MAP_CONIC
+    out = []
+    for name in INSTALLED_CONIC_SOLVERS:
+        cones = {c.__name__ for c in getattr(SOLVER_MAP_CONIC.get(name), "SUPPORTED_CONSTRAINTS", [])}
+        if cones & {"PSD", "SvecPSD"}:
+            out.append(name)
+    return out
+
+
+def resolve_solver(name: str | None) -> str:
+    """The cvxpy name of an installed SDP solver (case-insensitive), or a clear error."""
+    if name is None:
+        name = DEFAULT_SOLVER
+    available = sdp_solvers()
+    for candidate in available:
+        if candidate.lower() == name.lower():
+            return candidate
+    installed = [s for s in cp.installed_solvers() if s.lower() == name.lower()]
+    if installed:
+        raise SolverUnavailableError(
+            f"solver {name!r} is installed but cannot solve SDPs; cvxpy SDP solvers here: {', '.join(available)}")
+    raise SolverUnavailableError(
+        f"unknown solver {name!r} for backend cvxpy; installed SDP solvers: {', '.join(available)}")
+
+
+class CvxpyModel(CompiledModel):
+    backend = "cvxpy"
+
+    def new_variable(self, name, shape, kind):
+        if kind == "symmetric":
+            return cp.Variable(shape, name=name, symmetric=True)
+        if kind == "diagonal":
+            return cp.Variable(shape, name=name, diag=True)
+        return cp.Variable(shape, name=name)
+
+    def new_scalar(self, name, nonneg):
+        return cp.Variable(name=name, nonneg=nonneg)
+
+    def new_parameter(self, name, value):
+        return cp.Parameter(name=name, value=value)
+
+    def set_parameter(self, parameter, value):
+        parameter.value = value
+
+    def assemble(self, rows):
+        return cp.bmat(rows)
+
+    def lmi_constraint(self, N, size, eps):
+        return N << (-eps * np.eye(size) if eps else np.zeros((size, size)))
+
+    def make_problem(self, objective, constraints):
+        return cp.Problem(cp.Minimize(objective if objective is not None else 0), constraints)
+
+    def solver_name(self, solver):
+        return resolve_solver(solver)
+
+    def run_solver(self, solver, **options):
+        name = resolve_solver(solver)
+        try:
+            self.problem.solve(solver=name, **options)
+        except cp.error.SolverError as exc:
+            return "solver_error", None, str(exc).splitlines()[0] if str(exc) else "solver failed", None
+        status = _STATUS.get(self.problem.status, str(self.problem.status))
+        stats = self.problem.solver_stats
+        value = self.problem.value
+        objective = float(value) if value is not None and np.isfinite(value) else None
+        return status, objective, "", getattr(stats, "solve_time", None)
+
+    def value_of(self, variable):
+        value = variable.value
+        if value is None:
+            return None
+        if hasattr(value, "toarray"):
+            value = value.toarray()
+        return np.asarray(value, dtype=float) if np.ndim(value) else float(value)

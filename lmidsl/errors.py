@@ -1,0 +1,35 @@
+"""Errors that reach the user as one line.
+
+Every error lmidsl raises on purpose derives from :class:`LmidslError`.  Its message is a
+single line that names the theorem, the LMI and the block (i, j) or the argument at fault;
+the command line prints it as ``error: <message>`` and exits with code 2.
+"""
+
+
+class LmidslError(Exception):
+    """A user-facing error whose message is one line."""
+
+    exit_code = 2
+
+    def __init__(self, message: str):
+        super().__init__(" ".join(str(message).split()))
+
+
+class TheoremDefinitionError(LmidslError):
+    """A theorem file states something that is not a well-formed LMI problem."""
+
+
+class ShapeMismatchError(LmidslError):
+    """Data or blocks whose shapes do not conform."""
+
+
+class NonlinearityError(TheoremDefinitionError):
+    """An LMI block that is not affine in the decision variables."""
+
+
+class InputError(LmidslError):
+    """Bad user input: unknown names, bad values, malformed files."""
+
+
+class SolverUnavailableError(LmidslError):
+    """The requested backend or solver is not installed or not supported."""

@@ -1,0 +1,112 @@
+"""The result of a solve, and the backend-independent certificate.
+
+After any backend returns a point, every LMI is re-evaluated with numpy at that point
+(:func:`lmi_certificate`): its largest eigenvalue in the form ``N ≺ 0`` is the number a user
+trusts, whatever status the solver printed.  A point certifies the strict LMIs when every such
+eigenvalue is negative.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .instance import Instance
+from .numeric import NumericEvaluator, evaluate_block_matrix, max_eigenvalue
+
+
+@dataclass
+class LMIReport:
+    label: str
+    max_eig: float
+    size: int
+    vertex: int | None = None
+
+    def as_dict(self) -> dict:
+        d = {"label": self.label, "max_eig": self.max_eig, "size": self.size}
+        if self.vertex is not None:
+            d["vertex"] = self.vertex
+        return d
+
+
+@dataclass
+class Solution:
+    """What a solve returns: status, objective, γ, per-LMI eigenvalues, values, recovery."""
+
+    theorem: str
+    example: str | None
+    backend: str
+    solver: str
+    status: str
+    objective: float | None = None
+    gamma: float | None = None
+    lmis: list[LMIReport] = field(default_factory=list)
+    values: dict = field(default_factory=dict)
+    recovered: dict = field(default_factory=dict)
+    inverted: list = field(default_factory=list)
+    times: dict = field(default_factory=dict)
+    margin: float = 0.0
+    message: str = ""
+    params: dict = field(default_factory=dict)
+    instance: Instance | None = None
+
+    @property
+    def ok(self) -> bool:
+        return self.status in ("optimal", "optimal_inaccurate")
+
+    @property
+    def certified(self) -> bool:
+        """True when the returned point satisfies every strict LMI (all max_eig < 0)."""
+        return bool(self.lmis) and all(r.max_eig < 0 for r in self.lmis)
+
+    @property
+    def worst_eig(self) -> float | None:
+        return max((r.max_eig for r in self.lmis), default=None)
+
+    def as_dict(self) -> dict:
+        def listify(v):
+            if isinstance(v, list):
+                return [listify(x) for x in v]
+            return np.asarray(v).tolist()
+
+        return {
+            "theorem": self.theorem,
+            "example": self.example,
+            "backend": self.backend,
+            "solver": self.solver,
+            "status": self.status,
+            "message": self.message,
+            "objective": self.objective,
+            "gamma": self.gamma,
+            "params": self.params,
+            "margin": self.margin,
+            "certified": self.certified,
+            "lmis": [r.as_dict() for r in self.lmis],
+            "recovered": {k: listify(v) for k, v in self.recovered.items()},
+            "inverted": self.inverted,
+            "values": {k: listify(v) for k, v in self.values.items()},
+            "times": self.times,
+        }
+
+
+def lmi_certificate(instance: Instance, values: dict) -> list[LMIReport]:
+    """Largest eigenvalue of every LMI (form N ≺ 0) at the given point, evaluated in numpy."""
+    reports = []
+    for lmi in instance.theorem.lmis:
+        vertices = range(instance.nvertices) if lmi.per_vertex else [None]
+        negative = lmi.negative_form()
+        for v in vertices:
+            ev = NumericEvaluator(instance.dims, values, instance.params, vertex=v)
+            M = evaluate_block_matrix(ev, negative)
+            reports.append(LMIReport(lmi.label, max_eigenvalue(M), M.shape[0],
+                                     None if v is None else v + 1))
+    return reports
+
+
+def evaluate_performance(instance: Instance, values: dict):
+    """The theorem's performance figure (e.g. γ = √g) at a point, or None."""
+    perf = instance.theorem.performance
+    if perf is None:
+        return None
+    ev = NumericEvaluator(instance.dims, values, instance.params)
+    return float(ev.visit(perf[1]))

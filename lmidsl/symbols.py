@@ -1,0 +1,185 @@
+"""Sympy symbols for the objects a theorem talks about.
+
+* :class:`Dim` - a dimension (``n``, ``k``), a positive integer symbol fixed when data are bound.
+* :class:`DataMatrix` - given data (``A``, ``B``); its shape is checked against the data at bind time.
+* :class:`Variable` - a full decision matrix; :class:`SymmetricVariable` is its own transpose
+  (``P.T is P``); :class:`DiagonalVariable` is symmetric with zero off-diagonal entries.
+* :class:`StructuredVariable` - a named matrix built from other variables
+  (``Λ = [[X, Z], [Z, Z]]``); it compiles to its expansion and prints as its name.
+* :class:`ScalarVariable` - a scalar decision variable (``g = γ²``, a multiplier ``ε``).
+* :class:`Param` - a scalar parameter fixed at bind time and swept without recompiling (``r̄``).
+* :class:`DerivedParam` - a named scalar defined by an expression of parameters
+  (``a = (1 − r̄) r̄``); LMIs use the name, the value follows from the definition.
+
+Every symbol carries a LaTeX name (``latex``) and a one-line description; the theorem keeps the
+declarations, the symbols are what LMIs are written with.
+"""
+from __future__ import annotations
+
+import sympy as sp
+from sympy import MatrixSymbol
+from sympy.core.symbol import Str
+
+
+class Dim(sp.Symbol):
+    """A dimension: a positive integer symbol."""
+
+    def __new__(cls, name: str, **kwargs):
+        return super().__new__(cls, name, integer=True, positive=True)
+
+
+_METADATA: dict = {}
+
+
+def _meta_property(key: str, default=None):
+    """A symbol attribute stored in the module's metadata table under (tag, name)."""
+
+    def getter(self):
+        return _METADATA.get((self.tag, self.name), {}).get(key, default)
+
+    def setter(self, value):
+        _METADATA.setdefault((self.tag, self.name), {})[key] = value
+
+    return property(getter, setter)
+
+
+class _Described:
+    """Mixin for symbols declared by a theorem: a theorem tag plus metadata.
+
+    Sympy caches results by structural equality and rebuilds expressions from their ``args``,
+    so Python attributes set on a symbol do not survive, and a plain ``Symbol("a")`` is one
+    object shared by every theorem.  The ``tag`` (the theorem id) is therefore part of the
+    symbol's identity (``args`` for matrices, hashable content for scalars), and the metadata
+    (LaTeX name, description, per-vertex flag, definitions) lives in a table keyed by
+    (tag, name): two theorems may both declare ``a`` with different definitions.
+    """
+
+    latex_name = _meta_property("latex_name")
+    description = _meta_property("description", "")
+    per_vertex = _meta_property("per_vertex", False)
+
+
+class _TaggedMatrix(_Described, MatrixSymbol):
+    """A MatrixSymbol with a fourth argument, the tag of the declaring theorem."""
+
+    def __new__(cls, name, rows, cols, tag=""):
+        rows, cols = sp.sympify(rows), sp.sympify(cols)
+        cls._check_dim(rows)
+        cls._check_dim(cols)
+        return sp.Basic.__new__(cls, Str(str(name)), rows, cols, Str(str(tag)))
+
+    @property
+    def tag(self) -> str:
+        return self.args[3].name if len(self.args) > 3 else ""
+
+
+class _TaggedScalar(_Described, sp.Symbol):
+    """A real Symbol outside sympy's symbol cache, carrying the tag of the declaring theorem."""
+
+    def __new__(cls, name: str, tag: str = ""):
+        obj = sp.Symbol.__xnew__(cls, name, real=True)
+        obj._tag = tag
+        return obj
+
+    @property
+    def tag(self) -> str:
+        return getattr(self, "_tag", "")
+
+    def _hashable_content(self):
+        return super()._hashable_content() + (self.tag,)
+
+    def __getnewargs_ex__(self):
+        return (self.name, self.tag), {}
+
+
+class DataMatrix(_TaggedMatrix):
+    """A given matrix of the theorem (plant data, a fixed filter, a selector such as ``E``)."""
+
+
+class SymmetricDataMatrix(DataMatrix):
+    """Given data known to be symmetric (checked at bind time); its transpose is itself."""
+
+    is_symmetric = True
+
+    def _eval_transpose(self):
+        return self
+
+
+class Variable(_TaggedMatrix):
+    """A full (unstructured) decision matrix."""
+
+    kind = "full"
+
+
+class SymmetricVariable(Variable):
+    """A symmetric decision matrix: ``P.T`` is ``P``."""
+
+    kind = "symmetric"
+    is_symmetric = True
+
+    def _eval_transpose(self):
+        return self
+
+
+class DiagonalVariable(SymmetricVariable):
+    """A diagonal decision matrix."""
+
+    kind = "diagonal"
+
+
+class StructuredVariable(_TaggedMatrix):
+    """A named matrix whose entries are other decision variables (``expansion``)."""
+
+    kind = "structured"
+    expansion = _meta_property("expansion")
+    symmetric = _meta_property("symmetric", False)
+
+    def _eval_transpose(self):
+        if self.symmetric:
+            return self
+        return sp.Transpose(self)
+
+
+class ScalarVariable(_TaggedScalar):
+    """A scalar decision variable."""
+
+    kind = "scalar"
+
+
+class Param(_TaggedScalar):
+    """A scalar parameter: fixed per solve, may be swept without recompiling."""
+
+
+class DerivedParam(_TaggedScalar):
+    """A named scalar defined from parameters; ``definition`` is a sympy expression."""
+
+    definition = _meta_property("definition")
+
+
+MATRIX_VARIABLE_TYPES = (Variable, StructuredVariable)
+DECISION_TYPES = (Variable, StructuredVariable, ScalarVariable)
+
+
+def is_decision(symbol) -> bool:
+    """True for decision variables (matrix or scalar)."""
+    return isinstance(symbol, DECISION_TYPES)
+
+
+def scalar_parameters(expr: sp.Basic) -> set:
+    """The :class:`Param` symbols an expression depends on, through derived parameters too."""
+    found = set()
+    for s in expr.free_symbols:
+        if isinstance(s, DerivedParam):
+            found |= scalar_parameters(s.definition)
+        elif isinstance(s, Param):
+            found.add(s)
+    return found
+
+
+def expand_derived(expr: sp.Expr) -> sp.Expr:
+    """Replace every derived parameter by its definition (recursively)."""
+    derived = [s for s in expr.free_symbols if isinstance(s, DerivedParam)]
+    while derived:
+        expr = expr.xreplace({d: d.definition for d in derived})
+        derived = [s for s in expr.free_symbols if isinstance(s, DerivedParam)]
+    return expr

@@ -1,0 +1,299 @@
+"""The Theorem object: one paper theorem, stated once, in the paper's notation.
+
+A theorem file creates a :class:`Theorem`, declares dimensions, data, decision variables and
+scalar parameters, writes each LMI as a block triangle with the paper's label, states the
+objective, the recovery formulas and (optionally) the analysis theorem that certifies the
+recovered filter, and lists named examples with the values the paper prints.
+
+Every LMI is checked when it is declared: each block's products and sums must conform
+(symbolic dimensions, see :mod:`lmidsl.shapes`) and each block must be affine in the decision
+variables (:mod:`lmidsl.linearity`).  Errors name the theorem, the LMI label and the block.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import sympy as sp
+
+from .blocks import BlockMatrixSpec, block_matrix
+from .errors import LmidslError, ShapeMismatchError, TheoremDefinitionError
+from .linearity import check_affine
+from .shapes import check_conformance
+from .symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, ScalarVariable,
+                      StructuredVariable, SymmetricDataMatrix, SymmetricVariable, Variable)
+
+
+@dataclass(frozen=True)
+class Source:
+    """Where a theorem comes from: the paper file and its equation numbers."""
+
+    paper: str
+    equations: str
+    citation: str = ""
+
+    def __str__(self):
+        text = f"{self.paper} {self.equations}"
+        return f"{self.citation}, {text}" if self.citation else text
+
+
+@dataclass
+class LMI:
+    """A labelled block LMI ``M < 0`` (or ``M > 0``) as the paper writes it."""
+
+    label: str
+    spec: BlockMatrixSpec
+    sense: str = "<"
+    strict: bool = True
+    description: str = ""
+    per_vertex: bool = False
+
+    def negative_form(self) -> BlockMatrixSpec:
+        """The matrix N with the LMI stated as N ≺ 0 (N = M for '<', N = −M for '>')."""
+        if self.sense in ("<", "<="):
+            return self.spec
+        lower = [[-b for b in row] for row in self.spec.lower]
+        return BlockMatrixSpec(lower, self.spec.sizes, self.spec.given_as)
+
+    def symbols(self) -> set:
+        atoms = set()
+        for row in self.spec.lower:
+            for b in row:
+                atoms |= b.atoms(sp.Symbol, sp.MatrixSymbol)
+        return atoms
+
+
+@dataclass
+class Example:
+    """A named numerical instance with the values the paper prints.
+
+    ``data`` maps data names to matrices (nested lists) and dimension names to integers;
+    ``vertices`` lists per-vertex data for polytopic theorems; ``params`` the scalar parameters;
+    ``printed`` the paper's printed results (``gamma`` and matrices), with ``printed_note``
+    saying where they are printed.
+    """
+
+    name: str
+    data: dict
+    params: dict = field(default_factory=dict)
+    printed: dict = field(default_factory=dict)
+    vertices: list | None = None
+    description: str = ""
+    printed_note: str = ""
+
+    def inputs(self) -> dict:
+        merged = dict(self.data)
+        merged.update(self.params)
+        if self.vertices is not None:
+            merged["vertices"] = self.vertices
+        return merged
+
+
+@dataclass
+class AnalysisLink:
+    """The analysis theorem that certifies a recovered filter.
+
+    The analysis instance takes every datum and parameter of the synthesis instance whose name
+    it declares, plus the recovered matrices (``filter`` names).
+    """
+
+    theorem: str
+    filter: tuple
+    gamma_tolerance: float = 1e-3
+
+
+@dataclass
+class Declaration:
+    symbol: Any
+    latex: str
+    description: str
+    extra: dict = field(default_factory=dict)
+
+
+class Theorem:
+    """A theorem: declarations, LMIs, objective, recovery, analysis counterpart, examples."""
+
+    def __init__(self, id: str, title: str, source: Source, *, description: str = "",
+                 time: str = "discrete"):
+        self.id = id
+        self.title = title
+        self.source = source
+        self.description = description
+        self.time = time
+        self.dims: dict[str, Dim] = {}
+        self.data_decl: dict[str, Declaration] = {}
+        self.var_decl: dict[str, Declaration] = {}
+        self.param_decl: dict[str, Declaration] = {}
+        self.derived_decl: dict[str, Declaration] = {}
+        self.lmis: list[LMI] = []
+        self.objective: sp.Expr | None = None
+        self.performance: tuple[str, sp.Expr] | None = None
+        self.recovery: dict[str, sp.MatrixExpr] = {}
+        self.analysis: AnalysisLink | None = None
+        self.examples: dict[str, Example] = {}
+
+    # -- declarations -------------------------------------------------------------------
+    def _check_new(self, name: str):
+        taken = (self.dims.keys() | self.data_decl.keys() | self.var_decl.keys()
+                 | self.param_decl.keys() | self.derived_decl.keys())
+        if name in taken:
+            raise TheoremDefinitionError(f"{self.id}: the name {name!r} is declared twice")
+
+    def dim(self, names: str) -> Dim | tuple[Dim, ...]:
+        """Declare dimensions: ``n, k = thm.dim("n k")``."""
+        made = []
+        for name in names.split():
+            self._check_new(name)
+            self.dims[name] = Dim(name)
+            made.append(self.dims[name])
+        return made[0] if len(made) == 1 else tuple(made)
+
+    @staticmethod
+    def _describe(symbol, latex, description):
+        symbol.latex_name = latex or symbol.name
+        symbol.description = description
+        return symbol
+
+    def data(self, name: str, rows, cols, *, latex: str | None = None, description: str = "",
+             symmetric: bool = False, per_vertex: bool = False) -> DataMatrix:
+        """Declare a given matrix of shape rows × cols (dimension symbols or integers)."""
+        self._check_new(name)
+        cls = SymmetricDataMatrix if symmetric else DataMatrix
+        symbol = self._describe(cls(name, rows, cols, self.id), latex, description)
+        symbol.per_vertex = per_vertex
+        self.data_decl[name] = Declaration(symbol, symbol.latex_name, description)
+        return symbol
+
+    def var(self, name: str, rows, cols=None, *, kind: str = "full", latex: str | None = None,
+            description: str = "", per_vertex: bool = False):
+        """Declare a decision matrix; ``kind`` is 'full', 'symmetric' or 'diagonal'."""
+        self._check_new(name)
+        classes = {"full": Variable, "symmetric": SymmetricVariable, "diagonal": DiagonalVariable}
+        if kind not in classes:
+            raise TheoremDefinitionError(f"{self.id}: variable {name}: unknown kind {kind!r}")
+        cols = rows if cols is None else cols
+        if kind != "full" and sp.expand(sp.sympify(rows) - sp.sympify(cols)) != 0:
+            raise TheoremDefinitionError(f"{self.id}: {kind} variable {name} must be square")
+        symbol = self._describe(classes[kind](name, rows, cols, self.id), latex,
+                                 description)
+        symbol.per_vertex = per_vertex
+        self.var_decl[name] = Declaration(symbol, symbol.latex_name, description)
+        return symbol
+
+    def scalar(self, name: str, *, latex: str | None = None, description: str = "",
+               nonneg: bool = False) -> ScalarVariable:
+        """Declare a scalar decision variable (e.g. g = γ², a multiplier ε)."""
+        self._check_new(name)
+        symbol = self._describe(ScalarVariable(name, self.id), latex, description)
+        self.var_decl[name] = Declaration(symbol, symbol.latex_name, description, {"nonneg": nonneg})
+        return symbol
+
+    def structured(self, name: str, rows, *, latex: str | None = None, description: str = "",
+                   symmetric: bool = False) -> StructuredVariable:
+        """Declare a named matrix assembled from other variables, e.g. Λ = [[X, Z], [Z, Z]]."""
+        self._check_new(name)
+        expansion = sp.BlockMatrix(rows)
+        shape = check_conformance(expansion)
+        symbol = self._describe(StructuredVariable(name, *shape, self.id), latex,
+                                 description)
+        symbol.expansion = expansion
+        symbol.symmetric = symmetric
+        symbol.per_vertex = any(getattr(a, "per_vertex", False) for a in expansion.atoms(sp.MatrixSymbol))
+        self.var_decl[name] = Declaration(symbol, symbol.latex_name, description)
+        return symbol
+
+    def param(self, name: str, *, latex: str | None = None, description: str = "",
+              domain: tuple[float, float] | None = None, default: float | None = None) -> Param:
+        """Declare a scalar parameter; ``domain`` = (low, high) is checked at bind time."""
+        self._check_new(name)
+        symbol = self._describe(Param(name, self.id), latex, description)
+        self.param_decl[name] = Declaration(symbol, symbol.latex_name, description,
+                                            {"domain": domain, "default": default})
+        return symbol
+
+    def derived(self, name: str, definition, *, latex: str | None = None,
+                description: str = "") -> DerivedParam:
+        """Declare a named scalar defined from parameters, e.g. a = (1 − r̄) r̄."""
+        self._check_new(name)
+        symbol = self._describe(DerivedParam(name, self.id), latex, description)
+        symbol.definition = sp.sympify(definition)
+        self.derived_decl[name] = Declaration(symbol, symbol.latex_name, description)
+        return symbol
+
+    # -- conditions ---------------------------------------------------------------------
+    def lmi(self, label: str, rows, *, sense: str = "<", triangle: str = "lower", sizes=None,
+            strict: bool = True, description: str = "") -> LMI:
+        """Declare the block LMI ``label``: one triangle of blocks, ``sense`` '<' or '>'."""
+        if sense not in ("<", ">", "<=", ">="):
+            raise TheoremDefinitionError(f"{self.id}: LMI {label}: sense must be '<' or '>'")
+        if any(l.label == label for l in self.lmis):
+            raise TheoremDefinitionError(f"{self.id}: LMI label {label} is used twice")
+        where = f"{self.id}: LMI {label}"
+        spec = block_matrix(rows, triangle=triangle, sizes=sizes, where=where)
+        for i, row in enumerate(spec.lower):
+            for j, blk in enumerate(row):
+                try:
+                    check_conformance(blk)
+                    check_affine(blk)
+                except LmidslError as exc:
+                    raise type(exc)(f"{where} block ({i + 1},{j + 1}): {exc}") from None
+        lmi = LMI(label, spec, sense, strict and sense in ("<", ">"), description)
+        lmi.per_vertex = any(getattr(s, "per_vertex", False) for s in lmi.symbols())
+        self.lmis.append(lmi)
+        return lmi
+
+    def positive(self, *variables, label: str | None = None) -> list[LMI]:
+        """Declare ``X > 0`` for each variable (labelled 'X > 0' unless ``label`` is given)."""
+        return [self.lmi(label or f"{v.name} > 0", [[v]], sense=">") for v in variables]
+
+    def minimize(self, objective, *, performance: tuple[str, Any] | None = None):
+        """Minimise a linear scalar objective; ``performance`` = (name, expr) e.g. ('gamma', √g)."""
+        self.objective = sp.sympify(objective)
+        if performance is not None:
+            self.performance = (performance[0], sp.sympify(performance[1]))
+
+    def recover(self, **formulas):
+        """Recovery formulas, e.g. ``Af=V2.I * Af_hat``: evaluated after the solve, in order."""
+        for name, expr in formulas.items():
+            try:
+                check_conformance(expr)
+            except ShapeMismatchError as exc:
+                raise ShapeMismatchError(f"{self.id}: recovery of {name}: {exc}") from None
+            self.recovery[name] = expr
+
+    def certified_by(self, theorem: str, filter: tuple, gamma_tolerance: float = 1e-3):
+        """Name the analysis theorem that certifies the recovered ``filter`` matrices."""
+        self.analysis = AnalysisLink(theorem, tuple(filter), gamma_tolerance)
+
+    def example(self, name: str, data: dict, *, params: dict | None = None,
+                printed: dict | None = None, vertices: list | None = None,
+                description: str = "", printed_note: str = "") -> Example:
+        """Attach a named example with the values the paper prints."""
+        ex = Example(name, data, params or {}, printed or {}, vertices, description, printed_note)
+        self.examples[name] = ex
+        return ex
+
+    # -- queries ------------------------------------------------------------------------
+    @property
+    def variables(self) -> list:
+        return [d.symbol for d in self.var_decl.values()]
+
+    @property
+    def per_vertex_names(self) -> set:
+        return {n for n, d in self.data_decl.items() if d.symbol.per_vertex}
+
+    def first_use(self, symbol) -> str:
+        """'LMI (30) block (4,3) V1.T*B' for the first block that mentions ``symbol``."""
+        for lmi in self.lmis:
+            for i, row in enumerate(lmi.spec.lower):
+                for j, blk in enumerate(row):
+                    if symbol in blk.atoms(sp.MatrixSymbol, sp.Symbol):
+                        return f"LMI {lmi.label} block ({i + 1},{j + 1}) {blk}"
+        for name, expr in self.recovery.items():
+            if symbol in expr.atoms(sp.MatrixSymbol):
+                return f"the recovery of {name}"
+        return "no LMI"
+
+    def summary(self) -> dict:
+        return {"id": self.id, "title": self.title, "source": str(self.source),
+                "examples": list(self.examples)}

@@ -1,0 +1,168 @@
+"""One walk over a matrix expression tree, one method per node type.
+
+This is the pattern of sympy's printers: ``visit`` looks up ``_visit_<ClassName>`` along the
+class's MRO.  The walk is generic; a subclass supplies the leaves (what a data matrix, a
+variable or a parameter becomes) and the few operations its target spells differently
+(block assembly, identity, zeros, inverse).  The numpy evaluator, the cvxpy compiler and the
+PICOS compiler are subclasses.  No expression is ever expanded into scalar entries.
+"""
+from __future__ import annotations
+
+from functools import reduce
+
+import numpy as np
+import sympy as sp
+
+from .symbols import (DataMatrix, DerivedParam, Param, ScalarVariable, StructuredVariable,
+                      Variable)
+
+
+class ExpressionWalker:
+    """Evaluate a sympy matrix/scalar expression into some algebra (numpy, cvxpy, picos)."""
+
+    def __init__(self, dims: dict, vertex: int | None = None):
+        self.dims = dims
+        self.vertex = vertex
+        self._cache: dict = {}
+
+    # -- entry point -----------------------------------------------------------------
+    def visit(self, expr):
+        key = (expr, self.vertex)
+        if key in self._cache:
+            return self._cache[key]
+        result = self._dispatch(expr)
+        self._cache[key] = result
+        return result
+
+    def _dispatch(self, expr):
+        for cls in type(expr).__mro__:
+            method = getattr(self, f"_visit_{cls.__name__}", None)
+            if method is not None:
+                return method(expr)
+        raise TypeError(f"{type(self).__name__} cannot evaluate {type(expr).__name__}: {expr}")
+
+    def size(self, dim) -> int:
+        """A dimension expression as an integer under the bound dimensions."""
+        return int(sp.sympify(dim).xreplace(self.dims))
+
+    # -- operations a target may spell differently ---------------------------------------
+    def add(self, a, b):
+        return a + b
+
+    def matmul(self, a, b):
+        return a @ b
+
+    def scale(self, c, a):
+        return c * a
+
+    def transpose(self, a):
+        return a.T
+
+    def identity(self, n: int):
+        return np.eye(n)
+
+    def zeros(self, r: int, c: int):
+        return np.zeros((r, c))
+
+    def block(self, rows):
+        raise NotImplementedError
+
+    def inverse(self, a, expr):
+        raise NotImplementedError(f"{type(self).__name__} cannot invert {expr}")
+
+    # -- leaves (subclasses) ----------------------------------------------------------
+    def data(self, symbol):
+        raise NotImplementedError
+
+    def variable(self, symbol):
+        raise NotImplementedError
+
+    def scalar_variable(self, symbol):
+        raise NotImplementedError
+
+    def parameter(self, symbol):
+        raise NotImplementedError
+
+    # -- matrix nodes -------------------------------------------------------------------
+    def _visit_DataMatrix(self, expr: DataMatrix):
+        return self.data(expr)
+
+    def _visit_Variable(self, expr: Variable):
+        return self.variable(expr)
+
+    def _visit_StructuredVariable(self, expr: StructuredVariable):
+        return self.visit(expr.expansion)
+
+    def _visit_MatAdd(self, expr):
+        return reduce(self.add, (self.visit(a) for a in expr.args))
+
+    def _visit_MatMul(self, expr):
+        coeff, matrices = expr.as_coeff_matrices()
+        product = reduce(self.matmul, (self.visit(m) for m in matrices))
+        if coeff == 1:
+            return product
+        return self.scale(self.visit(coeff), product)
+
+    def _visit_Transpose(self, expr):
+        return self.transpose(self.visit(expr.arg))
+
+    def _visit_Inverse(self, expr):
+        return self.inverse(self.visit(expr.arg), expr.arg)
+
+    def _visit_MatPow(self, expr):
+        base, exp = expr.args
+        if exp == -1:
+            return self.inverse(self.visit(base), base)
+        if not (exp.is_Integer and exp >= 1):
+            raise TypeError(f"cannot evaluate the power {expr}")
+        value = self.visit(base)
+        return reduce(self.matmul, [value] * int(exp))
+
+    def _visit_Identity(self, expr):
+        return self.identity(self.size(expr.rows))
+
+    def _visit_ZeroMatrix(self, expr):
+        return self.zeros(self.size(expr.rows), self.size(expr.cols))
+
+    def _visit_BlockMatrix(self, expr):
+        b = expr.blocks
+        return self.block([[self.visit(b[i, j]) for j in range(b.cols)] for i in range(b.rows)])
+
+    def _visit_BlockDiagMatrix(self, expr):
+        blocks = expr.args
+        rows = []
+        for i, bi in enumerate(blocks):
+            row = []
+            for j, bj in enumerate(blocks):
+                row.append(self.visit(bi) if i == j else self.zeros(self.size(bi.rows), self.size(bj.cols)))
+            rows.append(row)
+        return self.block(rows)
+
+    def _visit_MatrixBase(self, expr):
+        return np.array(expr.tolist(), dtype=float)
+
+    # -- scalar nodes -------------------------------------------------------------------
+    def _visit_Number(self, expr):
+        return float(expr)
+
+    def _visit_NumberSymbol(self, expr):
+        return float(expr)
+
+    def _visit_Param(self, expr: Param):
+        return self.parameter(expr)
+
+    def _visit_DerivedParam(self, expr: DerivedParam):
+        return self.parameter(expr)
+
+    def _visit_ScalarVariable(self, expr: ScalarVariable):
+        return self.scalar_variable(expr)
+
+    def _visit_Add(self, expr):
+        return reduce(self.add, (self.visit(a) for a in expr.args))
+
+    def _visit_Mul(self, expr):
+        return reduce(lambda a, b: a * b, (self.visit(a) for a in expr.args))
+
+    def _visit_Pow(self, expr):
+        base, exp = expr.args
+        return self.visit(base) ** float(exp)

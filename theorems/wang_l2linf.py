@@ -1,0 +1,148 @@
+"""Wang, Cai, Lin, Yang: l2–l∞ filtering for networked systems with missing measurements.
+
+Paper: ``shared/papers/000_33978a18bf0584d4.txt``; clean restatement in ``NOTES.md`` §1.
+
+Plant (1): x(k+1) = A x + B w,  y = r(k) C x + D w,  z = L x, with r(k) Bernoulli,
+Pr{r = 1} = r̄, and a = (1 − r̄) r̄ the variance of r(k).  Filter (4): x̂(k+1) = Af x̂ + Bf y,
+ẑ = Cf x̂ of order k, set by the selector E = [I_k; 0] (n × k).
+
+* ``wang_l2linf.thm1``  Theorem 1, (10)–(11): analysis with the filter fixed, min γ² over P.
+* ``wang_l2linf.thm3``  Theorem 3, (30)–(31): synthesis, min γ²; recovery (32)
+  Af = V2⁻¹Âf, Bf = V2⁻¹B̂f, Cf = Ĉf.
+* ``wang_l2linf.cor1``  Corollary 1, (37)–(38): the polytopic version of Theorem 3 with
+  vertex-dependent P1, P2, P3 and common V1, V2, V3, Âf, B̂f, Ĉf, γ.
+
+Reading taken (NOTES.md §1.7 item 2): the factor ``a`` appears both off the diagonal
+(aPA_cl1, aEB̂fC, aB̂fC) and on the diagonal (−aP, a(P − V − Vᵀ)), exactly as printed; the Schur
+complement then weighs A_cl1ᵀPA_cl1 by a²/a = a, as the variance computation requires.
+"""
+from lmidsl import I, Source, Theorem
+from sympy import BlockMatrix, ZeroMatrix, sqrt
+
+PAPER = "000_33978a18bf0584d4.txt"
+CITATION = "Wang, Cai, Lin, Yang, l2-l∞ filtering for networked systems with missing measurements"
+
+A_PAPER = [[0.0, 0.3], [-0.2, 0.4]]
+PLANT = {"A": A_PAPER, "B": [[0.0], [1.0]], "C": [[1.0, 0.0]], "D": [[1.0]], "L": [[1.0, 2.0]]}
+FULL_FILTER = {"Af": [[-0.0069, 0.2865], [-0.9725, 0.4557]], "Bf": [[-0.0186], [-0.9235]],
+               "Cf": [[-0.9963, -1.9624]]}
+REDUCED_FILTER = {"Af": [[0.5253]], "Bf": [[-0.2456]], "Cf": [[-3.5200]]}
+PRINTED_AT = "Section 5 (numerical example), NOTES.md §1.6"
+
+
+def _plant(thm: Theorem, per_vertex: bool = False):
+    """Dimensions, plant data (1), the Bernoulli parameter r̄ and a = (1 − r̄) r̄."""
+    n, m, ny, p, k = thm.dim("n m n_y p k")
+    plant = dict(
+        A=thm.data("A", n, n, per_vertex=per_vertex, description="state matrix"),
+        B=thm.data("B", n, m, per_vertex=per_vertex, description="disturbance input"),
+        C=thm.data("C", ny, n, per_vertex=per_vertex, description="measurement matrix"),
+        D=thm.data("D", ny, m, per_vertex=per_vertex, description="measurement noise input"),
+        L=thm.data("L", p, n, per_vertex=per_vertex, description="estimated output"),
+    )
+    rbar = thm.param("rbar", latex=r"\bar{r}", domain=(0.0, 1.0),
+                     description="Pr{r(k) = 1}, probability that the measurement arrives")
+    a = thm.derived("a", (1 - rbar) * rbar, latex="a", description="variance of r(k)")
+    return (n, m, ny, p, k), plant, rbar, a
+
+
+def _synthesis(thm: Theorem, per_vertex: bool, labels: tuple[str, str]):
+    """LMIs (30)–(31) (or (37)–(38) per vertex), objective min γ², recovery (32)."""
+    (n, m, ny, p, k), d, rbar, a = _plant(thm, per_vertex)
+    A, B, C, D, L = d["A"], d["B"], d["C"], d["D"], d["L"]
+    E = thm.data("E", n, k, latex="E", description="order selector [I_k; 0]")
+    P1 = thm.var("P1", n, kind="symmetric", latex="P_1", per_vertex=per_vertex)
+    P2 = thm.var("P2", n, k, latex="P_2", per_vertex=per_vertex)
+    P3 = thm.var("P3", k, kind="symmetric", latex="P_3", per_vertex=per_vertex)
+    V1 = thm.var("V1", n, n, latex="V_1")
+    V2 = thm.var("V2", k, k, latex="V_2")
+    V3 = thm.var("V3", n, k, latex="V_3")
+    Af_hat = thm.var("Af_hat", k, k, latex=r"\hat{A}_f")
+    Bf_hat = thm.var("Bf_hat", k, ny, latex=r"\hat{B}_f")
+    Cf_hat = thm.var("Cf_hat", p, k, latex=r"\hat{C}_f")
+    g = thm.scalar("g", latex=r"\gamma^2", description="squared l2-l∞ level")
+
+    W11 = P1 - V1 - V1.T
+    W21 = P2.T - V3.T - V2.T * E.T
+    W22 = P3 - V2 - V2.T
+    thm.lmi(labels[0], [
+        [-P1],
+        [-P2.T, -P3],
+        [0, 0, -I],
+        [V1.T * A + rbar * E * Bf_hat * C, E * Af_hat, V1.T * B + E * Bf_hat * D, W11],
+        [V3.T * A + rbar * Bf_hat * C, Af_hat, V3.T * B + Bf_hat * D, W21, W22],
+        [a * E * Bf_hat * C, 0, 0, 0, 0, a * W11],
+        [a * Bf_hat * C, 0, 0, 0, 0, a * W21, a * W22],
+    ])
+    thm.lmi(labels[1], [
+        [-P1],
+        [-P2.T, -P3],
+        [L, -Cf_hat, -g * I],
+    ])
+    thm.positive(P1, P3)
+    thm.minimize(g, performance=("gamma", sqrt(g)))
+    thm.recover(Af=V2.I * Af_hat, Bf=V2.I * Bf_hat, Cf=Cf_hat)
+    thm.certified_by("wang_l2linf.thm1", filter=("Af", "Bf", "Cf"))
+
+
+# -- Theorem 1: analysis ------------------------------------------------------------------
+thm1 = Theorem("wang_l2linf.thm1", "Energy-to-peak analysis with the filter fixed (Theorem 1)",
+               Source(PAPER, "Theorem 1, (10)-(11)", CITATION),
+               description="min γ² over P > 0 such that (10) and (11) hold for a given filter.")
+(_n, _m, _ny, _p, _k), _d, _rbar, _a = _plant(thm1)
+Af = thm1.data("Af", _k, _k, latex="A_f", description="filter state matrix")
+Bf = thm1.data("Bf", _k, _ny, latex="B_f", description="filter input matrix")
+Cf = thm1.data("Cf", _p, _k, latex="C_f", description="filter output matrix")
+A_cl0 = BlockMatrix([[_d["A"], ZeroMatrix(_n, _k)], [_rbar * Bf * _d["C"], Af]])
+A_cl1 = BlockMatrix([[ZeroMatrix(_n, _n), ZeroMatrix(_n, _k)], [Bf * _d["C"], ZeroMatrix(_k, _k)]])
+B_cl = BlockMatrix([[_d["B"]], [Bf * _d["D"]]])
+C_cl = BlockMatrix([[_d["L"], -Cf]])
+P = thm1.var("P", _n + _k, kind="symmetric", latex="P")
+g1 = thm1.scalar("g", latex=r"\gamma^2", description="squared l2-l∞ level")
+thm1.lmi("(10)", [
+    [-P],
+    [0, -I],
+    [P * A_cl0, P * B_cl, -P],
+    [_a * P * A_cl1, 0, 0, -_a * P],
+])
+thm1.lmi("(11)", [
+    [-P],
+    [C_cl, -g1 * I],
+])
+thm1.positive(P)
+thm1.minimize(g1, performance=("gamma", sqrt(g1)))
+thm1.example("paper-full-printed", {**PLANT, **FULL_FILTER}, params={"rbar": 0.8},
+             printed={"gamma": 0.3373}, printed_note=PRINTED_AT,
+             description="the full-order filter the paper prints, analysed by Theorem 1")
+thm1.example("paper-reduced-printed", {**PLANT, **REDUCED_FILTER}, params={"rbar": 0.8},
+             printed={"gamma": 2.0103}, printed_note=PRINTED_AT,
+             description="the reduced-order filter the paper prints, analysed by Theorem 1")
+
+# -- Theorem 3: synthesis -----------------------------------------------------------------
+thm3 = Theorem("wang_l2linf.thm3", "Full- and reduced-order l2-l∞ filter synthesis (Theorem 3)",
+               Source(PAPER, "Theorem 3, (30)-(32)", CITATION),
+               description="min γ² subject to (30), (31), P1 > 0, P3 > 0; filter order k = columns of E.")
+_synthesis(thm3, per_vertex=False, labels=("(30)", "(31)"))
+thm3.example("paper-full", {**PLANT, "E": [[1.0, 0.0], [0.0, 1.0]]}, params={"rbar": 0.8},
+             printed={"gamma": 0.3373, **FULL_FILTER}, printed_note=PRINTED_AT,
+             description="full order, E = I2")
+thm3.example("paper-reduced", {**PLANT, "E": [[1.0], [0.0]]}, params={"rbar": 0.8},
+             printed={"gamma": 2.0103, **REDUCED_FILTER}, printed_note=PRINTED_AT,
+             description="reduced order k = 1, E = [1; 0]")
+
+# -- Corollary 1: polytopic synthesis ----------------------------------------------------
+cor1 = Theorem("wang_l2linf.cor1", "Polytopic l2-l∞ filter synthesis (Corollary 1)",
+               Source(PAPER, "Corollary 1, (36)-(38)", CITATION),
+               description="(30)-(31) at every vertex with vertex-dependent P1i, P2i, P3i and common "
+                           "V1, V2, V3, Âf, B̂f, Ĉf, γ.")
+_synthesis(cor1, per_vertex=True, labels=("(37)", "(38)"))
+cor1.example("paper-one-vertex", {"E": [[1.0, 0.0], [0.0, 1.0]]}, params={"rbar": 0.8},
+             vertices=[dict(PLANT)],
+             printed={"gamma": 0.3373}, printed_note="Theorem 3's printed γ: one vertex is Theorem 3",
+             description="the paper's plant as a one-vertex polytope (must equal Theorem 3)")
+cor1.example("two-vertex", {"E": [[1.0, 0.0], [0.0, 1.0]]}, params={"rbar": 0.8},
+             vertices=[{**PLANT, "A": [[0.0, 0.3], [-0.25, 0.35]]},
+                       {**PLANT, "A": [[0.0, 0.3], [-0.15, 0.45]]}],
+             description="not from the paper: A's second row varied by ±0.05 around the paper's plant")
+
+THEOREMS = [thm1, thm3, cor1]
