@@ -69,8 +69,9 @@ class Example:
 
     ``data`` maps data names to matrices (nested lists) and dimension names to integers;
     ``vertices`` lists per-vertex data for polytopic theorems; ``params`` the scalar parameters;
-    ``printed`` the paper's printed results (``gamma`` and matrices), with ``printed_note``
-    saying where they are printed.
+    ``printed`` the paper's printed results, with ``printed_note`` saying where they are
+    printed: ``gamma`` is an optimum to reproduce, ``gamma_bound`` a level the paper claims
+    for a fixed filter (the analysis must certify a γ at or below it), and matrices by name.
     """
 
     name: str

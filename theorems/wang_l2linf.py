@@ -112,10 +112,10 @@ thm1.lmi("(11)", [
 thm1.positive(P)
 thm1.minimize(g1, performance=("gamma", sqrt(g1)))
 thm1.example("paper-full-printed", {**PLANT, **FULL_FILTER}, params={"rbar": 0.8},
-             printed={"gamma": 0.3373}, printed_note=PRINTED_AT,
+             printed={"gamma_bound": 0.3373}, printed_note=PRINTED_AT,
              description="the full-order filter the paper prints, analysed by Theorem 1")
 thm1.example("paper-reduced-printed", {**PLANT, **REDUCED_FILTER}, params={"rbar": 0.8},
-             printed={"gamma": 2.0103}, printed_note=PRINTED_AT,
+             printed={"gamma_bound": 2.0103}, printed_note=PRINTED_AT,
              description="the reduced-order filter the paper prints, analysed by Theorem 1")
 
 # -- Theorem 3: synthesis -----------------------------------------------------------------

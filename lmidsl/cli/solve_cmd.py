@@ -1,0 +1,33 @@
+"""``lmidsl solve``: bind, compile, solve, recover and certify one instance."""
+from __future__ import annotations
+
+from ..api import solve
+from ..backends import BACKENDS
+from ..report import format_solution
+from .common import add_instance_arguments, instance_spec, print_json
+
+ORDER = 20
+
+
+def register(sub):
+    p = sub.add_parser("solve", help="solve a theorem on an example or data")
+    add_instance_arguments(p)
+    p.add_argument("--solver", help="solver name (default: clarabel); any installed SDP solver")
+    p.add_argument("--backend", default="cvxpy", help=f"modelling backend ({', '.join(BACKENDS)})")
+    p.add_argument("--margin", type=float, help="strictness margin ε (N <= -ε I); default 1e-7")
+    p.add_argument("--no-certify", action="store_true", help="skip the analysis certificate")
+    p.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    p.set_defaults(run=run)
+
+
+def run(args):
+    sol = solve(args.theorem, solver=args.solver, backend=args.backend, margin=args.margin,
+                certify=not args.no_certify, **instance_spec(args))
+    if args.json:
+        out = sol.as_dict()
+        analysis = getattr(sol, "analysis", None)
+        out["analysis"] = analysis.as_dict() if analysis is not None else None
+        print_json(out)
+    else:
+        print(format_solution(sol))
+    return 0 if sol.ok else 1

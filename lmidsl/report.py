@@ -1,0 +1,51 @@
+"""Human-readable text for solutions and tables (the JSON forms are ``as_dict`` methods)."""
+from __future__ import annotations
+
+import numpy as np
+
+
+def format_matrix(name: str, M, indent: str = "  ") -> str:
+    M = np.atleast_2d(np.asarray(M, dtype=float))
+    rows = [" ".join(f"{x:11.5g}" for x in row) for row in M]
+    pad = " " * (len(name) + 3)
+    lines = [f"{indent}{name} = [{rows[0]}"] + [f"{indent}{pad}{r}" for r in rows[1:]]
+    lines[-1] += "]"
+    return "\n".join(lines)
+
+
+def format_table(headers: list[str], rows: list[list]) -> str:
+    cells = [[("" if c is None else (f"{c:.6g}" if isinstance(c, float) else str(c))) for c in r] for r in rows]
+    widths = [max(len(h), *(len(r[i]) for r in cells)) if cells else len(h) for i, h in enumerate(headers)]
+    line = "  ".join(h.ljust(w) for h, w in zip(headers, widths))
+    out = [line, "  ".join("-" * w for w in widths)]
+    out += ["  ".join(c.ljust(w) for c, w in zip(r, widths)) for r in cells]
+    return "\n".join(out)
+
+
+def format_solution(sol) -> str:
+    head = f"{sol.theorem}" + (f" [{sol.example}]" if sol.example else "")
+    lines = [head, f"  backend {sol.backend}, solver {sol.solver}: {sol.status}"
+             + (f" ({sol.message})" if sol.message else "")]
+    if sol.objective is not None:
+        lines.append(f"  objective = {sol.objective:.8g}")
+    if sol.gamma is not None:
+        lines.append(f"  gamma     = {sol.gamma:.8g}")
+    if sol.lmis:
+        lines.append(f"  LMIs at the returned point (largest eigenvalue of N in N < 0; margin {sol.margin:g}):")
+        for r in sol.lmis:
+            where = f" @ vertex {r.vertex}" if r.vertex is not None else ""
+            mark = "holds" if r.max_eig < 0 else "VIOLATED"
+            lines.append(f"    {r.label + where:<22} {r.max_eig: .3e}  ({r.size}x{r.size}, {mark})")
+    if sol.recovered:
+        lines.append("  recovered:")
+        lines += [format_matrix(k, v, "    ") for k, v in sol.recovered.items()]
+    for inv in sol.inverted:
+        lines.append(f"  inverted {inv['matrix']}: condition number {inv['cond']:.3g}")
+    analysis = getattr(sol, "analysis", None)
+    if analysis is not None:
+        verdict = "certified" if analysis.passed else "NOT certified"
+        g = "infeasible" if analysis.gamma is None else f"gamma = {analysis.gamma:.8g}"
+        lines.append(f"  analysis {analysis.theorem} with the recovered filter: {g} ({verdict})")
+    if sol.times:
+        lines.append("  times: " + ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in sol.times.items()))
+    return "\n".join(lines)
