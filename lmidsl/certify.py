@@ -65,6 +65,7 @@ def analysis_inputs(instance: Instance, analysis_theorem, filter_matrices: dict,
 def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gamma=None,
                         solver: str | None = None, backend: str = "cvxpy") -> AnalysisCertificate:
     """Solve the analysis counterpart of ``instance.theorem`` with ``filter_matrices`` fixed."""
+    from .api import solve_model
     from .backends import get_backend
     from .registry import get_theorem
 
@@ -75,7 +76,7 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
     for v in vertices:
         sub = bind(analysis, analysis_inputs(instance, analysis, filter_matrices, v),
                    example=instance.example)
-        sol = get_backend(backend)(sub).solve(solver)
+        sol = solve_model(get_backend(backend)(sub), solver)
         statuses.append(sol.status)
         gammas.append(sol.gamma)
         lmis += [dict(r.as_dict(), vertex=None if v is None else v + 1) for r in sol.lmis]

@@ -46,6 +46,8 @@ def format_solution(sol) -> str:
         verdict = "certified" if analysis.passed else "NOT certified"
         g = "infeasible" if analysis.gamma is None else f"gamma = {analysis.gamma:.8g}"
         lines.append(f"  analysis {analysis.theorem} with the recovered filter: {g} ({verdict})")
+    for note in sol.notes:
+        lines.append(f"  note: {note}")
     if sol.times:
         lines.append("  times: " + ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in sol.times.items()))
     return "\n".join(lines)

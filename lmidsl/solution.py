@@ -48,6 +48,7 @@ class Solution:
     margin: float = 0.0
     message: str = ""
     params: dict = field(default_factory=dict)
+    notes: list = field(default_factory=list)
     instance: Instance | None = None
 
     @property
@@ -86,6 +87,7 @@ class Solution:
             "inverted": self.inverted,
             "values": {k: listify(v) for k, v in self.values.items()},
             "times": self.times,
+            "notes": self.notes,
         }
 
 

@@ -47,13 +47,16 @@ class LMI:
     strict: bool = True
     description: str = ""
     per_vertex: bool = False
+    _negative: BlockMatrixSpec | None = field(default=None, repr=False, compare=False)
 
     def negative_form(self) -> BlockMatrixSpec:
-        """The matrix N with the LMI stated as N ≺ 0 (N = M for '<', N = −M for '>')."""
+        """The matrix N with the LMI stated as N ≺ 0 (N = M for '<', N = −M for '>'); built once."""
         if self.sense in ("<", "<="):
             return self.spec
-        lower = [[-b for b in row] for row in self.spec.lower]
-        return BlockMatrixSpec(lower, self.spec.sizes, self.spec.given_as)
+        if self._negative is None:
+            lower = [[-b for b in row] for row in self.spec.lower]
+            self._negative = BlockMatrixSpec(lower, self.spec.sizes, self.spec.given_as)
+        return self._negative
 
     def symbols(self) -> set:
         atoms = set()
@@ -204,12 +207,18 @@ class Theorem:
         return symbol
 
     def param(self, name: str, *, latex: str | None = None, description: str = "",
-              domain: tuple[float, float] | None = None, default: float | None = None) -> Param:
-        """Declare a scalar parameter; ``domain`` = (low, high) is checked at bind time."""
+              domain: tuple[float, float] | None = None, open_domain: bool = False,
+              domain_note: str = "", default: float | None = None) -> Param:
+        """Declare a scalar parameter.
+
+        ``domain`` = (low, high) is checked at bind time, closed unless ``open_domain``;
+        ``domain_note`` says why (it is printed with the error).
+        """
         self._check_new(name)
         symbol = self._describe(Param(name, self.id), latex, description)
         self.param_decl[name] = Declaration(symbol, symbol.latex_name, description,
-                                            {"domain": domain, "default": default})
+                                            {"domain": domain, "open": open_domain,
+                                             "note": domain_note, "default": default})
         return symbol
 
     def derived(self, name: str, definition, *, latex: str | None = None,

@@ -23,15 +23,18 @@ class ExpressionWalker:
     def __init__(self, dims: dict, vertex: int | None = None):
         self.dims = dims
         self.vertex = vertex
-        self._cache: dict = {}
+        self._cache: dict = {}  # id(expr) -> (expr, value); one walker per vertex
 
     # -- entry point -----------------------------------------------------------------
     def visit(self, expr):
-        key = (expr, self.vertex)
-        if key in self._cache:
-            return self._cache[key]
+        # keyed by identity: a shared sub-tree is walked once, and no deep sympy equality is
+        # ever evaluated (the expressions outlive the walk, so ids are stable)
+        key = id(expr)
+        hit = self._cache.get(key)
+        if hit is not None:
+            return hit[1]
         result = self._dispatch(expr)
-        self._cache[key] = result
+        self._cache[key] = (expr, result)
         return result
 
     def _dispatch(self, expr):

@@ -40,7 +40,9 @@ def _plant(thm: Theorem, per_vertex: bool = False):
         D=thm.data("D", ny, m, per_vertex=per_vertex, description="measurement noise input"),
         L=thm.data("L", p, n, per_vertex=per_vertex, description="estimated output"),
     )
-    rbar = thm.param("rbar", latex=r"\bar{r}", domain=(0.0, 1.0),
+    rbar = thm.param("rbar", latex=r"\bar{r}", domain=(0.0, 1.0), open_domain=True,
+                     domain_note="a probability; at 0 or 1, a = 0 and the diagonal blocks "
+                                 "a(P - V - V^T) of the printed LMI vanish, so no strict solution exists",
                      description="Pr{r(k) = 1}, probability that the measurement arrives")
     a = thm.derived("a", (1 - rbar) * rbar, latex="a", description="variance of r(k)")
     return (n, m, ny, p, k), plant, rbar, a

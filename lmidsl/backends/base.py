@@ -28,11 +28,26 @@ from ..walker import ExpressionWalker
 DEFAULT_MARGIN = 1e-7
 
 
+_CLASSIFIED: dict = {}
+
+
 def _classify(expr) -> tuple[bool, bool]:
-    """(contains a decision variable, contains a parameter)."""
+    """(contains a decision variable, contains a parameter).
+
+    Cached by identity (the entry keeps the expression alive, so the id stays valid): theorem
+    trees are immutable and compiled again at every bind, and sympy's deep equality is too slow
+    to pay on every lookup.
+    """
+    hit = _CLASSIFIED.get(id(expr))
+    if hit is not None and hit[0] is expr:
+        return hit[1]
     atoms = expr.atoms(sp.Symbol, sp.MatrixSymbol)
-    return (any(isinstance(a, DECISION_TYPES) for a in atoms),
-            any(isinstance(a, (Param, DerivedParam)) for a in atoms))
+    result = (any(isinstance(a, DECISION_TYPES) for a in atoms),
+              any(isinstance(a, (Param, DerivedParam)) for a in atoms))
+    if len(_CLASSIFIED) > 100_000:
+        _CLASSIFIED.clear()
+    _CLASSIFIED[id(expr)] = (expr, result)
+    return result
 
 
 class BackendCompiler(ExpressionWalker):
@@ -71,19 +86,26 @@ class BackendCompiler(ExpressionWalker):
 
 
 class CompiledModel:
-    """A bound theorem compiled once for one backend; parameters can be changed and re-solved."""
+    """A bound theorem compiled once for one backend; parameters can be changed and re-solved.
+
+    With ``reuse=True`` the backend keeps its parametrised canonical form between solves (cvxpy:
+    DPP), which pays off from the second solve of a sweep; a one-shot solve (``reuse=False``)
+    lets the backend treat parameter values as constants, which canonicalises faster.
+    """
 
     backend = "abstract"
     compiler_class = BackendCompiler
 
-    def __init__(self, instance: Instance, margin: float | None = None):
+    def __init__(self, instance: Instance, margin: float | None = None, reuse: bool = False):
         t0 = time.perf_counter()
         self.instance = instance
+        self.reuse = reuse  # True: the backend keeps its compiled form for re-solves (sweeps)
         self.margin = DEFAULT_MARGIN if margin is None else float(margin)
         self._variables: dict = {}
         self._parameters: dict = {}
         self.constraints: list = []
         theorem = instance.theorem
+        self._margin_parameter = self.new_parameter("margin", self.margin)
         for lmi in theorem.lmis:
             vertices = range(instance.nvertices) if lmi.per_vertex else [None]
             negative = lmi.negative_form()
@@ -93,7 +115,7 @@ class CompiledModel:
                 rows = [[lower[i][j] if j <= i else compiler.transpose(lower[j][i])
                          for j in range(negative.nblocks)] for i in range(negative.nblocks)]
                 size = sum(compiler.size(s) for s in negative.sizes)
-                eps = self.margin if lmi.strict else 0.0
+                eps = self._margin_parameter if lmi.strict else None
                 self.constraints.append(((lmi.label, v), self.lmi_constraint(self.assemble(rows), size, eps)))
         objective = None
         if theorem.objective is not None:
@@ -127,6 +149,11 @@ class CompiledModel:
         if expr not in self._parameters:
             self._parameters[expr] = self.new_parameter(str(expr), self._parameter_value(expr))
         return self._parameters[expr]
+
+    def set_margin(self, margin: float) -> None:
+        """Change the strictness margin ε without recompiling."""
+        self.margin = float(margin)
+        self.set_parameter(self._margin_parameter, self.margin)
 
     def update(self, instance: Instance) -> None:
         """Take new parameter values (same data and dimensions) without recompiling."""
@@ -188,7 +215,8 @@ class CompiledModel:
     def assemble(self, rows):
         raise NotImplementedError
 
-    def lmi_constraint(self, N, size: int, eps: float):
+    def lmi_constraint(self, N, size: int, eps):
+        """N ⪯ −eps·I (eps a backend parameter) or N ⪯ 0 when eps is None."""
         raise NotImplementedError
 
     def make_problem(self, objective, constraints):

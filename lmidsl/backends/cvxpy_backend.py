@@ -7,6 +7,8 @@ DPP-compliant, so changing parameters and re-solving reuses cvxpy's compiled for
 """
 from __future__ import annotations
 
+import warnings
+
 import cvxpy as cp
 import numpy as np
 
@@ -75,7 +77,7 @@ class CvxpyModel(CompiledModel):
         return cp.bmat(rows)
 
     def lmi_constraint(self, N, size, eps):
-        return N << (-eps * np.eye(size) if eps else np.zeros((size, size)))
+        return N << (-eps * np.eye(size) if eps is not None else np.zeros((size, size)))
 
     def make_problem(self, objective, constraints):
         return cp.Problem(cp.Minimize(objective if objective is not None else 0), constraints)
@@ -86,7 +88,10 @@ class CvxpyModel(CompiledModel):
     def run_solver(self, solver, **options):
         name = resolve_solver(solver)
         try:
-            self.problem.solve(solver=name, **options)
+            with warnings.catch_warnings():
+                # cvxpy warns "Solution may be inaccurate"; the status and certificate say so
+                warnings.simplefilter("ignore", UserWarning)
+                self.problem.solve(solver=name, ignore_dpp=not self.reuse, **options)
         except cp.error.SolverError as exc:
             return "solver_error", None, str(exc).splitlines()[0] if str(exc) else "solver failed", None
         status = _STATUS.get(self.problem.status, str(self.problem.status))
