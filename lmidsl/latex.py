@@ -128,6 +128,11 @@ def _split_coeff(term):
     return sp.S.One, term
 
 
+def _negative(c) -> bool:
+    """A scalar coefficient with a leading minus sign (-2, -a; not 1 - r, which prints as is)."""
+    return bool(c.as_coeff_Mul()[0].is_negative)
+
+
 def _count_transposes(expr) -> int:
     return sum(1 for node in sp.preorder_traversal(expr) if isinstance(node, sp.Transpose))
 
@@ -219,7 +224,7 @@ class LMILatexPrinter(LatexPrinter):
                                                  min((rank[x] for x in t.free_symbols), default=0)))
         out = ""
         for t in terms:
-            negative = bool(t.could_extract_minus_sign())
+            negative = _negative(t)
             body = self._print(-t if negative else t)
             out += ("-" if negative else "") + body if not out else (" - " if negative else " + ") + body
         return out
@@ -232,7 +237,7 @@ class LMILatexPrinter(LatexPrinter):
                or not f.is_commutative for f in factors):
             return super()._print_Mul(expr)
         sign = ""
-        if expr.could_extract_minus_sign():
+        if _negative(expr):
             sign, expr = "-", -expr
             factors = list(expr.args) if isinstance(expr, sp.Mul) else [expr]
         numbers = [f for f in factors if f.is_Number]
@@ -297,7 +302,7 @@ class LMILatexPrinter(LatexPrinter):
     def _print_MatMul(self, expr):
         coeff, matrix = _split_coeff(expr)
         sign = ""
-        if coeff.could_extract_minus_sign():
+        if _negative(coeff):
             sign, coeff = "-", -coeff
         parts = [] if coeff == 1 else [self._scalar_factor(coeff)]
         mats = matrix.args if isinstance(matrix, sp.MatMul) else (matrix,)
@@ -311,7 +316,7 @@ class LMILatexPrinter(LatexPrinter):
         if self._settings["term_order"] == "paper":
             def key(t):
                 c, m = _split_coeff(t)
-                return (bool(c.could_extract_minus_sign()), _nfactors(m),
+                return (_negative(c), _nfactors(m),
                         bool(c not in (1, -1)))
             terms.sort(key=key)
         out, used = [], set()
@@ -335,7 +340,7 @@ class LMILatexPrinter(LatexPrinter):
     def _print_MatAdd(self, expr):
         pieces = []
         for c, m, pair in self._ordered_terms(expr.args):
-            negative = bool(c.could_extract_minus_sign())
+            negative = _negative(c)
             if negative:
                 c = -c
             if pair and self._settings["he"] == "collapse":

@@ -49,6 +49,7 @@ PREAMBLE = r"""\documentclass[10pt]{article}
 
 
 def _shape_latex(printer, symbol) -> str:
+    """The set of a symbol: R, R^{n x k}, S^{n} (symmetric), D^{n} (diagonal)."""
     if isinstance(symbol, sp.Symbol):
         return r"\mathbb{R}"
     rows, cols = (printer.doprint(d) for d in symbol.shape)
@@ -57,6 +58,8 @@ def _shape_latex(printer, symbol) -> str:
     if isinstance(symbol, (SymmetricVariable, SymmetricDataMatrix)) or (
             isinstance(symbol, StructuredVariable) and symbol.symmetric):
         return rf"\mathbb{{S}}^{{{rows}}}"
+    rows, cols = ((f"({t})" if isinstance(d, sp.Add) else t)
+                  for d, t in zip(symbol.shape, (rows, cols)))
     return rf"\mathbb{{R}}^{{{rows} \times {cols}}}"
 
 

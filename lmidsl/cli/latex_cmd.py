@@ -50,6 +50,8 @@ def compile_pdf(tex_path: Path) -> Path:
         first = next((i for i, line in enumerate(lines) if line.startswith("!")), None)
         detail = " ".join(lines[first:first + 2]) if first is not None else "no PDF produced"
         raise LmidslError(f"pdflatex failed on {tex_path}: {detail} (see {tex_path.with_suffix('.log')})")
+    for suffix in (".aux", ".log"):
+        tex_path.with_suffix(suffix).unlink(missing_ok=True)
     return pdf
 
 
