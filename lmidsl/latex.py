@@ -141,10 +141,6 @@ def _nfactors(matrix) -> int:
     return len(matrix.args) if isinstance(matrix, sp.MatMul) else 1
 
 
-def _transposed(matrix):
-    return matrix.T
-
-
 class LMILatexPrinter(LatexPrinter):
     r"""sympy's LaTeX printer, taught the theorem's symbols, block LMIs and the paper's habits.
 
@@ -295,19 +291,23 @@ class LMILatexPrinter(LatexPrinter):
 
     def _matrix_factor(self, m) -> str:
         s = self._print(m)
-        if isinstance(m, sp.MatAdd) and m not in self._settings["notation"]:
+        if isinstance(m, sp.MatAdd) and m not in self._settings["notation"] and not (
+                self._settings["he"] == "collapse" and len(self._ordered_terms(m.args)) == 1):
             return self._paren(s)
         return s
+
+    def _term(self, c, m) -> str:
+        """c M for a coefficient c > 0 (not printed when 1) and a matrix M."""
+        mats = m.args if isinstance(m, sp.MatMul) else (m,)
+        parts = [] if c == 1 else [self._scalar_factor(c)]
+        return " ".join(parts + [self._matrix_factor(f) for f in mats])
 
     def _print_MatMul(self, expr):
         coeff, matrix = _split_coeff(expr)
         sign = ""
         if _negative(coeff):
             sign, coeff = "-", -coeff
-        parts = [] if coeff == 1 else [self._scalar_factor(coeff)]
-        mats = matrix.args if isinstance(matrix, sp.MatMul) else (matrix,)
-        parts += [self._matrix_factor(m) for m in mats]
-        return sign + " ".join(parts)
+        return sign + self._term(coeff, matrix)
 
     def _ordered_terms(self, terms) -> list:
         """The terms in the paper's habitual order (stable): positive before negative, fewer
@@ -325,7 +325,7 @@ class LMILatexPrinter(LatexPrinter):
                 continue
             c, m = _split_coeff(t)
             partner = next((j for j in range(i + 1, len(terms)) if j not in used
-                            and _split_coeff(terms[j]) == (c, _transposed(m)) and m != m.T), None)
+                            and _split_coeff(terms[j]) == (c, m.T) and m != m.T), None)
             used.add(i)
             if partner is None:
                 out.append((c, m, False))
@@ -345,13 +345,9 @@ class LMILatexPrinter(LatexPrinter):
                 c = -c
             if pair and self._settings["he"] == "collapse":
                 body = rf"\mathrm{{He}}({self._print(m)})"
-                body = body if c == 1 else f"{self._scalar_factor(c)} {body}"
-                items = [body]
+                items = [body if c == 1 else f"{self._scalar_factor(c)} {body}"]
             else:
-                items = [self._print_MatMul(sp.MatMul(c, m)) if c != 1 else self._print(m)]
-                if pair:
-                    t = m.T
-                    items.append(self._print_MatMul(sp.MatMul(c, t)) if c != 1 else self._print(t))
+                items = [self._term(c, m)] + ([self._term(c, m.T)] if pair else [])
             for item in items:
                 if not pieces:
                     pieces.append(("-" if negative else "") + item)

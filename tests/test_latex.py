@@ -163,6 +163,8 @@ def test_hats_bars_subscripts_and_transposes():
     assert p.doprint(P1 * Af_hat + Af_hat.T * P1) == "P_1 \\hat{A}_f + \\hat{A}_f^{T} P_1"
     assert p.doprint(-W - W.T + P1) == "P_1 - W_2 - W_2^{T}"
     assert LMILatexPrinter({"he": "collapse"}).doprint(-W - W.T + P1) == "P_1 - \\mathrm{He}(W_2)"
+    assert LMILatexPrinter({"he": "collapse"}).doprint(xi * (W + W.T)) == "\\bar{\\xi}_1 \\mathrm{He}(W_2)"
+    assert p.doprint(xi * (W + W.T)) == "\\bar{\\xi}_1 (W_2 + W_2^{T})"
     assert p.doprint(W.I * Af_hat) == "W_2^{-1} \\hat{A}_f"
     assert p.doprint(Af_hat * sp.Transpose(S.I)) == "\\hat{A}_f S^{-T}"
     assert p.doprint(xi * (1 - xi) * S) == "(1 - \\bar{\\xi}_1) \\bar{\\xi}_1 S"
