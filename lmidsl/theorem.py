@@ -129,6 +129,7 @@ class Theorem:
         self.var_decl: dict[str, Declaration] = {}
         self.param_decl: dict[str, Declaration] = {}
         self.derived_decl: dict[str, Declaration] = {}
+        self.notation: dict[str, Declaration] = {}
         self.lmis: list[LMI] = []
         self.objective: sp.Expr | None = None
         self.performance: tuple[str, sp.Expr] | None = None
@@ -139,7 +140,7 @@ class Theorem:
     # -- declarations -------------------------------------------------------------------
     def _check_new(self, name: str):
         taken = (self.dims.keys() | self.data_decl.keys() | self.var_decl.keys()
-                 | self.param_decl.keys() | self.derived_decl.keys())
+                 | self.param_decl.keys() | self.derived_decl.keys() | self.notation.keys())
         if name in taken:
             raise TheoremDefinitionError(f"{self.id}: the name {name!r} is declared twice")
 
@@ -229,6 +230,16 @@ class Theorem:
         symbol.definition = sp.sympify(definition)
         self.derived_decl[name] = Declaration(symbol, symbol.latex_name, description)
         return symbol
+
+    def define(self, name: str, expr, *, latex: str | None = None, description: str = ""):
+        """Name a matrix expression as the paper does (A_cl0 = [[A, 0], [r̄ B_f C, A_f]]).
+
+        Returns ``expr`` unchanged: LMIs and the compiler see the expression; the LaTeX
+        printer prints ``latex`` in its place and states the definition below the LMI.
+        """
+        self._check_new(name)
+        self.notation[name] = Declaration(expr, latex or name, description)
+        return expr
 
     # -- conditions ---------------------------------------------------------------------
     def lmi(self, label: str, rows, *, sense: str = "<", triangle: str = "lower", sizes=None,
