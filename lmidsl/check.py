@@ -129,7 +129,12 @@ class CheckResult:
 
     def verdict(self) -> str:
         if not self.trusted:
-            return "NO TRUSTED ANSWER: no row certifies its point with a solver claiming full accuracy"
+            counts: dict = {}
+            for r in self.rows:
+                counts[r.status] = counts.get(r.status, 0) + 1
+            seen = ", ".join(f"{k} x{v}" for k, v in counts.items())
+            return ("NO TRUSTED ANSWER: no row certifies its point with a solver claiming full "
+                    f"accuracy (statuses: {seen})")
         ref = self.reference
         what = f"{self.compared} = {ref.value:.8g} ({ref.name})" if ref and ref.value is not None else "no value"
         if self.disagreeing:
