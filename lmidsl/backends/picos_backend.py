@@ -202,4 +202,6 @@ class PicosModel(CompiledModel):
         variable.value = value.reshape(variable.shape) if value.ndim else float(value)
 
     def expression_value(self, expression):
-        return np.array(expression.value, dtype=float) if _is_picos(expression) else np.asarray(expression)
+        if not _is_picos(expression):
+            return np.asarray(expression, dtype=float)
+        return np.array(expression.value, dtype=float).reshape(expression.shape)
