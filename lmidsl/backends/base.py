@@ -104,6 +104,8 @@ class CompiledModel:
         self._variables: dict = {}
         self._parameters: dict = {}
         self.constraints: list = []
+        self.lmi_matrices: list = []  # ((label, vertex), assembled backend expression N)
+        self.current_lmi = None       # (label, vertex) being compiled, for error messages
         theorem = instance.theorem
         self._margin_parameter = self.new_parameter("margin", self.margin)
         for lmi in theorem.lmis:
@@ -116,7 +118,11 @@ class CompiledModel:
                          for j in range(negative.nblocks)] for i in range(negative.nblocks)]
                 size = sum(compiler.size(s) for s in negative.sizes)
                 eps = self._margin_parameter if lmi.strict else None
-                self.constraints.append(((lmi.label, v), self.lmi_constraint(self.assemble(rows), size, eps)))
+                self.current_lmi = (lmi.label, v)
+                N = self.assemble(rows)
+                self.lmi_matrices.append(((lmi.label, v), N))
+                self.constraints.append(((lmi.label, v), self.lmi_constraint(N, size, eps)))
+        self.current_lmi = None
         objective = None
         if theorem.objective is not None:
             objective = self.compiler_class(self, None).visit(theorem.objective)
@@ -176,6 +182,19 @@ class CompiledModel:
                 out[name] = self.value_of(self._variables[(name, None)])
         return out
 
+    def assign(self, values: dict) -> None:
+        """Give the backend variables values (same layout as :meth:`values`), e.g. to compare
+        the assembled LMI matrices of two backends at one point (golden tests)."""
+        for (name, vertex), variable in self._variables.items():
+            value = values[name]
+            if vertex is not None:
+                value = value[vertex]
+            self.set_value(variable, value)
+
+    def lmi_values(self) -> dict:
+        """Numeric value of every assembled LMI matrix N at the current variable values."""
+        return {key: np.asarray(self.expression_value(N), dtype=float) for key, N in self.lmi_matrices}
+
     def solve(self, solver: str | None = None, **options) -> Solution:
         """Solve, then evaluate the certificate at the returned point with numpy."""
         instance = self.instance
@@ -230,4 +249,10 @@ class CompiledModel:
         raise NotImplementedError
 
     def value_of(self, variable):
+        raise NotImplementedError
+
+    def set_value(self, variable, value) -> None:
+        raise NotImplementedError
+
+    def expression_value(self, expression):
         raise NotImplementedError

@@ -107,3 +107,13 @@ class CvxpyModel(CompiledModel):
         if hasattr(value, "toarray"):
             value = value.toarray()
         return np.asarray(value, dtype=float) if np.ndim(value) else float(value)
+
+    def set_value(self, variable, value):
+        value = np.asarray(value, dtype=float)
+        if variable.attributes.get("diag"):
+            value = np.diag(np.diag(value)) if value.ndim == 2 else np.diag(value)
+        variable.value = value if value.ndim else float(value)
+
+    def expression_value(self, expression):
+        value = expression.value
+        return value.toarray() if hasattr(value, "toarray") else np.asarray(value, dtype=float)
