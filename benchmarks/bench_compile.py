@@ -11,7 +11,7 @@ order) on random stable plants of order n.  For each n, measured in the same run
 * ``hand+param``: the hand-written model with r̄ and a as ``cp.Parameter`` (what one writes
   to sweep r̄ without rebuilding, which lmidsl always does).
 
-Times are medians over repeats; ratios are lmidsl / hand.  Usage:
+Times are medians of CPU time over interleaved repeats; ratios are lmidsl / hand.  Usage:
 ``python benchmarks/bench_compile.py [--sizes 2 5 10 20 40 80] [--repeat 5] [--solver CLARABEL]``.
 """
 from __future__ import annotations
@@ -87,19 +87,25 @@ def hand_written(d: dict, use_parameters: bool) -> cp.Problem:
     return cp.Problem(cp.Minimize(g), cons)
 
 
-def timed(fn, repeat: int) -> float:
-    samples = []
+def timed_interleaved(fns, repeat: int) -> list[float]:
+    """Median CPU time of each function, the functions run in turn so load affects all alike.
+
+    CPU time of this process (``time.process_time``), not wall time: other processes on the
+    machine then disturb the ratio much less.
+    """
+    samples = [[] for _ in fns]
     for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        samples.append(time.perf_counter() - t0)
-    return statistics.median(samples)
+        for i, fn in enumerate(fns):
+            t0 = time.process_time()
+            fn()
+            samples[i].append(time.process_time() - t0)
+    return [statistics.median(s) for s in samples]
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", type=int, nargs="+", default=[2, 5, 10, 20, 40, 80])
-    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--repeat", type=int, default=7)
     ap.add_argument("--solver", default="CLARABEL")
     ap.add_argument("--solve-check", action="store_true",
                     help="also solve both models once and compare γ² (sanity check of the reference)")
@@ -120,9 +126,8 @@ def main(argv=None) -> int:
         inputs["rbar"] = RBAR
 
         def run_lmidsl():
-            # a one-shot solve: lmidsl lets cvxpy treat its parameters as constants (ignore_dpp)
             model = CvxpyModel(make_instance(theorem, data=inputs))
-            model.problem.get_problem_data(args.solver, ignore_dpp=True)
+            model.problem.get_problem_data(args.solver)
             return model
 
         def run_hand(param=False):
@@ -131,9 +136,7 @@ def main(argv=None) -> int:
             return prob
 
         run_lmidsl(), run_hand(), run_hand(True)  # warm-up (imports, caches)
-        t_l = timed(run_lmidsl, args.repeat)
-        t_h = timed(run_hand, args.repeat)
-        t_hp = timed(lambda: run_hand(True), args.repeat)
+        t_l, t_h, t_hp = timed_interleaved([run_lmidsl, run_hand, lambda: run_hand(True)], args.repeat)
         worst = max(worst, t_l / t_h)
         print(f"{n:>4} {t_l:>11.4f} {t_h:>10.4f} {t_hp:>15.4f} {t_l / t_h:>7.2f} {t_l / t_hp:>15.2f}",
               flush=True)

@@ -88,9 +88,8 @@ class BackendCompiler(ExpressionWalker):
 class CompiledModel:
     """A bound theorem compiled once for one backend; parameters can be changed and re-solved.
 
-    With ``reuse=True`` the backend keeps its parametrised canonical form between solves (cvxpy:
-    DPP), which pays off from the second solve of a sweep; a one-shot solve (``reuse=False``)
-    lets the backend treat parameter values as constants, which canonicalises faster.
+    ``reuse=True`` marks a model that will be re-solved many times (a sweep); backends that
+    cannot change numbers in place (PICOS) recompile on :meth:`update` either way.
     """
 
     backend = "abstract"

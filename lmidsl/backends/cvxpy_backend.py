@@ -91,7 +91,7 @@ class CvxpyModel(CompiledModel):
             with warnings.catch_warnings():
                 # cvxpy warns "Solution may be inaccurate"; the status and certificate say so
                 warnings.simplefilter("ignore", UserWarning)
-                self.problem.solve(solver=name, ignore_dpp=not self.reuse, **options)
+                self.problem.solve(solver=name, **options)
         except cp.error.SolverError as exc:
             return "solver_error", None, str(exc).splitlines()[0] if str(exc) else "solver failed", None
         status = _STATUS.get(self.problem.status, str(self.problem.status))
