@@ -124,6 +124,10 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None) -> Instance
     per_vertex = theorem.per_vertex_names
     known = set(theorem.data_decl) | set(theorem.param_decl) | set(theorem.dims)
     for name in inputs:
+        if name in theorem.derived_decl:
+            defn = theorem.derived_decl[name].symbol.definition
+            raise InputError(f"{theorem.id}: {name} is derived ({name} = {defn}); set the parameters it "
+                             f"depends on instead")
         if name not in known:
             raise InputError(
                 f"{theorem.id}: unknown data or parameter {name!r} (known: {', '.join(sorted(known))})")
