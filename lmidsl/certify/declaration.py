@@ -53,10 +53,9 @@ class ErrorSystem:
 
 
 def namespace(instance, vertex: int | None = None) -> SimpleNamespace:
-    """Data (numpy arrays) and parameter values of an instance as attributes: ``d.A``, ``d.rbar``."""
-    values = {}
+    """Dimensions, data (numpy arrays) and parameter values of an instance as attributes: ``d.A``, ``d.rbar``."""
+    values = {str(k): v for k, v in instance.dims.items()}
     for name, value in instance.data.items():
         values[name] = np.asarray(value[vertex or 0] if isinstance(value, list) else value, dtype=float)
     values.update(instance.params)
-    values.update({str(k): v for k, v in instance.dims.items()})
     return SimpleNamespace(**values)

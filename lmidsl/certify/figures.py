@@ -233,7 +233,10 @@ def lti_hinf_norm(A, B, C, D, grid: int = 4097) -> tuple[float, float]:
         return float(np.linalg.norm(D, 2)), 0.0
     angles = np.abs(np.angle(np.linalg.eigvals(A)))
     thetas = np.unique(np.concatenate([np.linspace(0.0, np.pi, grid), angles]))
-    values = np.array([_sigma_max(A, B, C, D, t) for t in thetas])
+    n = A.shape[0]
+    zI = np.exp(1j * thetas)[:, None, None] * np.eye(n)[None]
+    G = C[None] @ np.linalg.solve(zI - A[None], np.broadcast_to(B, (len(thetas),) + B.shape)) + D[None]
+    values = np.linalg.norm(G, ord=2, axis=(1, 2))
     best, arg = float(values.max()), float(thetas[values.argmax()])
     peaks = [i for i in range(len(thetas))
              if values[i] >= values[max(i - 1, 0)] and values[i] >= values[min(i + 1, len(thetas) - 1)]]
@@ -270,10 +273,11 @@ def h_infinity(sys: StochasticSystem, horizon: int = 200) -> Figure:
     for i in range(L):
         for j in range(min(i + 1, horizon)):
             T[i * pz:(i + 1) * pz, j * m:(j + 1) * m] = markov[i - j]
-    _, svals, vt = np.linalg.svd(T, full_matrices=False)
-    w = np.concatenate([vt[0].reshape(horizon, m), np.zeros((L - horizon, m))])
+    vals, vecs = np.linalg.eigh(T.T @ T)
+    w = np.concatenate([vecs[:, -1].reshape(horizon, m), np.zeros((L - horizon, m))])
     return Figure(H_INFINITY, value, rho, w, None,
-                  {"frequency": theta, "finite_horizon_value": float(svals[0]), "horizon": horizon})
+                  {"frequency": theta, "finite_horizon_value": float(np.sqrt(max(vals[-1], 0.0))),
+                   "horizon": horizon})
 
 
 def exact_figure(kind: str, sys: StochasticSystem) -> Figure:

@@ -125,7 +125,8 @@ class Verification:
         lines.append("  checks: " + ", ".join(f"{k} {'ok' if v else ('—' if v is None else 'FAILED')}"
                                              for k, v in self.checks.items()))
         lines += [f"  note: {n}" for n in self.notes]
-        lines.append(f"  verdict: {'CERTIFIED' if self.certified else 'NOT CERTIFIED'}")
+        level = self.claimed_gamma if self.claimed_gamma is not None else self.analysis_gamma
+        lines.append("  verdict: " + (f"CERTIFIED at γ = {g(level)}" if self.certified else "NOT CERTIFIED"))
         return "\n".join(lines)
 
 
@@ -251,7 +252,9 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
             instance = make_instance(thm, example, data, {**(overrides or {}),
                                                           **{k: v.tolist() for k, v in fil.items()}})
         fil = {n: np.asarray(instance.data[n]) for n in link.filter}
-        claimed = gamma if gamma is not None else printed.get("gamma_bound", printed.get("gamma"))
+        claimed = gamma
+        if claimed is None and mode != "given":   # the printed bound belongs to the printed filter
+            claimed = printed.get("gamma_bound", printed.get("gamma"))
         result = Verification(thm.id, instance.example, mode, fil, claimed, tol, analysis_theorem=thm.id)
         sol = get_backend(backend)(instance).solve(solver)
         _set_analysis(result, sol.status, sol.gamma if sol.ok else None,
