@@ -107,6 +107,25 @@ class AnalysisLink:
 
 
 @dataclass
+class ErrorSystemLink:
+    """The filtering-error system of a theorem whose data include the filter, for certification.
+
+    ``system`` is a :class:`lmidsl.certify.ErrorSystem` in the theorem's symbols, ``figure`` the
+    exact figure that applies ('energy_to_peak' or 'h_infinity'), ``filter`` the names of the
+    filter matrices among the data, ``simulate(d, w, runs, rng)`` the original model with the
+    filter in numpy (for Monte Carlo; optional).
+    """
+
+    system: Any
+    figure: str
+    filter: tuple
+    simulate: Any = None
+
+
+FIGURES = ("energy_to_peak", "h_infinity")
+
+
+@dataclass
 class Declaration:
     symbol: Any
     latex: str
@@ -135,6 +154,7 @@ class Theorem:
         self.performance: tuple[str, sp.Expr] | None = None
         self.recovery: dict[str, sp.MatrixExpr] = {}
         self.analysis: AnalysisLink | None = None
+        self.certification: ErrorSystemLink | None = None
         self.examples: dict[str, Example] = {}
 
     # -- declarations -------------------------------------------------------------------
@@ -285,6 +305,15 @@ class Theorem:
     def certified_by(self, theorem: str, filter: tuple, gamma_tolerance: float = 1e-3):
         """Name the analysis theorem that certifies the recovered ``filter`` matrices."""
         self.analysis = AnalysisLink(theorem, tuple(filter), gamma_tolerance)
+
+    def error_system(self, system, *, figure: str, filter: tuple, simulate=None):
+        """Declare the error system (data + filter -> stochastic system), its figure and simulation."""
+        if figure not in FIGURES:
+            raise TheoremDefinitionError(f"{self.id}: error_system: figure must be one of {', '.join(FIGURES)}")
+        missing = [f for f in filter if f not in self.data_decl]
+        if missing:
+            raise TheoremDefinitionError(f"{self.id}: error_system: filter {missing} are not declared data")
+        self.certification = ErrorSystemLink(system, figure, tuple(filter), simulate)
 
     def example(self, name: str, data: dict, *, params: dict | None = None,
                 printed: dict | None = None, vertices: list | None = None,

@@ -12,8 +12,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import InputError
-from .instance import Instance, bind
+from ..errors import InputError
+from ..instance import Instance, bind
 
 
 @dataclass
@@ -65,9 +65,9 @@ def analysis_inputs(instance: Instance, analysis_theorem, filter_matrices: dict,
 def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gamma=None,
                         solver: str | None = None, backend: str = "cvxpy") -> AnalysisCertificate:
     """Solve the analysis counterpart of ``instance.theorem`` with ``filter_matrices`` fixed."""
-    from .api import solve_model
-    from .backends import get_backend
-    from .registry import get_theorem
+    from ..api import solve_model
+    from ..backends import get_backend
+    from ..registry import get_theorem
 
     link = instance.theorem.analysis
     analysis = get_theorem(link.theorem)
@@ -82,7 +82,10 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
         lmis += [dict(r.as_dict(), vertex=None if v is None else v + 1) for r in sol.lmis]
     ok = all(s in ("optimal", "optimal_inaccurate") for s in statuses)
     worst = max(gammas) if ok and all(g is not None for g in gammas) else None
-    status = "optimal" if ok else next(s for s in statuses if s not in ("optimal", "optimal_inaccurate"))
+    if ok:
+        status = "optimal" if all(s == "optimal" for s in statuses) else "optimal_inaccurate"
+    else:
+        status = next(s for s in statuses if s not in ("optimal", "optimal_inaccurate"))
     return AnalysisCertificate(analysis.id, status, worst,
                                per_vertex=gammas if len(gammas) > 1 else [],
                                lmis=lmis, synthesis_gamma=synthesis_gamma,
