@@ -4,7 +4,7 @@ A backend subclasses :class:`CompiledModel` and fills in a handful of hooks (mak
 a parameter, a block matrix, an LMI constraint, a problem; solve; read a value).  Everything
 else -- which sub-trees are constants (folded once with numpy), which scalar sub-expressions
 of parameters become one backend parameter each (so that changing r̄ re-solves without
-rebuilding, and products of parameters stay DPP-compliant), per-vertex instantiation,
+rebuilding, and products of parameters stay DPP-compliant), per-vertex instantiation (polytope vertices × points of uncertain symbols),
 the strictness margin, and the backend-independent certificate -- lives here.
 
 Strictness policy: a strict LMI ``N ≺ 0`` is imposed as ``N ⪯ −ε I`` and ``X ≻ 0`` as
@@ -23,6 +23,7 @@ from ..instance import Instance
 from ..numeric import NumericEvaluator
 from ..solution import Solution, evaluate_performance, lmi_certificate
 from ..symbols import DECISION_TYPES, DerivedParam, Param, ScalarVariable, expand_derived
+from ..uncertainty import scenarios
 from ..walker import ExpressionWalker
 
 DEFAULT_MARGIN = 1e-7
@@ -85,16 +86,17 @@ class CompiledModel:
         self.constraints: list = []
         theorem = instance.theorem
         for lmi in theorem.lmis:
-            vertices = range(instance.nvertices) if lmi.per_vertex else [None]
             negative = lmi.negative_form()
-            for v in vertices:
+            for scenario in scenarios(instance, lmi):  # polytope vertices x uncertainty points
+                v = scenario.vertex
                 compiler = self.compiler_class(self, v)
-                lower = [[compiler.visit(b) for b in row] for row in negative.lower]
+                lower = [[compiler.visit(scenario.apply(b)) for b in row] for row in negative.lower]
                 rows = [[lower[i][j] if j <= i else compiler.transpose(lower[j][i])
                          for j in range(negative.nblocks)] for i in range(negative.nblocks)]
                 size = sum(compiler.size(s) for s in negative.sizes)
                 eps = self.margin if lmi.strict else 0.0
-                self.constraints.append(((lmi.label, v), self.lmi_constraint(self.assemble(rows), size, eps)))
+                self.constraints.append(((lmi.label, v, scenario.label),
+                                         self.lmi_constraint(self.assemble(rows), size, eps)))
         objective = None
         if theorem.objective is not None:
             objective = self.compiler_class(self, None).visit(theorem.objective)
