@@ -34,3 +34,27 @@ def filter_reading(matrices: dict, reading: str, h: float, names=("Af", "Bf", "C
     if reading == "shift":
         A, B, C = shift_to_delta(A, B, C, h)
     return dict(zip(names, (A, B, C)))
+
+
+def balanced_realisation(A, B, C, h: float):
+    """A balanced realisation of a stable delta-form system (same transfer function).
+
+    The gramians are those of the shift form (I + hA, hB, C); the similarity x → T x that
+    makes them equal and diagonal changes (A, B, C) to (T A T⁻¹, T B, C T⁻¹).  Analysis LMIs
+    are invariant under it (their Lyapunov matrix is transformed by congruence), but their
+    conditioning is not: a balanced filter is the well-conditioned one to certify.
+    Returns (A, B, C, T); raises ValueError when the shift form is not Schur stable.
+    """
+    import scipy.linalg as sl
+
+    Ash, Bsh, C = delta_to_shift(A, B, C, h)
+    if max(abs(np.linalg.eigvals(Ash))) >= 1:
+        raise ValueError("the filter is not stable in the delta sense (I + hA_f not Schur)")
+    Wc = sl.solve_discrete_lyapunov(Ash, Bsh @ Bsh.T)
+    Wo = sl.solve_discrete_lyapunov(Ash.T, C.T @ C)
+    Lc = np.linalg.cholesky((Wc + Wc.T) / 2 + 1e-300 * np.eye(len(Wc)))
+    U, s, _ = np.linalg.svd(Lc.T @ Wo @ Lc)
+    T_inv = Lc @ U @ np.diag(s ** -0.25)           # x = T⁻¹ x_bal
+    T = np.linalg.inv(T_inv)
+    A = np.atleast_2d(np.asarray(A, dtype=float))
+    return T @ A @ T_inv, T @ np.asarray(B, dtype=float), C @ T_inv, T
