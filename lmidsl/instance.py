@@ -31,6 +31,7 @@ class Instance:
     nvertices: int = 1
     example: str | None = None
     notes: list = field(default_factory=list)
+    uncertain: dict = field(default_factory=dict)  # name -> points (units of the bound)
 
     def dim_values(self) -> dict:
         return {str(k): v for k, v in self.dims.items()}
@@ -118,8 +119,17 @@ def _infer_dims(theorem: Theorem, matrices: dict, given_dims: dict) -> dict:
 
 
 def bind(theorem: Theorem, inputs: dict, example: str | None = None) -> Instance:
-    """Check and bind ``inputs`` (data, dims, parameters, optional 'vertices') to ``theorem``."""
+    """Check and bind ``inputs`` (data, dims, parameters, optional 'vertices') to ``theorem``.
+
+    A theorem whose block structure depends on an input (``theorem.specialise``, see
+    :mod:`lmidsl.family`) is first replaced by the member that input selects.  Inputs named
+    after an uncertain symbol choose its points (:mod:`lmidsl.uncertainty`).
+    """
+    from .uncertainty import bind_points
+    if hasattr(theorem, "specialise"):
+        theorem = theorem.specialise(inputs)
     inputs = dict(inputs)
+    uncertain = bind_points(theorem, inputs)
     vertices = inputs.pop("vertices", None)
     per_vertex = theorem.per_vertex_names
     known = set(theorem.data_decl) | set(theorem.param_decl) | set(theorem.dims)
@@ -175,7 +185,7 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None) -> Instance
                     raise InputError(f"{theorem.id}: data {name} must be symmetric")
     dims = _infer_dims(theorem, matrices, given_dims)
     params = _evaluate_params(theorem, {k: inputs[k] for k in theorem.param_decl if k in inputs})
-    instance = Instance(theorem, dims, data, params, nvertices, example)
+    instance = Instance(theorem, dims, data, params, nvertices, example, uncertain=uncertain)
     check_symmetric_blocks(instance)
     return instance
 
@@ -208,13 +218,15 @@ def random_point(instance: Instance, rng: np.random.Generator) -> dict:
 
 def check_symmetric_blocks(instance: Instance) -> None:
     """Refuse an LMI whose diagonal block is not symmetric (never symmetrise silently)."""
+    from .uncertainty import scenarios
     rng = np.random.default_rng(0)
     values = random_point(instance, rng)
     theorem = instance.theorem
     for lmi in theorem.lmis:
         ev = NumericEvaluator(instance.dims, values, instance.params, vertex=0)
+        scenario = scenarios(instance, lmi)[0]
         for i, row in enumerate(lmi.spec.lower):
-            blk = row[i]
+            blk = scenario.apply(row[i])
             try:
                 value = ev.visit(blk)
             except Exception as exc:  # a theorem that cannot be evaluated is a definition error

@@ -34,8 +34,9 @@ def format_solution(sol) -> str:
         lines.append(f"  LMIs at the returned point (largest eigenvalue of N in N < 0; margin {sol.margin:g}):")
         for r in sol.lmis:
             where = f" @ vertex {r.vertex}" if r.vertex is not None else ""
+            where += f" @ {r.point}" if getattr(r, "point", "") else ""
             mark = "holds" if r.max_eig < 0 else "VIOLATED"
-            lines.append(f"    {r.label + where:<22} {r.max_eig: .3e}  ({r.size}x{r.size}, {mark})")
+            lines.append(f"    {r.label + where:<30} {r.max_eig: .3e}  ({r.size}x{r.size}, {mark})")
     if sol.recovered:
         lines.append("  recovered:")
         lines += [format_matrix(k, v, "    ") for k, v in sol.recovered.items()]

@@ -149,18 +149,21 @@ class Theorem:
         self.param_decl: dict[str, Declaration] = {}
         self.derived_decl: dict[str, Declaration] = {}
         self.notation: dict[str, Declaration] = {}
+        self.uncertain_decl: dict[str, Declaration] = {}
         self.lmis: list[LMI] = []
         self.objective: sp.Expr | None = None
         self.performance: tuple[str, sp.Expr] | None = None
         self.recovery: dict[str, sp.MatrixExpr] = {}
         self.analysis: AnalysisLink | None = None
         self.certification: ErrorSystemLink | None = None
+        self.linearisation: dict[str, sp.MatrixExpr] = {}
         self.examples: dict[str, Example] = {}
 
     # -- declarations -------------------------------------------------------------------
     def _check_new(self, name: str):
         taken = (self.dims.keys() | self.data_decl.keys() | self.var_decl.keys()
-                 | self.param_decl.keys() | self.derived_decl.keys() | self.notation.keys())
+                 | self.param_decl.keys() | self.derived_decl.keys() | self.notation.keys()
+                 | self.uncertain_decl.keys())
         if name in taken:
             raise TheoremDefinitionError(f"{self.id}: the name {name!r} is declared twice")
 
@@ -261,6 +264,18 @@ class Theorem:
         self.notation[name] = Declaration(expr, latex or name, description)
         return expr
 
+    def uncertain(self, name: str, rows=None, cols=None, *, bound, pattern=None, points=None,
+                  latex: str | None = None, description: str = ""):
+        """Declare an uncertain scalar |Δ| ≤ bound (or matrix |Δ_ij| ≤ bound) entering affinely.
+
+        Every LMI that mentions it is imposed at the vertices (or at the ``points`` an instance
+        chooses, in units of the bound) with common variables; see :mod:`lmidsl.uncertainty`.
+        """
+        from .uncertainty import declare
+        self._check_new(name)
+        return declare(self, name, rows, cols, bound=bound, pattern=pattern, points=points,
+                       latex=latex, description=description)
+
     # -- conditions ---------------------------------------------------------------------
     def lmi(self, label: str, rows, *, sense: str = "<", triangle: str = "lower", sizes=None,
             strict: bool = True, description: str = "") -> LMI:
@@ -301,6 +316,18 @@ class Theorem:
             except ShapeMismatchError as exc:
                 raise ShapeMismatchError(f"{self.id}: recovery of {name}: {exc}") from None
             self.recovery[name] = expr
+
+    def linearise(self, **updates):
+        """Data that are a linearisation point, with their update from a solved point.
+
+        E.g. ``Sbar=S.I``: after a solve, the datum ``Sbar`` is replaced by ``S⁻¹`` and the LMI
+        is solved again (BMI by successive LMIs, :mod:`lmidsl.bmi`).
+        """
+        for name, expr in updates.items():
+            if name not in self.data_decl:
+                raise TheoremDefinitionError(f"{self.id}: linearisation point {name} is not declared data")
+            check_conformance(expr)
+            self.linearisation[name] = expr
 
     def certified_by(self, theorem: str, filter: tuple, gamma_tolerance: float = 1e-3):
         """Name the analysis theorem that certifies the recovered ``filter`` matrices."""

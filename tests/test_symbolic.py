@@ -125,7 +125,7 @@ def test_compiled_matrix_equals_numpy_evaluation():
     point = random_point(inst, np.random.default_rng(3))
     for (name, _), var in model._variables.items():
         var.value = point[name] if np.ndim(point[name]) else point[name]
-    for lmi, ((label, _), con) in zip(inst.theorem.lmis, model.constraints):
+    for lmi, ((label, _, _), con) in zip(inst.theorem.lmis, model.constraints):
         ev = NumericEvaluator(inst.dims, point, inst.params)
         expected = evaluate_block_matrix(ev, lmi.negative_form())
         size = expected.shape[0]

@@ -59,6 +59,9 @@ def analysis_inputs(instance: Instance, analysis_theorem, filter_matrices: dict,
             raise InputError(f"{analysis_theorem.id}: no value for {name} in the synthesis instance or filter")
     for name in analysis_theorem.param_decl:
         inputs[name] = instance.params[name]
+    for name in getattr(analysis_theorem, "uncertain_decl", {}):
+        if name in instance.uncertain:  # the same uncertainty points as the synthesis
+            inputs[name] = [np.asarray(p).tolist() for p in instance.uncertain[name]]
     return inputs
 
 
