@@ -49,6 +49,8 @@ class Solution:
     message: str = ""
     params: dict = field(default_factory=dict)
     instance: Instance | None = None
+    scaling: object = None          # lmidsl.scaling.AppliedScaling (instance is the scaled one)
+    backoff: dict | None = None     # lmidsl.backoff record when the point is a back-off point
 
     @property
     def ok(self) -> bool:
@@ -86,6 +88,8 @@ class Solution:
             "inverted": self.inverted,
             "values": {k: listify(v) for k, v in self.values.items()},
             "times": self.times,
+            "scaling": self.scaling.as_dict() if self.scaling is not None else None,
+            "backoff": self.backoff,
         }
 
 

@@ -15,6 +15,12 @@ def register(sub):
     p.add_argument("--solver", help="solver name (default: clarabel); any installed SDP solver")
     p.add_argument("--backend", default="cvxpy", help=f"modelling backend ({', '.join(BACKENDS)})")
     p.add_argument("--margin", type=float, help="strictness margin ε (N <= -ε I); default 1e-7")
+    p.add_argument("--scaling", default="auto", choices=("auto", "none"),
+                   help="exact signal rescaling declared by the theorem, applied and undone by lmidsl "
+                        "(default auto)")
+    p.add_argument("--backoff", type=float, metavar="DELTA",
+                   help="re-solve at objective <= (1+DELTA)*optimum, minimising the condition number "
+                        "of what the recovery inverts (e.g. 1e-3)")
     p.add_argument("--no-certify", action="store_true", help="skip the analysis certificate")
     p.add_argument("--json", action="store_true", help="one JSON object on stdout")
     p.set_defaults(run=run)
@@ -22,7 +28,8 @@ def register(sub):
 
 def run(args):
     sol = solve(args.theorem, solver=args.solver, backend=args.backend, margin=args.margin,
-                certify=not args.no_certify, **instance_spec(args))
+                certify=not args.no_certify, scaling=args.scaling, backoff=args.backoff,
+                **instance_spec(args))
     if args.json:
         out = sol.as_dict()
         analysis = getattr(sol, "analysis", None)
