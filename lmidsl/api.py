@@ -60,18 +60,34 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str =
     ``scaling``: the theorem's declared signal scalings ('auto', 'none' or {signal: factor});
     the solver sees the scaled instance, recovered matrices are mapped back
     (:mod:`lmidsl.scaling`).  ``backoff`` = δ: re-solve at objective ≤ (1 + δ)·optimum for a
-    well-conditioned recovery (:mod:`lmidsl.backoff`).
+    well-conditioned recovery (:mod:`lmidsl.backoff`); ``"auto"``: only when the filter recovered
+    at the optimum fails its analysis certificate (or its recovery fails), with δ = 10⁻².
     """
     applied = apply_scaling(instance, scaling)
     model = get_backend(backend)(applied.scaled, margin=margin)
     solution = model.solve(solver, **options)
     solution.scaling = applied
+    reason = None
+    if backoff == "auto":
+        # back off only when the filter recovered at the optimum is not certified
+        finish_solution(solution, solver=solver, backend=backend, certify=certify)
+        failed = solution.message.startswith("recovery failed")
+        uncertified = solution.analysis is not None and not solution.analysis.passed
+        if not (solution.ok and instance.theorem.conditioned and (failed or uncertified)):
+            return solution
+        from .backoff import DEFAULT_DELTA
+        reason = (solution.message if failed else
+                  f"{solution.analysis.theorem} did not certify the filter recovered at the optimum "
+                  f"({solution.analysis.status}, gamma {solution.analysis.gamma})")
+        backoff = DEFAULT_DELTA
     if backoff is not None and solution.ok:
         from .backoff import backoff_solution
         optimum = solution
         t0 = time.perf_counter()
         solution = backoff_solution(model, optimum, backoff, solver, **options)
         solution.times["backoff"] = time.perf_counter() - t0
+        if reason and solution.backoff is not None:
+            solution.backoff["reason"] = reason
         if instance.theorem.recovery:
             try:
                 solution.backoff["recovery_cond_before"] = recover(applied.scaled, optimum.values)[1]

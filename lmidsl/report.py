@@ -42,6 +42,8 @@ def format_solution(sol) -> str:
         lines.append(f"  back-off δ = {backoff['delta']:g}: objective {backoff['objective_opt']:.8g} -> "
                      f"{backoff['objective']:.8g} (gamma {backoff['gamma_opt']:.8g} -> {backoff['gamma']:.8g}), "
                      f"{backoff['solves']} solves")
+        if backoff.get("reason"):
+            lines.append(f"    automatic back-off: {backoff['reason']}")
         for name, before in backoff["cond_before"].items():
             after = backoff["cond_after"].get(name, {}).get("cond")
             if after is not None:

@@ -71,7 +71,9 @@ class AppliedScaling:
         return out
 
     def as_dict(self) -> dict:
-        return {"active": self.active, "signals": [r.as_dict() for r in self.records]}
+        return {"active": self.active, "signals": [r.as_dict() for r in self.records],
+                "note": "values, LMI eigenvalues and condition numbers refer to the scaled instance; "
+                        "recovered matrices are mapped back to the original data"}
 
 
 def _stack(values, axis):

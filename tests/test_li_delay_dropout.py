@@ -74,6 +74,15 @@ def test_same_filter_transfer_function_across_solvers():
     assert abs(gammas[0] - gammas[1]) / gammas[0] < 5e-3
 
 
+def test_automatic_backoff_ends_certified():
+    """backoff='auto' (used by `reproduce`): the returned filter passes Theorem 1 within 1 %."""
+    sol = solve(THM, example="paper", solver="CVXOPT", backoff="auto")
+    assert sol.analysis.passed and sol.analysis.gamma <= 1.01 * sol.gamma
+    if sol.backoff is not None:                       # CVXOPT's optimum filter is not certified
+        assert "did not certify" in sol.backoff["reason"] or "recovery failed" in sol.backoff["reason"]
+        assert abs(sol.backoff["gamma_opt"] - PRINTED_GAMMA) / PRINTED_GAMMA < 5e-3
+
+
 def test_sigma_weights_match_the_distribution_of_theta():
     """σ1²..σ3² reproduce var ϑ1, var ϑ2 and cov(ϑ1, ϑ2) of the three outcomes (Remark 3)."""
     inst = make_instance(THM, "paper").with_params(xi1=0.35, xi2=0.6)
