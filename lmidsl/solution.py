@@ -53,6 +53,8 @@ class Solution:
     params: dict = field(default_factory=dict)
     notes: list = field(default_factory=list)
     instance: Instance | None = None
+    scaling: object = None          # lmidsl.scaling.AppliedScaling (instance is the scaled one)
+    backoff: dict | None = None     # lmidsl.backoff record when the point is a back-off point
 
     @property
     def ok(self) -> bool:
@@ -91,6 +93,8 @@ class Solution:
             "values": {k: listify(v) for k, v in self.values.items()},
             "times": self.times,
             "notes": self.notes,
+            "scaling": self.scaling.as_dict() if self.scaling is not None else None,
+            "backoff": self.backoff,
         }
 
 

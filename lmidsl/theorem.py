@@ -20,8 +20,9 @@ from .blocks import BlockMatrixSpec, block_matrix
 from .errors import LmidslError, ShapeMismatchError, TheoremDefinitionError
 from .linearity import check_affine
 from .shapes import check_conformance
-from .symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, ScalarVariable,
-                      StructuredVariable, SymmetricDataMatrix, SymmetricVariable, Variable)
+from .symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, RecoveredMatrix,
+                      ScalarVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
+                      Variable)
 
 
 @dataclass(frozen=True)
@@ -126,6 +127,33 @@ FIGURES = ("energy_to_peak", "h_infinity")
 
 
 @dataclass
+class FactorStep:
+    """A recovery step: ``names`` = ``factorization(*args)`` with ``args`` evaluated numerically."""
+
+    names: tuple
+    factorization: Any
+    args: tuple
+
+
+@dataclass
+class SignalScaling:
+    """An exact change of units of one signal, u = S u' with S = diag(s) > 0.
+
+    Data in ``rows`` produce the signal (M' = S⁻¹M), data in ``cols`` consume it (M' = M S);
+    recovered matrices are mapped back: ``recovered_cols`` (consumers) M = M' S⁻¹,
+    ``recovered_rows`` (producers) M = S M'.  The theorem author asserts that this substitution
+    is a change of coordinates under which the theorem's conditions and γ are invariant.
+    """
+
+    signal: str
+    rows: tuple = ()
+    cols: tuple = ()
+    recovered_rows: tuple = ()
+    recovered_cols: tuple = ()
+    description: str = ""
+
+
+@dataclass
 class Declaration:
     symbol: Any
     latex: str
@@ -154,6 +182,10 @@ class Theorem:
         self.objective: sp.Expr | None = None
         self.performance: tuple[str, sp.Expr] | None = None
         self.recovery: dict[str, sp.MatrixExpr] = {}
+        self.recovery_steps: list = []          # ("formula", name) or FactorStep, in order
+        self.intermediate_decl: dict[str, Declaration] = {}
+        self.scalings: list[SignalScaling] = []
+        self.conditioned: list[sp.MatrixExpr] = []
         self.analysis: AnalysisLink | None = None
         self.certification: ErrorSystemLink | None = None
         self.linearisation: dict[str, sp.MatrixExpr] = {}
@@ -163,7 +195,7 @@ class Theorem:
     def _check_new(self, name: str):
         taken = (self.dims.keys() | self.data_decl.keys() | self.var_decl.keys()
                  | self.param_decl.keys() | self.derived_decl.keys() | self.notation.keys()
-                 | self.uncertain_decl.keys())
+                 | self.uncertain_decl.keys() | self.intermediate_decl.keys())
         if name in taken:
             raise TheoremDefinitionError(f"{self.id}: the name {name!r} is declared twice")
 
@@ -294,6 +326,8 @@ class Theorem:
                 except LmidslError as exc:
                     raise type(exc)(f"{where} block ({i + 1},{j + 1}): {exc}") from None
         lmi = LMI(label, spec, sense, strict and sense in ("<", ">"), description)
+        if any(isinstance(a, RecoveredMatrix) for a in lmi.symbols()):
+            raise TheoremDefinitionError(f"{where}: uses a recovery intermediate (declared by factor)")
         lmi.per_vertex = any(getattr(s, "per_vertex", False) for s in lmi.symbols())
         self.lmis.append(lmi)
         return lmi
@@ -316,6 +350,58 @@ class Theorem:
             except ShapeMismatchError as exc:
                 raise ShapeMismatchError(f"{self.id}: recovery of {name}: {exc}") from None
             self.recovery[name] = expr
+            self.recovery_steps.append(("formula", name))
+
+    def factor(self, names: str, factorization, *args, latex: str | None = None,
+               description: str = ""):
+        """Recovery intermediates computed by a library factorisation, e.g.
+        ``R, S = thm.factor("R S", rs_split, I - X*Z.I)`` for R Sᵀ = I − X Z⁻¹.
+
+        ``factorization`` is a :class:`lmidsl.factorization.Factorization`; its arguments are
+        matrix expressions evaluated at the solved point.  The returned symbols may be used in
+        later recovery formulas (``Af = R.I * Af_hat * ...``).
+        """
+        names = names.split()
+        try:
+            shapes = [check_conformance(a) for a in args]
+        except ShapeMismatchError as exc:
+            raise ShapeMismatchError(f"{self.id}: factor {' '.join(names)}: {exc}") from None
+        out = factorization.shapes(*shapes)
+        if len(out) != len(names):
+            raise TheoremDefinitionError(
+                f"{self.id}: factor {' '.join(names)}: {factorization.name} gives {len(out)} matrices")
+        symbols = []
+        latex = (latex or "").split() or names
+        for name, shape, tex in zip(names, out, latex):
+            self._check_new(name)
+            symbol = self._describe(RecoveredMatrix(name, *shape, self.id), tex, description)
+            self.intermediate_decl[name] = Declaration(symbol, symbol.latex_name, description)
+            symbols.append(symbol)
+        self.recovery_steps.append(FactorStep(tuple(names), factorization, tuple(args)))
+        return symbols[0] if len(symbols) == 1 else tuple(symbols)
+
+    def scale_signal(self, signal: str, *, rows=(), cols=(), recovered_rows=(), recovered_cols=(),
+                     description: str = "") -> SignalScaling:
+        """Declare an exact rescaling of ``signal`` the library may apply and undo (see
+        :class:`SignalScaling` and :mod:`lmidsl.scaling`)."""
+        for name in (*rows, *cols):
+            if name not in self.data_decl:
+                raise TheoremDefinitionError(f"{self.id}: scaling of {signal}: {name} is not declared data")
+        decl = SignalScaling(signal, tuple(rows), tuple(cols), tuple(recovered_rows),
+                             tuple(recovered_cols), description)
+        self.scalings.append(decl)
+        return decl
+
+    def well_conditioned(self, *exprs):
+        """Positive definite expressions the recovery inverts (e.g. Z and X − Z); the back-off
+        (:mod:`lmidsl.backoff`) improves their conditioning at a γ slightly above the optimum."""
+        for expr in exprs:
+            try:
+                check_conformance(expr)
+                check_affine(expr)
+            except LmidslError as exc:
+                raise type(exc)(f"{self.id}: well_conditioned {expr}: {exc}") from None
+            self.conditioned.append(expr)
 
     def linearise(self, **updates):
         """Data that are a linearisation point, with their update from a solved point.

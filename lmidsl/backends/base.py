@@ -208,6 +208,8 @@ class CompiledModel:
         solution.times = {"compile": self.compile_time, "solve": wall}
         if solver_time is not None:
             solution.times["solver"] = solver_time
+        if getattr(self, "last_solver_call", None) is not None:
+            solution.times["solver_call"] = self.last_solver_call  # incl. the solver's interface
         if status in ("optimal", "optimal_inaccurate"):
             t1 = time.perf_counter()
             values = self.values()
@@ -243,7 +245,8 @@ class CompiledModel:
         raise NotImplementedError
 
     def run_solver(self, solver, **options):
-        """Return (status, objective value, message, solver time or None)."""
+        """Return (status, objective value, message, solver time or None); may set
+        ``self.last_solver_call`` to the wall time of the solver call with its interface."""
         raise NotImplementedError
 
     def solver_name(self, solver) -> str:

@@ -14,6 +14,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..instance import Instance, bind
+from ..scaling import apply_scaling
 
 
 @dataclass
@@ -27,6 +28,7 @@ class AnalysisCertificate:
     lmis: list = field(default_factory=list)
     synthesis_gamma: float | None = None
     tolerance: float = 1e-3
+    scaling: dict | None = None   # the analysis instance's own exact signal scaling (lmidsl.scaling)
 
     @property
     def passed(self) -> bool:
@@ -42,7 +44,8 @@ class AnalysisCertificate:
     def as_dict(self) -> dict:
         return {"theorem": self.theorem, "status": self.status, "gamma": self.gamma,
                 "synthesis_gamma": self.synthesis_gamma, "tolerance": self.tolerance,
-                "passed": self.passed, "per_vertex": self.per_vertex, "lmis": self.lmis}
+                "passed": self.passed, "per_vertex": self.per_vertex, "lmis": self.lmis,
+                "scaling": self.scaling}
 
 
 def analysis_inputs(instance: Instance, analysis_theorem, filter_matrices: dict,
@@ -75,11 +78,13 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
     link = instance.theorem.analysis
     analysis = get_theorem(link.theorem)
     vertices = range(instance.nvertices) if instance.nvertices > 1 else [None]
-    gammas, statuses, lmis = [], [], []
+    gammas, statuses, lmis, scalings = [], [], [], []
     for v in vertices:
         sub = bind(analysis, analysis_inputs(instance, analysis, filter_matrices, v),
                    example=instance.example)
-        sol = solve_model(get_backend(backend)(sub), solver)
+        scaled = apply_scaling(sub, "auto")
+        scalings.append(scaled.as_dict())
+        sol = solve_model(get_backend(backend)(scaled.scaled), solver)
         statuses.append(sol.status)
         gammas.append(sol.gamma)
         lmis += [dict(r.as_dict(), vertex=None if v is None else v + 1) for r in sol.lmis]
@@ -92,4 +97,4 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
     return AnalysisCertificate(analysis.id, status, worst,
                                per_vertex=gammas if len(gammas) > 1 else [],
                                lmis=lmis, synthesis_gamma=synthesis_gamma,
-                               tolerance=link.gamma_tolerance)
+                               tolerance=link.gamma_tolerance, scaling=scalings[0] if scalings else None)
