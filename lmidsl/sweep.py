@@ -186,7 +186,7 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
     base = applied.scaled
     model_class = get_backend(backend)  # imports the backend: not part of the compile time
     t0 = time.perf_counter()
-    model = model_class(base, margin=margin)
+    model = model_class(base, margin=margin, reuse=True)  # parameters stay backend parameters
     result = SweepResult(thm.id, instance.example, model.solver_name(solver),
                          {n: list(v) for n, v in grids}, compile_time=time.perf_counter() - t0,
                          scaling=applied.as_dict(),

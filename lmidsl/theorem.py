@@ -49,6 +49,7 @@ class LMI:
     description: str = ""
     per_vertex: bool = False
     _negative: BlockMatrixSpec | None = field(default=None, repr=False, compare=False)
+    _symbols: frozenset | None = field(default=None, repr=False, compare=False)
 
     def negative_form(self) -> BlockMatrixSpec:
         """The matrix N with the LMI stated as N ≺ 0 (N = M for '<', N = −M for '>'); built once."""
@@ -60,11 +61,14 @@ class LMI:
         return self._negative
 
     def symbols(self) -> set:
-        atoms = set()
-        for row in self.spec.lower:
-            for b in row:
-                atoms |= b.atoms(sp.Symbol, sp.MatrixSymbol)
-        return atoms
+        """Every symbol in the LMI's blocks (computed once; an LMI does not change)."""
+        if self._symbols is None:
+            atoms = set()
+            for row in self.spec.lower:
+                for b in row:
+                    atoms |= b.atoms(sp.Symbol, sp.MatrixSymbol)
+            self._symbols = frozenset(atoms)
+        return self._symbols
 
 
 @dataclass

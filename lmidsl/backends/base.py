@@ -89,8 +89,13 @@ class BackendCompiler(ExpressionWalker):
 class CompiledModel:
     """A bound theorem compiled once for one backend; parameters can be changed and re-solved.
 
-    ``reuse=True`` marks a model that will be re-solved many times (a sweep); backends that
-    cannot change numbers in place (PICOS) recompile on :meth:`update` either way.
+    Every scalar expression of parameters is one backend parameter, so :meth:`update` changes
+    numbers in place (cvxpy: DPP, compiled once).  The strictness margin is a backend parameter
+    too when ``reuse=True`` (a model re-solved many times, e.g. a sweep); a one-shot model keeps it
+    a number and recompiles in the rare :meth:`set_margin`.  (Folding the parameters of one-shot
+    models into constants canonicalises ~10 % faster in cvxpy, but changes the rounding of the
+    problem data enough to make Clarabel fail on seed 002's successive LMIs: measured, not done.)
+    Backends that cannot change numbers in place (PICOS) recompile on every change.
     """
 
     backend = "abstract"
@@ -107,7 +112,8 @@ class CompiledModel:
         self.lmi_matrices: list = []  # ((label, vertex, point), assembled backend expression N)
         self.current_lmi = None       # (label, vertex, point) being compiled, for error messages
         theorem = instance.theorem
-        self._margin_parameter = self.new_parameter("margin", self.margin)
+        # a model that is re-solved keeps ε as a backend parameter; a one-shot model a number
+        self._margin_parameter = self.new_parameter("margin", self.margin) if reuse else self.margin
         for lmi in theorem.lmis:
             negative = lmi.negative_form()
             for scenario in scenarios(instance, lmi):  # polytope vertices x uncertainty points
@@ -158,7 +164,10 @@ class CompiledModel:
         return self._parameters[expr]
 
     def set_margin(self, margin: float) -> None:
-        """Change the strictness margin ε without recompiling."""
+        """Change the strictness margin ε (in place when ``reuse``, else by recompiling)."""
+        if not self.reuse:
+            self.__init__(self.instance, margin=margin, reuse=False)
+            return
         self.margin = float(margin)
         self.set_parameter(self._margin_parameter, self.margin)
 
