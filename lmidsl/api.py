@@ -11,6 +11,7 @@ import time
 from .backends import get_backend
 from .certify import certify_by_analysis
 from .errors import InputError
+from .feasibility import diagnosis_needed, feasp
 from .instance import Instance, bind
 from .recovery import recover
 from .registry import get_example, get_theorem
@@ -52,18 +53,34 @@ def make_instance(theorem, example: str | None = None, data: dict | None = None,
 
 
 def solve_instance(instance: Instance, solver: str | None = None, backend: str = "cvxpy",
-                   margin: float | None = None, certify: bool = True, **options) -> Solution:
+                   margin: float | None = None, certify: bool = True, diagnose: bool = True,
+                   **options) -> Solution:
     """Compile, solve, recover the filter and (optionally) certify it by analysis."""
     model = get_backend(backend)(instance, margin=margin)
     solution = model.solve(solver, **options)
-    finish_solution(solution, solver=solver, backend=backend, certify=certify)
+    finish_solution(solution, solver=solver, backend=backend, certify=certify, diagnose=diagnose)
     return solution
 
 
-def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=True) -> Solution:
-    """Recovery and analysis certificate for a solved point (in place)."""
+def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=True,
+                    diagnose=True) -> Solution:
+    """Feasibility diagnosis, recovery and analysis certificate for a solved point (in place).
+
+    When the solver returns no certified point, the feasp diagnosis (:mod:`lmidsl.feasibility`)
+    is attached; if it finds no strictly feasible point, ``status`` becomes "infeasible" (or
+    "marginal": feasible by less than the margin); the solver's own word stays in
+    ``solver_status``.  An infeasible problem is a result, not an error.
+    """
     instance = solution.instance
     solution.analysis = None
+    if diagnose and diagnosis_needed(solution):
+        t0 = time.perf_counter()
+        report = feasp(instance, backend=backend, solver=solver, margin=solution.margin)
+        solution.feasp = report
+        if report.verdict in ("infeasible", "marginal"):
+            solution.solver_status = solution.status
+            solution.status = report.verdict
+        solution.times["feasp"] = time.perf_counter() - t0
     if solution.ok and instance.theorem.recovery:
         t0 = time.perf_counter()
         solution.recovered, solution.inverted = recover(instance, solution.values)
@@ -78,11 +95,12 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
 
 def solve(theorem, example: str | None = None, data: dict | None = None,
           overrides: dict | None = None, solver: str | None = None, backend: str = "cvxpy",
-          margin: float | None = None, certify: bool = True, **options) -> Solution:
+          margin: float | None = None, certify: bool = True, diagnose: bool = True,
+          **options) -> Solution:
     """Solve a theorem on an example or data; returns a :class:`Solution`."""
     t0 = time.perf_counter()
     instance = make_instance(theorem, example, data, overrides)
     bind_time = time.perf_counter() - t0
-    solution = solve_instance(instance, solver, backend, margin, certify, **options)
+    solution = solve_instance(instance, solver, backend, margin, certify, diagnose, **options)
     solution.times = {"bind": bind_time, **solution.times}
     return solution

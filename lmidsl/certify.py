@@ -5,12 +5,19 @@ is data.  The analysis instance takes the synthesis instance's data and paramete
 for polytopic theorems) and the recovered filter; minimising its γ² gives the level that the
 paper's own analysis certifies for this filter.  For a polytopic synthesis the analysis is run
 at every vertex and the worst γ is reported (a vertex-wise certificate).
+
+The minimum sits on the boundary of the strict set, where a solver's point may miss the strict
+LMIs by its tolerance.  When it does, the analysis is solved again as a feasibility problem at a
+level (the synthesis γ, else the minimum plus the tolerance): a point inside the strict set at
+that level is the certificate (``method`` "level").  An infeasible analysis carries the feasp
+diagnosis (:mod:`lmidsl.feasibility`).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
 import numpy as np
+import sympy as sp
 
 from .errors import InputError
 from .instance import Instance, bind
@@ -27,6 +34,9 @@ class AnalysisCertificate:
     lmis: list = field(default_factory=list)
     synthesis_gamma: float | None = None
     tolerance: float = 1e-3
+    method: str = "min"
+    minimum: float | None = None
+    feasp: list = field(default_factory=list)
 
     @property
     def passed(self) -> bool:
@@ -42,7 +52,9 @@ class AnalysisCertificate:
     def as_dict(self) -> dict:
         return {"theorem": self.theorem, "status": self.status, "gamma": self.gamma,
                 "synthesis_gamma": self.synthesis_gamma, "tolerance": self.tolerance,
-                "passed": self.passed, "per_vertex": self.per_vertex, "lmis": self.lmis}
+                "passed": self.passed, "method": self.method, "minimum": self.minimum,
+                "per_vertex": self.per_vertex, "lmis": self.lmis,
+                "feasp": [r.as_dict() for r in self.feasp]}
 
 
 def analysis_inputs(instance: Instance, analysis_theorem, filter_matrices: dict,
@@ -62,27 +74,75 @@ def analysis_inputs(instance: Instance, analysis_theorem, filter_matrices: dict,
     return inputs
 
 
+def objective_level(theorem, gamma: float) -> float | None:
+    """The objective value at which the theorem's performance equals ``gamma`` (γ² for √g)."""
+    if theorem.objective is None or theorem.performance is None:
+        return None
+    perf, obj = theorem.performance[1], theorem.objective
+    if perf == sp.sqrt(obj):
+        return gamma ** 2
+    if perf == obj:
+        return gamma
+    level = sp.Symbol("level_", positive=True)
+    roots = [r for r in sp.solve(sp.Eq(perf.xreplace({obj: level}), gamma), level) if r.is_real]
+    return float(roots[0]) if roots else None
+
+
+def _solve_one(model, solver, synthesis_gamma, tolerance):
+    """min γ, then (when its point is not strictly feasible) the level problem; (solution, method, min γ)."""
+    sol = model.solve(solver)
+    minimum = sol.gamma if sol.ok else None
+    if sol.ok and sol.certified:
+        return sol, "min", minimum
+    levels = []
+    if synthesis_gamma is not None:
+        levels.append(synthesis_gamma)
+    if minimum is not None:
+        levels.append(minimum * (1 + tolerance))
+    theorem = model.instance.theorem
+    for gamma in sorted(set(levels)):
+        bound = objective_level(theorem, gamma)
+        if bound is None or model.objective is None:
+            break
+        level_sol = model.solve(solver, problem=model.level_problem(bound))
+        if level_sol.ok and level_sol.certified:
+            return level_sol, "level", minimum
+    return sol, "min", minimum
+
+
 def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gamma=None,
                         solver: str | None = None, backend: str = "cvxpy") -> AnalysisCertificate:
     """Solve the analysis counterpart of ``instance.theorem`` with ``filter_matrices`` fixed."""
     from .backends import get_backend
+    from .feasibility import feasp
     from .registry import get_theorem
 
     link = instance.theorem.analysis
     analysis = get_theorem(link.theorem)
     vertices = range(instance.nvertices) if instance.nvertices > 1 else [None]
-    gammas, statuses, lmis = [], [], []
+    gammas, statuses, lmis, methods, minima, reports = [], [], [], [], [], []
     for v in vertices:
         sub = bind(analysis, analysis_inputs(instance, analysis, filter_matrices, v),
                    example=instance.example)
-        sol = get_backend(backend)(sub).solve(solver)
+        sol, method, minimum = _solve_one(get_backend(backend)(sub), solver, synthesis_gamma,
+                                          link.gamma_tolerance)
+        if not (sol.ok and sol.certified):
+            report = feasp(sub, backend=backend, solver=solver)
+            reports.append(report)
+            if report.verdict in ("infeasible", "marginal"):
+                sol.status = report.verdict
         statuses.append(sol.status)
         gammas.append(sol.gamma)
+        methods.append(method)
+        minima.append(minimum)
         lmis += [dict(r.as_dict(), vertex=None if v is None else v + 1) for r in sol.lmis]
     ok = all(s in ("optimal", "optimal_inaccurate") for s in statuses)
     worst = max(gammas) if ok and all(g is not None for g in gammas) else None
     status = "optimal" if ok else next(s for s in statuses if s not in ("optimal", "optimal_inaccurate"))
+    minimum = max(minima) if all(m is not None for m in minima) else None
     return AnalysisCertificate(analysis.id, status, worst,
                                per_vertex=gammas if len(gammas) > 1 else [],
                                lmis=lmis, synthesis_gamma=synthesis_gamma,
-                               tolerance=link.gamma_tolerance)
+                               tolerance=link.gamma_tolerance,
+                               method="level" if "level" in methods else "min",
+                               minimum=minimum, feasp=reports)

@@ -49,6 +49,8 @@ class Solution:
     message: str = ""
     params: dict = field(default_factory=dict)
     instance: Instance | None = None
+    solver_status: str | None = None
+    feasp: object | None = None
 
     @property
     def ok(self) -> bool:
@@ -75,6 +77,7 @@ class Solution:
             "backend": self.backend,
             "solver": self.solver,
             "status": self.status,
+            "solver_status": self.solver_status or self.status,
             "message": self.message,
             "objective": self.objective,
             "gamma": self.gamma,
@@ -86,6 +89,7 @@ class Solution:
             "inverted": self.inverted,
             "values": {k: listify(v) for k, v in self.values.items()},
             "times": self.times,
+            "feasp": self.feasp.as_dict() if self.feasp is not None else None,
         }
 
 

@@ -15,6 +15,7 @@ the reported certificate is the largest eigenvalue of each N at the returned poi
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
@@ -70,6 +71,18 @@ class BackendCompiler(ExpressionWalker):
         return self.model.assemble(rows)
 
 
+@dataclass
+class CompiledLMI:
+    """One compiled LMI ``N ⪯ 0`` (``vertex`` None unless instantiated per vertex), kept so that
+    auxiliary problems (e.g. :mod:`lmidsl.feasibility`) reuse the compiled matrices."""
+
+    label: str
+    vertex: int | None
+    N: object
+    size: int
+    strict: bool
+
+
 class CompiledModel:
     """A bound theorem compiled once for one backend; parameters can be changed and re-solved."""
 
@@ -83,6 +96,7 @@ class CompiledModel:
         self._variables: dict = {}
         self._parameters: dict = {}
         self.constraints: list = []
+        self.matrices: list[CompiledLMI] = []
         theorem = instance.theorem
         for lmi in theorem.lmis:
             vertices = range(instance.nvertices) if lmi.per_vertex else [None]
@@ -94,10 +108,13 @@ class CompiledModel:
                          for j in range(negative.nblocks)] for i in range(negative.nblocks)]
                 size = sum(compiler.size(s) for s in negative.sizes)
                 eps = self.margin if lmi.strict else 0.0
-                self.constraints.append(((lmi.label, v), self.lmi_constraint(self.assemble(rows), size, eps)))
+                N = self.assemble(rows)
+                self.matrices.append(CompiledLMI(lmi.label, v, N, size, lmi.strict))
+                self.constraints.append(((lmi.label, v), self.lmi_constraint(N, size, eps)))
         objective = None
         if theorem.objective is not None:
             objective = self.compiler_class(self, None).visit(theorem.objective)
+        self.objective = objective
         self.problem = self.make_problem(objective, [c for _, c in self.constraints])
         self.compile_time = time.perf_counter() - t0
 
@@ -149,11 +166,17 @@ class CompiledModel:
                 out[name] = self.value_of(self._variables[(name, None)])
         return out
 
-    def solve(self, solver: str | None = None, **options) -> Solution:
-        """Solve, then evaluate the certificate at the returned point with numpy."""
+    def level_problem(self, bound: float):
+        """The feasibility problem 'every LMI and objective ≤ bound' (a point inside the strict
+        set at a prescribed level, rather than on its boundary at the optimum)."""
+        return self.make_problem(None, [c for _, c in self.constraints] + [self.objective <= bound])
+
+    def solve(self, solver: str | None = None, problem=None, **options) -> Solution:
+        """Solve (``problem``: default the compiled one), then evaluate the certificate at the
+        returned point with numpy."""
         instance = self.instance
         t0 = time.perf_counter()
-        status, objective, message, solver_time = self.run_solver(solver, **options)
+        status, objective, message, solver_time = self.run_solver(solver, problem, **options)
         wall = time.perf_counter() - t0
         solution = Solution(instance.theorem.id, instance.example, self.backend,
                             self.solver_name(solver), status, objective, margin=self.margin,
@@ -194,8 +217,17 @@ class CompiledModel:
     def make_problem(self, objective, constraints):
         raise NotImplementedError
 
-    def run_solver(self, solver, **options):
-        """Return (status, objective value, message, solver time or None)."""
+    def run_solver(self, solver, problem=None, **options):
+        """Solve ``problem`` (default: the compiled one); return (status, objective value,
+        message, solver time or None)."""
+        raise NotImplementedError
+
+    def shifted_lmi_constraint(self, N, t, size: int):
+        """``N ⪯ t I`` for a scalar variable ``t`` (auxiliary problems such as feasp)."""
+        return self.lmi_constraint(N - t * np.eye(size), size, 0.0)
+
+    def norm_bound(self, radius: float):
+        """‖(all decision variables)‖₂ ≤ radius, the feasibility radius of LMI Lab's feasp."""
         raise NotImplementedError
 
     def solver_name(self, solver) -> str:
