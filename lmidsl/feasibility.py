@@ -122,6 +122,25 @@ class FeasibilityReport:
         return "\n".join(lines)
 
 
+class JointFeasp:
+    """The joint feasp problem built once on a compiled model; re-solved after
+    :meth:`~lmidsl.backends.base.CompiledModel.update` (parameters are backend parameters)."""
+
+    def __init__(self, model, radius: float = DEFAULT_RADIUS):
+        self.model = model
+        self.t = model.new_scalar("t_feasp", False)
+        constraints = [model.shifted_lmi_constraint(c.N, self.t, c.size) if c.strict
+                       else model.lmi_constraint(c.N, c.size, 0.0) for c in model.matrices]
+        constraints.append(model.norm_bound(radius))
+        self.problem = model.make_problem(self.t, constraints)
+
+    def solve(self, solver=None, **options):
+        """(t*, solver status); t* None when the solver returns no value."""
+        status, value, _, _ = self.model.run_solver(solver, self.problem, **options)
+        ok = status in ("optimal", "optimal_inaccurate") and value is not None
+        return (float(value) if ok else None), status
+
+
 def _tmin(model, chosen, radius, solver, options):
     """min t s.t. the chosen strict LMIs ⪯ tI, the chosen non-strict ones ⪯ 0, ‖x‖ ≤ R."""
     t = model.new_scalar("t_feasp", False)

@@ -36,12 +36,16 @@ SCALARS = {"lambda1": 0.2, "lambda2": -0.3, "epsilon": 0.1}
 PRINTED_FILTER = {"Ahat": [[0.2955, 0.1235], [1.1128, 0.1294]], "Bhat": [[1.2788], [-0.0368]],
                   "Mhat": [[0.4198, -0.1499], [-1.1959, 0.0066]], "Chat": [[0.0440, -0.0319]],
                   "Dhat": [[0.9551]]}
-# Not from the paper: the jump matrix M = diag(1, 0.8) has the eigenvalue 1, which makes (14) and
+# Not from the paper.  The jump matrix M = diag(1, 0.8) has the eigenvalue 1, which makes (14) and
 # (28) infeasible for every filter (docs/reproductions/003.md); M11 = 0.9 makes the jump map Schur.
-MODIFIED_PLANT = {**PLANT, "M": [[0.9, 0.0], [0.0, 0.8]]}
-MODIFIED_SCALARS = {"lambda1": 0.5, "lambda2": 0.5, "epsilon": 0.1}   # TODO from the search
+# The plant is then written in the state coordinates x' = x/10 (B/10, 10 C, 10 L1; A, M unchanged):
+# an exact change of realisation that changes no transfer function and no LMI's feasibility, but
+# raises the strict margins above the default 1e-7 (the paper's coordinates give ~2e-8 only).
+MODIFIED_PLANT = {**PLANT, "M": [[0.9, 0.0], [0.0, 0.8]], "B": [[0.1], [0.01]],
+                  "C": [[10.0, 0.0]], "L1": [[10.0, 0.0]]}
+MODIFIED_SCALARS = {"lambda1": 0.3, "lambda2": 0.3, "epsilon": 0.0}   # rounded search optimum (t*)
 MODIFIED_COMMON = {k: v for k, v in MODIFIED_PLANT.items() if k != "A"}
-TWO_VERTICES = [{"A": MODIFIED_PLANT["A"]}, {"A": [[0.95, 0.01], [-0.05, -0.1]]}]
+TWO_VERTICES = [{"A": MODIFIED_PLANT["A"]}, {"A": [[0.95, 0.01], [-0.05, -0.1]]}]   # A11 ∈ {1, 0.95}
 
 FILTER = ("Ahat", "Bhat", "Mhat", "Chat", "Dhat")
 
