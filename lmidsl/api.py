@@ -52,12 +52,41 @@ def make_instance(theorem, example: str | None = None, data: dict | None = None,
     return bind(thm, instance_inputs(thm, example, data, overrides), example=example)
 
 
+MARGIN_ESCALATION = (10.0, 100.0, 1000.0)
+
+
+def solve_model(model, solver: str | None = None, escalate: bool = True, **options) -> Solution:
+    """Solve a compiled model; if the point does not satisfy the strict LMIs, re-solve with a
+    larger margin.
+
+    Margin escalation: a solver stops at its own tolerance, so with a margin below that
+    tolerance the returned point may violate an LMI by a hair (largest eigenvalue ≥ 0).  The
+    margin is then multiplied by 10, 100, 1000 (re-solving each time) until the certificate
+    holds; the margins tried are reported in ``Solution.notes``.
+    """
+    solution = model.solve(solver, **options)
+    base = model.margin
+    tried = [base]
+    for factor in (MARGIN_ESCALATION if escalate else ()):
+        if not solution.ok or solution.certified:
+            break
+        model.set_margin(base * factor)
+        tried.append(model.margin)
+        solution = model.solve(solver, **options)
+    if len(tried) > 1:
+        solution.notes.append(
+            "margin escalated " + " -> ".join(f"{m:g}" for m in tried)
+            + (" (certificate holds)" if solution.certified else " (certificate still fails)"))
+    return solution
+
+
 def solve_instance(instance: Instance, solver: str | None = None, backend: str = "cvxpy",
                    margin: float | None = None, certify: bool = True, diagnose: bool = True,
                    **options) -> Solution:
-    """Compile, solve, recover the filter and (optionally) certify it by analysis."""
+    """Compile, solve (with margin escalation), recover the filter and certify it by analysis;
+    an uncertified solve gets the feasp diagnosis (``diagnose``)."""
     model = get_backend(backend)(instance, margin=margin)
-    solution = model.solve(solver, **options)
+    solution = solve_model(model, solver, **options)
     finish_solution(solution, solver=solver, backend=backend, certify=certify, diagnose=diagnose)
     return solution
 

@@ -90,7 +90,9 @@ def objective_level(theorem, gamma: float) -> float | None:
 
 def _solve_one(model, solver, synthesis_gamma, tolerance):
     """min γ, then (when its point is not strictly feasible) the level problem; (solution, method, min γ)."""
-    sol = model.solve(solver)
+    from .api import solve_model
+
+    sol = solve_model(model, solver)
     minimum = sol.gamma if sol.ok else None
     if sol.ok and sol.certified:
         return sol, "min", minimum

@@ -22,12 +22,14 @@ Per LMI the report gives
 * ``without`` t* of all LMIs but k (< −margin: dropping k restores feasibility, so k is
   responsible).
 The auxiliary problems are built from the same compiled matrices as the solve
-(:attr:`lmidsl.backends.base.CompiledModel.matrices`), so the diagnosis works for every theorem and
+(:attr:`lmidsl.backends.base.CompiledModel.lmi_matrices`), so the diagnosis works for every theorem and
 backend.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+
+import sympy as sp
 
 from .instance import Instance
 from .solution import lmi_certificate
@@ -128,17 +130,48 @@ class JointFeasp:
 
     def __init__(self, model, radius: float = DEFAULT_RADIUS):
         self.model = model
+        self.radius = radius
+        self._build()
+
+    def _build(self):
+        model = self.model
+        self._source = model.lmi_matrices
         self.t = model.new_scalar("t_feasp", False)
         constraints = [model.shifted_lmi_constraint(c.N, self.t, c.size) if c.strict
-                       else model.lmi_constraint(c.N, c.size, 0.0) for c in model.matrices]
-        constraints.append(model.norm_bound(radius))
+                       else model.lmi_constraint(c.N, c.size, None) for c in compiled_lmis(model)]
+        constraints.append(model.norm_bound(self.radius))
         self.problem = model.make_problem(self.t, constraints)
 
     def solve(self, solver=None, **options):
         """(t*, solver status); t* None when the solver returns no value."""
+        if self.model.lmi_matrices is not self._source:   # the backend recompiled on update
+            self._build()
         status, value, _, _ = self.model.run_solver(solver, self.problem, **options)
         ok = status in ("optimal", "optimal_inaccurate") and value is not None
         return (float(value) if ok else None), status
+
+
+@dataclass
+class CompiledLMI:
+    """One compiled LMI ``N ⪯ 0`` of a model (from ``CompiledModel.lmi_matrices``)."""
+
+    label: str
+    vertex: int | None
+    N: object
+    size: int
+    strict: bool
+
+
+def compiled_lmis(model) -> list[CompiledLMI]:
+    """The model's assembled LMI matrices with their sizes and strictness."""
+    by_label = {lmi.label: lmi for lmi in model.instance.theorem.lmis}
+    dims = model.instance.dims
+    out = []
+    for (label, vertex), N in model.lmi_matrices:
+        lmi = by_label[label]
+        size = sum(int(sp.sympify(s).xreplace(dims)) for s in lmi.negative_form().sizes)
+        out.append(CompiledLMI(label, vertex, N, size, lmi.strict))
+    return out
 
 
 def _tmin(model, chosen, radius, solver, options):
@@ -149,7 +182,7 @@ def _tmin(model, chosen, radius, solver, options):
         if c.strict:
             constraints.append(model.shifted_lmi_constraint(c.N, t, c.size))
         else:
-            constraints.append(model.lmi_constraint(c.N, c.size, 0.0))
+            constraints.append(model.lmi_constraint(c.N, c.size, None))
     constraints.append(model.norm_bound(radius))
     problem = model.make_problem(t, constraints)
     status, value, _, _ = model.run_solver(solver, problem, **options)
@@ -168,7 +201,7 @@ def feasp(instance: Instance, backend: str = "cvxpy", solver: str | None = None,
     from .backends import get_backend
 
     model = get_backend(backend)(instance, margin=margin)
-    compiled = model.matrices
+    compiled = compiled_lmis(model)
     radii = []
     while True:
         tmin, status = _tmin(model, compiled, radius, solver, options)

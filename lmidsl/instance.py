@@ -70,10 +70,14 @@ def _evaluate_params(theorem: Theorem, base: dict) -> dict:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise InputError(f"{theorem.id}: parameter {name} must be a number, got {value!r}")
         domain = decl.extra.get("domain")
-        if domain is not None and not (domain[0] <= value <= domain[1]):
-            raise InputError(
-                f"{theorem.id}: parameter {name} = {value} is outside its domain "
-                f"[{domain[0]}, {domain[1]}]")
+        if domain is not None:
+            is_open = decl.extra.get("open", False)
+            inside = domain[0] < value < domain[1] if is_open else domain[0] <= value <= domain[1]
+            if not inside:
+                interval = f"({domain[0]}, {domain[1]})" if is_open else f"[{domain[0]}, {domain[1]}]"
+                note = decl.extra.get("note")
+                raise InputError(f"{theorem.id}: parameter {name} = {value} is outside its domain "
+                                 f"{interval}" + (f": {note}" if note else ""))
         values[name] = float(value)
     subs = {decl.symbol: values[name] for name, decl in theorem.param_decl.items()}
     for name, decl in theorem.derived_decl.items():

@@ -50,8 +50,9 @@ class NumericEvaluator(ExpressionWalker):
 
     def inverse(self, a, expr):
         a = np.atleast_2d(a)
-        cond = float(np.linalg.cond(a))
-        self.inverted.append({"matrix": str(expr), "cond": cond})
+        name = str(expr)
+        if all(entry["matrix"] != name for entry in self.inverted):
+            self.inverted.append({"matrix": name, "cond": float(np.linalg.cond(a))})
         return np.linalg.inv(a)
 
     def scale(self, c, a):

@@ -55,6 +55,8 @@ def format_solution(sol) -> str:
         lines.append(f"  analysis {analysis.theorem} with the recovered filter: {g} ({verdict})")
         for rep in getattr(analysis, "feasp", []):
             lines.append(rep.format("    "))
+    for note in sol.notes:
+        lines.append(f"  note: {note}")
     if sol.times:
         lines.append("  times: " + ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in sol.times.items()))
     return "\n".join(lines)

@@ -121,7 +121,7 @@ class Evaluator:
         self.instance = instance
         self.objective = objective
         self.solver = solver
-        self.model = get_backend(backend)(instance, margin=margin)
+        self.model = get_backend(backend)(instance, margin=margin, reuse=True)
         self.feasp = JointFeasp(self.model, radius or DEFAULT_RADIUS) if objective == "tmin" else None
 
     def __call__(self, params: dict) -> SearchPoint:

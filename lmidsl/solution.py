@@ -48,6 +48,7 @@ class Solution:
     margin: float = 0.0
     message: str = ""
     params: dict = field(default_factory=dict)
+    notes: list = field(default_factory=list)
     instance: Instance | None = None
     solver_status: str | None = None
     feasp: object | None = None
@@ -90,6 +91,7 @@ class Solution:
             "values": {k: listify(v) for k, v in self.values.items()},
             "times": self.times,
             "feasp": self.feasp.as_dict() if self.feasp is not None else None,
+            "notes": self.notes,
         }
 
 

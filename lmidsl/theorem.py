@@ -47,13 +47,16 @@ class LMI:
     strict: bool = True
     description: str = ""
     per_vertex: bool = False
+    _negative: BlockMatrixSpec | None = field(default=None, repr=False, compare=False)
 
     def negative_form(self) -> BlockMatrixSpec:
-        """The matrix N with the LMI stated as N ≺ 0 (N = M for '<', N = −M for '>')."""
+        """The matrix N with the LMI stated as N ≺ 0 (N = M for '<', N = −M for '>'); built once."""
         if self.sense in ("<", "<="):
             return self.spec
-        lower = [[-b for b in row] for row in self.spec.lower]
-        return BlockMatrixSpec(lower, self.spec.sizes, self.spec.given_as)
+        if self._negative is None:
+            lower = [[-b for b in row] for row in self.spec.lower]
+            self._negative = BlockMatrixSpec(lower, self.spec.sizes, self.spec.given_as)
+        return self._negative
 
     def symbols(self) -> set:
         atoms = set()
@@ -126,6 +129,7 @@ class Theorem:
         self.var_decl: dict[str, Declaration] = {}
         self.param_decl: dict[str, Declaration] = {}
         self.derived_decl: dict[str, Declaration] = {}
+        self.notation: dict[str, Declaration] = {}
         self.lmis: list[LMI] = []
         self.objective: sp.Expr | None = None
         self.performance: tuple[str, sp.Expr] | None = None
@@ -136,7 +140,7 @@ class Theorem:
     # -- declarations -------------------------------------------------------------------
     def _check_new(self, name: str):
         taken = (self.dims.keys() | self.data_decl.keys() | self.var_decl.keys()
-                 | self.param_decl.keys() | self.derived_decl.keys())
+                 | self.param_decl.keys() | self.derived_decl.keys() | self.notation.keys())
         if name in taken:
             raise TheoremDefinitionError(f"{self.id}: the name {name!r} is declared twice")
 
@@ -204,12 +208,18 @@ class Theorem:
         return symbol
 
     def param(self, name: str, *, latex: str | None = None, description: str = "",
-              domain: tuple[float, float] | None = None, default: float | None = None) -> Param:
-        """Declare a scalar parameter; ``domain`` = (low, high) is checked at bind time."""
+              domain: tuple[float, float] | None = None, open_domain: bool = False,
+              domain_note: str = "", default: float | None = None) -> Param:
+        """Declare a scalar parameter.
+
+        ``domain`` = (low, high) is checked at bind time, closed unless ``open_domain``;
+        ``domain_note`` says why (it is printed with the error).
+        """
         self._check_new(name)
         symbol = self._describe(Param(name, self.id), latex, description)
         self.param_decl[name] = Declaration(symbol, symbol.latex_name, description,
-                                            {"domain": domain, "default": default})
+                                            {"domain": domain, "open": open_domain,
+                                             "note": domain_note, "default": default})
         return symbol
 
     def derived(self, name: str, definition, *, latex: str | None = None,
@@ -220,6 +230,16 @@ class Theorem:
         symbol.definition = sp.sympify(definition)
         self.derived_decl[name] = Declaration(symbol, symbol.latex_name, description)
         return symbol
+
+    def define(self, name: str, expr, *, latex: str | None = None, description: str = ""):
+        """Name a matrix expression as the paper does (A_cl0 = [[A, 0], [r̄ B_f C, A_f]]).
+
+        Returns ``expr`` unchanged: LMIs and the compiler see the expression; the LaTeX
+        printer prints ``latex`` in its place and states the definition below the LMI.
+        """
+        self._check_new(name)
+        self.notation[name] = Declaration(expr, latex or name, description)
+        return expr
 
     # -- conditions ---------------------------------------------------------------------
     def lmi(self, label: str, rows, *, sense: str = "<", triangle: str = "lower", sizes=None,

@@ -17,21 +17,27 @@ from .symbols import (DataMatrix, DerivedParam, Param, ScalarVariable, Structure
                       Variable)
 
 
+_SIGNED_TERMS: dict = {}  # id(MatAdd) -> (MatAdd, [(sign, term)]); theorem trees are immutable
+
+
 class ExpressionWalker:
     """Evaluate a sympy matrix/scalar expression into some algebra (numpy, cvxpy, picos)."""
 
     def __init__(self, dims: dict, vertex: int | None = None):
         self.dims = dims
         self.vertex = vertex
-        self._cache: dict = {}
+        self._cache: dict = {}  # id(expr) -> (expr, value); one walker per vertex
 
     # -- entry point -----------------------------------------------------------------
     def visit(self, expr):
-        key = (expr, self.vertex)
-        if key in self._cache:
-            return self._cache[key]
+        # keyed by identity: a shared sub-tree is walked once, and no deep sympy equality is
+        # ever evaluated (the expressions outlive the walk, so ids are stable)
+        key = id(expr)
+        hit = self._cache.get(key)
+        if hit is not None:
+            return hit[1]
         result = self._dispatch(expr)
-        self._cache[key] = result
+        self._cache[key] = (expr, result)
         return result
 
     def _dispatch(self, expr):
@@ -93,14 +99,46 @@ class ExpressionWalker:
     def _visit_StructuredVariable(self, expr: StructuredVariable):
         return self.visit(expr.expansion)
 
+    def subtract(self, a, b):
+        return a - b
+
+    def negate(self, a):
+        return -a
+
+    @staticmethod
+    def _signed_terms(expr):
+        """(sign, term) pairs of a sum, with a −1 coefficient taken out of the term (cached)."""
+        hit = _SIGNED_TERMS.get(id(expr))
+        if hit is not None and hit[0] is expr:
+            return hit[1]
+        terms = []
+        for term in expr.args:
+            if isinstance(term, sp.MatMul) and term.args[0] == -1:
+                terms.append((-1, sp.MatMul(*term.args[1:]) if len(term.args) > 2 else term.args[1]))
+            else:
+                terms.append((1, term))
+        terms.sort(key=lambda st: -st[0])
+        if len(_SIGNED_TERMS) > 100_000:
+            _SIGNED_TERMS.clear()
+        _SIGNED_TERMS[id(expr)] = (expr, terms)
+        return terms
+
     def _visit_MatAdd(self, expr):
-        return reduce(self.add, (self.visit(a) for a in expr.args))
+        # a − b rather than a + (−1)·b: one node fewer per term in the target algebra
+        terms = self._signed_terms(expr)
+        sign, first = terms[0]
+        total = self.visit(first) if sign > 0 else self.negate(self.visit(first))
+        for sign, term in terms[1:]:
+            total = self.add(total, self.visit(term)) if sign > 0 else self.subtract(total, self.visit(term))
+        return total
 
     def _visit_MatMul(self, expr):
         coeff, matrices = expr.as_coeff_matrices()
         product = reduce(self.matmul, (self.visit(m) for m in matrices))
         if coeff == 1:
             return product
+        if coeff == -1:
+            return self.negate(product)
         return self.scale(self.visit(coeff), product)
 
     def _visit_Transpose(self, expr):

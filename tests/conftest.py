@@ -1,11 +1,35 @@
-import warnings
+"""Shared helpers: run the command line in-process or as a real subprocess."""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
 
 import pytest
 
+ROOT = Path(__file__).resolve().parents[1]
 
-@pytest.fixture(autouse=True)
-def _quiet_solver_warnings():
-    """cvxpy warns 'Solution may be inaccurate' on boundary optima; the tests check certificates."""
-    with warnings.catch_warnings():
-        warnings.filterwarnings("ignore", message="Solution may be inaccurate")
-        yield
+
+def run_cli(*argv, env=None, cwd=None):
+    """Run ``python -m lmidsl ARGV`` in a subprocess; returns (exit code, stdout, stderr)."""
+    full_env = dict(os.environ)
+    full_env["PYTHONPATH"] = str(ROOT) + os.pathsep + full_env.get("PYTHONPATH", "")
+    full_env.pop("LMIDSL_DEBUG", None)
+    if env:
+        full_env.update(env)
+    proc = subprocess.run([sys.executable, "-m", "lmidsl", *argv], capture_output=True, text=True,
+                          env=full_env, cwd=cwd or ROOT, timeout=600)
+    return proc.returncode, proc.stdout, proc.stderr
+
+
+def run_cli_json(*argv, **kw):
+    code, out, err = run_cli(*argv, "--json", **kw)
+    assert code == 0, err
+    return json.loads(out)
+
+
+@pytest.fixture
+def cli():
+    return run_cli

@@ -40,7 +40,9 @@ def _plant(thm: Theorem, per_vertex: bool = False):
         D=thm.data("D", ny, m, per_vertex=per_vertex, description="measurement noise input"),
         L=thm.data("L", p, n, per_vertex=per_vertex, description="estimated output"),
     )
-    rbar = thm.param("rbar", latex=r"\bar{r}", domain=(0.0, 1.0),
+    rbar = thm.param("rbar", latex=r"\bar{r}", domain=(0.0, 1.0), open_domain=True,
+                     domain_note="a probability; at 0 or 1, a = 0 and the diagonal blocks "
+                                 "a(P - V - V^T) of the printed LMI vanish, so no strict solution exists",
                      description="Pr{r(k) = 1}, probability that the measurement arrives")
     a = thm.derived("a", (1 - rbar) * rbar, latex="a", description="variance of r(k)")
     return (n, m, ny, p, k), plant, rbar, a
@@ -93,10 +95,13 @@ thm1 = Theorem("wang_l2linf.thm1", "Energy-to-peak analysis with the filter fixe
 Af = thm1.data("Af", _k, _k, latex="A_f", description="filter state matrix")
 Bf = thm1.data("Bf", _k, _ny, latex="B_f", description="filter input matrix")
 Cf = thm1.data("Cf", _p, _k, latex="C_f", description="filter output matrix")
-A_cl0 = BlockMatrix([[_d["A"], ZeroMatrix(_n, _k)], [_rbar * Bf * _d["C"], Af]])
-A_cl1 = BlockMatrix([[ZeroMatrix(_n, _n), ZeroMatrix(_n, _k)], [Bf * _d["C"], ZeroMatrix(_k, _k)]])
-B_cl = BlockMatrix([[_d["B"]], [Bf * _d["D"]]])
-C_cl = BlockMatrix([[_d["L"], -Cf]])
+# error system (5): the paper's names, printed in the LaTeX of (10)-(11)
+A_cl0 = thm1.define("A_cl0", BlockMatrix([[_d["A"], ZeroMatrix(_n, _k)], [_rbar * Bf * _d["C"], Af]]),
+                    latex="A_{cl0}")
+A_cl1 = thm1.define("A_cl1", BlockMatrix([[ZeroMatrix(_n, _n), ZeroMatrix(_n, _k)],
+                                          [Bf * _d["C"], ZeroMatrix(_k, _k)]]), latex="A_{cl1}")
+B_cl = thm1.define("B_cl", BlockMatrix([[_d["B"]], [Bf * _d["D"]]]), latex="B_{cl}")
+C_cl = thm1.define("C_cl", BlockMatrix([[_d["L"], -Cf]]), latex="C_{cl}")
 P = thm1.var("P", _n + _k, kind="symmetric", latex="P")
 g1 = thm1.scalar("g", latex=r"\gamma^2", description="squared l2-l∞ level")
 thm1.lmi("(10)", [

@@ -15,7 +15,6 @@ the reported certificate is the largest eigenvalue of each N at the returned poi
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
@@ -29,11 +28,26 @@ from ..walker import ExpressionWalker
 DEFAULT_MARGIN = 1e-7
 
 
+_CLASSIFIED: dict = {}
+
+
 def _classify(expr) -> tuple[bool, bool]:
-    """(contains a decision variable, contains a parameter)."""
+    """(contains a decision variable, contains a parameter).
+
+    Cached by identity (the entry keeps the expression alive, so the id stays valid): theorem
+    trees are immutable and compiled again at every bind, and sympy's deep equality is too slow
+    to pay on every lookup.
+    """
+    hit = _CLASSIFIED.get(id(expr))
+    if hit is not None and hit[0] is expr:
+        return hit[1]
     atoms = expr.atoms(sp.Symbol, sp.MatrixSymbol)
-    return (any(isinstance(a, DECISION_TYPES) for a in atoms),
-            any(isinstance(a, (Param, DerivedParam)) for a in atoms))
+    result = (any(isinstance(a, DECISION_TYPES) for a in atoms),
+              any(isinstance(a, (Param, DerivedParam)) for a in atoms))
+    if len(_CLASSIFIED) > 100_000:
+        _CLASSIFIED.clear()
+    _CLASSIFIED[id(expr)] = (expr, result)
+    return result
 
 
 class BackendCompiler(ExpressionWalker):
@@ -71,33 +85,28 @@ class BackendCompiler(ExpressionWalker):
         return self.model.assemble(rows)
 
 
-@dataclass
-class CompiledLMI:
-    """One compiled LMI ``N ⪯ 0`` (``vertex`` None unless instantiated per vertex), kept so that
-    auxiliary problems (e.g. :mod:`lmidsl.feasibility`) reuse the compiled matrices."""
-
-    label: str
-    vertex: int | None
-    N: object
-    size: int
-    strict: bool
-
-
 class CompiledModel:
-    """A bound theorem compiled once for one backend; parameters can be changed and re-solved."""
+    """A bound theorem compiled once for one backend; parameters can be changed and re-solved.
+
+    ``reuse=True`` marks a model that will be re-solved many times (a sweep); backends that
+    cannot change numbers in place (PICOS) recompile on :meth:`update` either way.
+    """
 
     backend = "abstract"
     compiler_class = BackendCompiler
 
-    def __init__(self, instance: Instance, margin: float | None = None):
+    def __init__(self, instance: Instance, margin: float | None = None, reuse: bool = False):
         t0 = time.perf_counter()
         self.instance = instance
+        self.reuse = reuse  # True: the backend keeps its compiled form for re-solves (sweeps)
         self.margin = DEFAULT_MARGIN if margin is None else float(margin)
         self._variables: dict = {}
         self._parameters: dict = {}
         self.constraints: list = []
-        self.matrices: list[CompiledLMI] = []
+        self.lmi_matrices: list = []  # ((label, vertex), assembled backend expression N)
+        self.current_lmi = None       # (label, vertex) being compiled, for error messages
         theorem = instance.theorem
+        self._margin_parameter = self.new_parameter("margin", self.margin)
         for lmi in theorem.lmis:
             vertices = range(instance.nvertices) if lmi.per_vertex else [None]
             negative = lmi.negative_form()
@@ -107,10 +116,12 @@ class CompiledModel:
                 rows = [[lower[i][j] if j <= i else compiler.transpose(lower[j][i])
                          for j in range(negative.nblocks)] for i in range(negative.nblocks)]
                 size = sum(compiler.size(s) for s in negative.sizes)
-                eps = self.margin if lmi.strict else 0.0
+                eps = self._margin_parameter if lmi.strict else None
+                self.current_lmi = (lmi.label, v)
                 N = self.assemble(rows)
-                self.matrices.append(CompiledLMI(lmi.label, v, N, size, lmi.strict))
+                self.lmi_matrices.append(((lmi.label, v), N))
                 self.constraints.append(((lmi.label, v), self.lmi_constraint(N, size, eps)))
+        self.current_lmi = None
         objective = None
         if theorem.objective is not None:
             objective = self.compiler_class(self, None).visit(theorem.objective)
@@ -145,6 +156,11 @@ class CompiledModel:
             self._parameters[expr] = self.new_parameter(str(expr), self._parameter_value(expr))
         return self._parameters[expr]
 
+    def set_margin(self, margin: float) -> None:
+        """Change the strictness margin ε without recompiling."""
+        self.margin = float(margin)
+        self.set_parameter(self._margin_parameter, self.margin)
+
     def update(self, instance: Instance) -> None:
         """Take new parameter values (same data and dimensions) without recompiling."""
         self.instance = instance
@@ -166,9 +182,22 @@ class CompiledModel:
                 out[name] = self.value_of(self._variables[(name, None)])
         return out
 
+    def assign(self, values: dict) -> None:
+        """Give the backend variables values (same layout as :meth:`values`), e.g. to compare
+        the assembled LMI matrices of two backends at one point (golden tests)."""
+        for (name, vertex), variable in self._variables.items():
+            value = values[name]
+            if vertex is not None:
+                value = value[vertex]
+            self.set_value(variable, value)
+
+    def lmi_values(self) -> dict:
+        """Numeric value of every assembled LMI matrix N at the current variable values."""
+        return {key: np.asarray(self.expression_value(N), dtype=float) for key, N in self.lmi_matrices}
+
     def level_problem(self, bound: float):
-        """The feasibility problem 'every LMI and objective ≤ bound' (a point inside the strict
-        set at a prescribed level, rather than on its boundary at the optimum)."""
+        """The feasibility problem 'every LMI, and objective ≤ bound': a point inside the strict
+        set at a prescribed level rather than on its boundary at the optimum."""
         return self.make_problem(None, [c for _, c in self.constraints] + [self.objective <= bound])
 
     def solve(self, solver: str | None = None, problem=None, **options) -> Solution:
@@ -211,7 +240,8 @@ class CompiledModel:
     def assemble(self, rows):
         raise NotImplementedError
 
-    def lmi_constraint(self, N, size: int, eps: float):
+    def lmi_constraint(self, N, size: int, eps):
+        """N ⪯ −eps·I (eps a backend parameter) or N ⪯ 0 when eps is None."""
         raise NotImplementedError
 
     def make_problem(self, objective, constraints):
@@ -224,14 +254,20 @@ class CompiledModel:
 
     def shifted_lmi_constraint(self, N, t, size: int):
         """``N ⪯ t I`` for a scalar variable ``t`` (auxiliary problems such as feasp)."""
-        return self.lmi_constraint(N - t * np.eye(size), size, 0.0)
+        return self.lmi_constraint(N - t * np.eye(size), size, None)
 
     def norm_bound(self, radius: float):
-        """‖(all decision variables)‖₂ ≤ radius, the feasibility radius of LMI Lab's feasp."""
+        """‖(all decision variables stacked)‖₂ ≤ radius: the feasibility radius of LMI Lab's feasp."""
         raise NotImplementedError
 
     def solver_name(self, solver) -> str:
         raise NotImplementedError
 
     def value_of(self, variable):
+        raise NotImplementedError
+
+    def set_value(self, variable, value) -> None:
+        raise NotImplementedError
+
+    def expression_value(self, expression):
         raise NotImplementedError

@@ -7,6 +7,8 @@ DPP-compliant, so changing parameters and re-solving reuses cvxpy's compiled for
 """
 from __future__ import annotations
 
+import warnings
+
 import cvxpy as cp
 import numpy as np
 
@@ -75,7 +77,7 @@ class CvxpyModel(CompiledModel):
         return cp.bmat(rows)
 
     def lmi_constraint(self, N, size, eps):
-        return N << (-eps * np.eye(size) if eps else np.zeros((size, size)))
+        return N << (-eps * np.eye(size) if eps is not None else np.zeros((size, size)))
 
     def make_problem(self, objective, constraints):
         return cp.Problem(cp.Minimize(objective if objective is not None else 0), constraints)
@@ -87,7 +89,10 @@ class CvxpyModel(CompiledModel):
         name = resolve_solver(solver)
         problem = self.problem if problem is None else problem
         try:
-            problem.solve(solver=name, **options)
+            with warnings.catch_warnings():
+                # cvxpy warns "Solution may be inaccurate"; the status and certificate say so
+                warnings.simplefilter("ignore", UserWarning)
+                problem.solve(solver=name, **options)
         except cp.error.SolverError as exc:
             return "solver_error", None, str(exc).splitlines()[0] if str(exc) else "solver failed", None
         status = _STATUS.get(problem.status, str(problem.status))
@@ -108,3 +113,13 @@ class CvxpyModel(CompiledModel):
         if hasattr(value, "toarray"):
             value = value.toarray()
         return np.asarray(value, dtype=float) if np.ndim(value) else float(value)
+
+    def set_value(self, variable, value):
+        value = np.asarray(value, dtype=float)
+        if variable.attributes.get("diag"):
+            value = np.diag(np.diag(value)) if value.ndim == 2 else np.diag(value)
+        variable.value = value if value.ndim else float(value)
+
+    def expression_value(self, expression):
+        value = expression.value
+        return value.toarray() if hasattr(value, "toarray") else np.asarray(value, dtype=float)

@@ -12,7 +12,8 @@ ORDER = 20
 def register(sub):
     p = sub.add_parser("solve", help="solve a theorem on an example or data")
     add_instance_arguments(p)
-    p.add_argument("--solver", help="solver name (default: clarabel); any installed SDP solver")
+    p.add_argument("--solver", help="solver name (default: clarabel on cvxpy, cvxopt on picos); "
+                   "any installed SDP solver of the backend")
     p.add_argument("--backend", default="cvxpy", help=f"modelling backend ({', '.join(BACKENDS)})")
     p.add_argument("--margin", type=float, help="strictness margin ε (N <= -ε I); default 1e-7")
     p.add_argument("--no-certify", action="store_true", help="skip the analysis certificate")

@@ -1,0 +1,87 @@
+"""``lmidsl latex``: the theorem as a LaTeX document (and a PDF with ``--pdf``)."""
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+from ..errors import InputError, LmidslError
+from ..registry import get_example, get_theorem
+
+ORDER = 40
+
+
+class PdflatexMissing(LmidslError):
+    """pdflatex is not on PATH."""
+
+
+def register(sub):
+    p = sub.add_parser("latex", help="LaTeX document of a theorem's LMIs (optionally solved)")
+    p.add_argument("theorem", help="theorem id, e.g. wang_l2linf.thm3 (see `lmidsl list`)")
+    p.add_argument("-o", "--output", metavar="FILE.tex",
+                   help="write the document here (default: stdout; with --pdf: THEOREM.tex)")
+    p.add_argument("--pdf", action="store_true", help="also run pdflatex on the document")
+    p.add_argument("--example", help="solve this example and add the numbers (γ, filter)")
+    p.add_argument("--solver", help="solver for --example (default: clarabel)")
+    p.add_argument("--star", choices=["star", "asterisk"], default="star",
+                   help="symbol for the implicit triangle: \\star (default) or *")
+    p.add_argument("--he", choices=["expand", "collapse"], default="expand",
+                   help="print X + X^T as is (default) or as He(X)")
+    p.add_argument("--relation", choices=["<", "prec"], default="<",
+                   help="write M < 0 (default) or M \\prec 0")
+    p.set_defaults(run=run)
+
+
+def compile_pdf(tex_path: Path) -> Path:
+    """Run pdflatex on ``tex_path`` in its folder; the PDF path, or a one-line error."""
+    exe = shutil.which("pdflatex")
+    if exe is None:
+        raise PdflatexMissing(
+            f"--pdf: pdflatex is not installed (apt-get install texlive-latex-base); "
+            f"the LaTeX source is in {tex_path}")
+    proc = subprocess.run([exe, "-interaction=nonstopmode", "-halt-on-error", tex_path.name],
+                          cwd=tex_path.parent, capture_output=True, text=True,
+                          stdin=subprocess.DEVNULL)
+    pdf = tex_path.with_suffix(".pdf")
+    if proc.returncode != 0 or not pdf.exists():
+        lines = proc.stdout.splitlines()
+        first = next((i for i, line in enumerate(lines) if line.startswith("!")), None)
+        detail = " ".join(lines[first:first + 2]) if first is not None else "no PDF produced"
+        raise LmidslError(f"pdflatex failed on {tex_path}: {detail} (see {tex_path.with_suffix('.log')})")
+    for suffix in (".aux", ".log"):
+        tex_path.with_suffix(suffix).unlink(missing_ok=True)
+    return pdf
+
+
+def run(args):
+    from ..latex import theorem_latex
+
+    theorem = get_theorem(args.theorem)
+    if args.example is not None:
+        get_example(theorem, args.example)
+    settings = {"star": r"\star" if args.star == "star" else "*", "he": args.he,
+                "relation": args.relation}
+    if args.pdf and shutil.which("pdflatex") is None and args.output is None:
+        raise PdflatexMissing("--pdf: pdflatex is not installed (apt-get install texlive-latex-base)")
+    text = theorem_latex(theorem, example=args.example, solver=args.solver, **settings)
+    out = args.output
+    if out is None and args.pdf:
+        out = f"{theorem.id}.tex"
+    if out is None:
+        sys.stdout.write(text)
+        return 0
+    path = Path(out)
+    if path.suffix != ".tex":
+        raise InputError(f"-o {out}: the output file must end in .tex")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+    except OSError as exc:
+        raise InputError(f"-o {out}: {exc.strerror}") from None
+    print(f"wrote {path}")
+    if args.pdf:
+        pdf = compile_pdf(path.resolve())
+        print(f"wrote {os.path.relpath(pdf)}")
+    return 0

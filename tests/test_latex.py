@@ -1,0 +1,292 @@
+"""LaTeX of the LMIs: golden strings for small LMIs, symbol names, and documents that compile.
+
+The golden strings are the exact output of :func:`lmidsl.latex.lmi_latex`; they were checked
+by eye against the way the papers print such blocks (``\\star`` above the diagonal, ``I`` and
+``0`` blocks, ``P^{T}`` never for a symmetric ``P``).  The compile tests run ``pdflatex`` on the
+document of every theorem in ``theorems/`` (and on a 12-block-column LMI, which needs amsmath's
+``MaxMatrixCols`` raised); they are skipped, saying so, only when pdflatex is not installed.
+"""
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+
+import pytest
+import sympy as sp
+
+from lmidsl import He, I, Source, Theorem, diag
+from lmidsl.cli import main
+from lmidsl.errors import InputError
+from lmidsl.latex import (LMILatexPrinter, lmi_latex, name_to_latex, tex_text, theorem_latex,
+                          with_vertex_index)
+from lmidsl.registry import all_theorems, get_theorem
+from lmidsl.symbols import SymmetricVariable
+
+PDFLATEX = shutil.which("pdflatex")
+needs_pdflatex = pytest.mark.skipif(
+    PDFLATEX is None, reason="pdflatex is not installed (Debian: apt-get install texlive-latex-base)")
+
+
+def compile_tex(text: str, folder, name: str = "doc") -> subprocess.CompletedProcess:
+    tex = folder / f"{name}.tex"
+    tex.write_text(text)
+    return subprocess.run([PDFLATEX, "-interaction=nonstopmode", "-halt-on-error", tex.name],
+                          cwd=folder, capture_output=True, text=True, stdin=subprocess.DEVNULL,
+                          timeout=120)
+
+
+def assert_compiles(text: str, folder, name: str = "doc"):
+    proc = compile_tex(text, folder, name)
+    errors = [l for l in proc.stdout.splitlines() if l.startswith("!")]
+    assert proc.returncode == 0 and not errors, f"pdflatex failed: {errors[:3]}"
+    assert (folder / f"{name}.pdf").stat().st_size > 1000
+
+
+@pytest.fixture(scope="module")
+def small():
+    """A theorem with a bounded-real-type 2×2 block, a 3×3 block with a scalar factor, an LMI
+    given by its upper triangle and one with a structured variable."""
+    t = Theorem("test_latex.small", "Small LMIs", Source("none.txt", "(1)-(6)"))
+    n, m = t.dim("n m")
+    A = t.data("A", n, n)
+    B = t.data("B", n, m)
+    P = t.var("P", n, kind="symmetric")
+    g = t.scalar("g", latex=r"\gamma^2")
+    rbar = t.param("rbar", latex=r"\bar{r}", domain=(0.0, 1.0))
+    a = t.derived("a", (1 - rbar) * rbar, latex="a")
+    t.lmi("(3)", [[He(P * A)], [B.T * P, -g * I]])
+    t.lmi("(4)", [[-P], [0, -I], [a * P * A, sp.sqrt(rbar) * P * B, -a * P]])
+    t.lmi("(5)", [[-P, P * A], [-P]], triangle="upper")
+    X = t.var("X", n, kind="symmetric")
+    Z = t.var("Z", n, kind="symmetric")
+    Lam = t.structured("Lam", [[X, Z], [Z, Z]], latex=r"\Lambda", symmetric=True)
+    t.lmi("(6)", [[-Lam], [0, diag(-Lam, -Lam)]])
+    t.positive(P)
+    t.minimize(g, performance=("gamma", sp.sqrt(g)))
+    return t
+
+
+# -- golden strings ---------------------------------------------------------------------------
+def test_golden_bounded_real_2x2(small):
+    assert lmi_latex(small, "(3)") == (
+        "\\begin{bmatrix}\n"
+        "P A + A^{T} P & \\star \\\\\n"
+        "B^{T} P & -\\gamma^2 I\n"
+        "\\end{bmatrix} < 0")
+
+
+def test_golden_bounded_real_he_prec_asterisk(small):
+    assert lmi_latex(small, "(3)", he="collapse", relation="prec", star="*") == (
+        "\\begin{bmatrix}\n"
+        "\\mathrm{He}(P A) & * \\\\\n"
+        "B^{T} P & -\\gamma^2 I\n"
+        "\\end{bmatrix} \\prec 0")
+
+
+def test_golden_3x3_star_and_scalar_factor(small):
+    assert lmi_latex(small, "(4)") == (
+        "\\begin{bmatrix}\n"
+        "-P & \\star & \\star \\\\\n"
+        "0 & -I & \\star \\\\\n"
+        "a P A & \\sqrt{\\bar{r}} P B & -a P\n"
+        "\\end{bmatrix} < 0")
+    display = lmi_latex(small, "(4)", display=True)
+    assert display.startswith("\\lmidisplay{\\begin{bmatrix}")
+    assert "}{(4)}" in display  # the paper's label, printed by \tag*{(4)}
+    assert "where" in display and "a = (1 - \\bar{r}) \\bar{r}." in display
+
+
+def test_golden_upper_triangle_and_structured(small):
+    assert lmi_latex(small, "(5)") == (
+        "\\begin{bmatrix}\n-P & P A \\\\\n\\star & -P\n\\end{bmatrix} < 0")
+    assert lmi_latex(small, "(5)", triangle="lower") == (
+        "\\begin{bmatrix}\n-P & \\star \\\\\nA^{T} P & -P\n\\end{bmatrix} < 0")
+    assert lmi_latex(small, "(6)") == (
+        "\\begin{bmatrix}\n-\\Lambda & \\star \\\\\n"
+        "0 & \\mathrm{diag}(-\\Lambda, -\\Lambda)\n\\end{bmatrix} < 0")
+    assert "\\Lambda = \\begin{bmatrix} X & Z \\\\ Z & Z \\end{bmatrix}" in lmi_latex(
+        small, "(6)", display=True)
+    assert lmi_latex(small, "P > 0") == "P > 0"
+    assert lmi_latex(small, "P > 0", relation="prec") == "P \\succ 0"
+
+
+def test_sized_identity_and_zero(small):
+    text = lmi_latex(small, "(4)", identity_size=True, zero_size=True)
+    assert "0_{m \\times n} & -I_{m}" in text
+
+
+def test_paper_thm3_lmi_30_as_printed():
+    """Theorem 3 (30) of seed 000 reads exactly as NOTES.md §1.4 prints it."""
+    text = lmi_latex(get_theorem("wang_l2linf.thm3"), "(30)")
+    rows = text.split("\n")[1:-1]
+    assert rows[3] == ("V_1^{T} A + \\bar{r} E \\hat{B}_f C & E \\hat{A}_f & "
+                       "V_1^{T} B + E \\hat{B}_f D & P_1 - V_1 - V_1^{T} & \\star & \\star & \\star \\\\")
+    assert rows[4].startswith("V_3^{T} A + \\bar{r} \\hat{B}_f C & \\hat{A}_f & V_3^{T} B + "
+                              "\\hat{B}_f D & P_2^{T} - V_3^{T} - V_2^{T} E^{T} & P_3 - V_2 - V_2^{T}")
+    assert rows[6] == ("a \\hat{B}_f C & 0 & 0 & 0 & 0 & a (P_2^{T} - V_3^{T} - V_2^{T} E^{T}) & "
+                       "a (P_3 - V_2 - V_2^{T})")
+    assert text.endswith("\\end{bmatrix} < 0")
+
+
+def test_named_subexpressions_of_thm1():
+    """(10) prints P A_{cl0}, not the inline block matrix, and defines A_{cl0} below."""
+    thm1 = get_theorem("wang_l2linf.thm1")
+    assert "P A_{cl0} & P B_{cl} & -P & \\star" in lmi_latex(thm1, "(10)")
+    display = lmi_latex(thm1, "(10)", display=True)
+    assert "A_{cl0} = \\begin{bmatrix} A & 0 \\\\ \\bar{r} B_f C & A_f \\end{bmatrix}" in display
+
+
+def test_per_vertex_index():
+    text = lmi_latex(get_theorem("wang_l2linf.cor1"), "(38)")
+    assert text.split("\n")[1:4] == ["-P_{1i} & \\star & \\star \\\\",
+                                     "-P_{2i}^{T} & -P_{3i} & \\star \\\\",
+                                     "L_i & -\\hat{C}_f & -\\gamma^2 I"]
+
+
+# -- symbols ----------------------------------------------------------------------------------
+def test_hats_bars_subscripts_and_transposes():
+    t = Theorem("test_latex.symbols", "Symbols", Source("none.txt", "-"))
+    n = t.dim("n")
+    Af_hat = t.var("Af_hat", n, n, latex=r"\hat{A}_f")
+    P1 = t.var("P1", n, kind="symmetric", latex="P_1")
+    Q = t.var("Q", n, kind="diagonal", latex=r"\bar{Q}")
+    S = t.var("S", n, n)
+    W = t.var("W2", n, n)  # no LaTeX given: guessed as W_2
+    xi = t.param("xi1bar")  # guessed as \bar{\xi}_1
+    p = LMILatexPrinter()
+    assert p.doprint(Af_hat.T) == "\\hat{A}_f^{T}"
+    assert p.doprint(P1.T) == "P_1"
+    assert p.doprint(sp.Transpose(P1)) == "P_1"  # even an unevaluated transpose
+    assert p.doprint(Q.T) == "\\bar{Q}"
+    assert p.doprint((P1 * Af_hat).T) == "\\hat{A}_f^{T} P_1"
+    assert p.doprint(P1 * Af_hat + Af_hat.T * P1) == "P_1 \\hat{A}_f + \\hat{A}_f^{T} P_1"
+    assert p.doprint(-W - W.T + P1) == "P_1 - W_2 - W_2^{T}"
+    assert LMILatexPrinter({"he": "collapse"}).doprint(-W - W.T + P1) == "P_1 - \\mathrm{He}(W_2)"
+    assert LMILatexPrinter({"he": "collapse"}).doprint(xi * (W + W.T)) == "\\bar{\\xi}_1 \\mathrm{He}(W_2)"
+    assert p.doprint(xi * (W + W.T)) == "\\bar{\\xi}_1 (W_2 + W_2^{T})"
+    assert p.doprint(W.I * Af_hat) == "W_2^{-1} \\hat{A}_f"
+    assert p.doprint(Af_hat * sp.Transpose(S.I)) == "\\hat{A}_f S^{-T}"
+    assert p.doprint(xi * (1 - xi) * S) == "(1 - \\bar{\\xi}_1) \\bar{\\xi}_1 S"
+    assert p.doprint(-xi * S) == "-\\bar{\\xi}_1 S"
+
+
+def test_symmetric_transposes_never_printed_in_any_theorem():
+    """No document of any theorem contains ``X^{T}`` for a symmetric variable ``X``."""
+    for thm in all_theorems().values():
+        text = theorem_latex(thm)
+        for decl in thm.var_decl.values():
+            s = decl.symbol
+            if isinstance(s, SymmetricVariable):
+                latex = LMILatexPrinter().doprint(s)
+                assert f"{latex}^{{T}}" not in text, (thm.id, latex)
+                assert f"{{{latex}}}^{{T}}" not in text, (thm.id, latex)
+
+
+def test_name_guesses():
+    assert name_to_latex("Af_hat") == "\\hat{A}_f"
+    assert name_to_latex("rbar") == "\\bar{r}"
+    assert name_to_latex("P1") == "P_1"
+    assert name_to_latex("xi1bar") == "\\bar{\\xi}_1"
+    assert name_to_latex("Gamma0") == "\\Gamma_0"
+    assert name_to_latex("Acl0") == "A_{cl0}"
+    assert with_vertex_index("P_1", "i") == "P_{1i}"
+    assert with_vertex_index("A", "i") == "A_i"
+    assert with_vertex_index("A_{cl}", "i") == "A_{cli}"
+
+
+def test_unicode_text():
+    assert tex_text("min γ² over P > 0") == "min $\\gamma^{2}$ over P $>$ 0"
+    assert tex_text("r̄ ≤ 1, V₂⁻¹Âf") == "$\\bar{r}$ $\\le$ 1, V$_{2}^{-1}\\hat{A}$f"
+    assert tex_text("50% & E_k {x}") == "50\\% \\& E\\_k \\{x\\}"
+
+
+def test_bad_setting_is_one_line_error(small):
+    with pytest.raises(InputError, match="latex setting he='both'"):
+        lmi_latex(small, "(3)", he="both")
+    with pytest.raises(InputError, match="no LMI labelled '\\(9\\)'"):
+        lmi_latex(small, "(9)")
+
+
+# -- documents that compile -------------------------------------------------------------------
+def _wide_theorem(columns: int = 12) -> Theorem:
+    """An LMI with ``columns`` block columns: -P on the diagonal, P A_j + X A_{j+1} below."""
+    t = Theorem(f"test_latex.wide{columns}", f"A {columns}-block-column LMI", Source("none.txt", "(99)"))
+    n, m = t.dim("n m")
+    A = [t.data(f"A{j}", n, n) for j in range(1, columns)]
+    B = t.data("B", n, m)
+    P = t.var("P", n, kind="symmetric")
+    X = t.var("X_hat", n, n)
+    s = t.param("sigma1")
+    rows = [[-P]]
+    for j in range(columns - 2):
+        rows.append([P * A[j] + X * A[j + 1]] + [0] * j + [-P + He(X)])
+    rows.append([B.T * P] + [0] * (columns - 2) + [-s * I])
+    t.lmi("(99)", rows)
+    return t
+
+
+@needs_pdflatex
+def test_twelve_block_columns_compile(tmp_path):
+    thm = _wide_theorem(12)
+    text = theorem_latex(thm)
+    assert text.count(" & ") >= 11 * 12
+    assert int(re.search(r"\\setcounter\{MaxMatrixCols\}\{(\d+)\}", text).group(1)) >= 12
+    assert_compiles(text, tmp_path, "wide")
+    # the control: amsmath's default of 10 columns breaks this very document
+    default = re.sub(r"\\setcounter\{MaxMatrixCols\}\{\d+\}", "", text)
+    assert compile_tex(default, tmp_path, "wide_default").returncode != 0
+
+
+THEOREM_IDS = sorted(all_theorems())
+
+
+@needs_pdflatex
+@pytest.mark.parametrize("theorem_id", THEOREM_IDS)
+def test_every_theorem_document_compiles(theorem_id, tmp_path):
+    text = theorem_latex(get_theorem(theorem_id))
+    for lmi in get_theorem(theorem_id).lmis:
+        if lmi.label.startswith("("):
+            assert f"}}{{{lmi.label}}}" in text, lmi.label  # every paper label is tagged
+    assert_compiles(text, tmp_path, theorem_id.replace(".", "_"))
+
+
+@needs_pdflatex
+def test_example_document_with_solution(tmp_path):
+    """Theorem 3 on the paper's full-order example: γ computed and printed, the filter, a PDF."""
+    text = theorem_latex("wang_l2linf.thm3", example="paper-full")
+    gamma = float(re.search(r"\$\\gamma\$ computed & \$([0-9.]+)\$", text).group(1))
+    assert abs(gamma - 0.3373) < 2e-3  # the paper prints 0.3373 (NOTES.md §1.6)
+    assert "printed in the paper & $0.3373$" in text
+    assert re.search(r"A_f = \\begin\{bmatrix\} -0\.00\d+ & 0\.28\d+ \\\\", text)
+    assert_compiles(text, tmp_path, "thm3_example")
+
+
+# -- command line -----------------------------------------------------------------------------
+def test_cli_stdout(capsys):
+    assert main(["latex", "wang_l2linf.thm3", "--he", "collapse", "--star", "asterisk"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("\\documentclass") and out.rstrip().endswith("\\end{document}")
+    assert "P_1 - \\mathrm{He}(V_1) & *" in out
+
+
+def test_cli_pdf_without_pdflatex_says_so(tmp_path, monkeypatch, capsys):
+    monkeypatch.setenv("PATH", str(tmp_path))  # no pdflatex on this PATH
+    code = main(["latex", "wang_l2linf.thm3", "-o", str(tmp_path / "t.tex"), "--pdf"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2
+    assert len(err.splitlines()) == 1 and "pdflatex is not installed" in err
+    assert (tmp_path / "t.tex").exists()
+
+
+def test_cli_bad_input(tmp_path, capsys):
+    assert main(["latex", "wang_l2linf.thm3", "--example", "nope"]) == 2
+    assert "unknown example 'nope'" in capsys.readouterr().err
+    assert main(["latex", "wang_l2linf.thm3", "-o", str(tmp_path / "t.pdf")]) == 2
+    assert "must end in .tex" in capsys.readouterr().err
+
+
+@needs_pdflatex
+def test_cli_pdf(tmp_path, capsys):
+    assert main(["latex", "wang_l2linf.thm1", "-o", str(tmp_path / "thm1.tex"), "--pdf"]) == 0
+    assert (tmp_path / "thm1.pdf").stat().st_size > 1000
