@@ -86,13 +86,15 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str =
     """Compile, solve (with margin escalation), recover the filter and certify it by analysis;
     an uncertified solve gets the feasp diagnosis (``diagnose``)."""
     model = get_backend(backend)(instance, margin=margin)
+    base_margin = model.margin
     solution = solve_model(model, solver, **options)
-    finish_solution(solution, solver=solver, backend=backend, certify=certify, diagnose=diagnose)
+    finish_solution(solution, solver=solver, backend=backend, certify=certify, diagnose=diagnose,
+                    margin=base_margin)
     return solution
 
 
 def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=True,
-                    diagnose=True) -> Solution:
+                    diagnose=True, margin: float | None = None) -> Solution:
     """Feasibility diagnosis, recovery and analysis certificate for a solved point (in place).
 
     When the solver returns no certified point, the feasp diagnosis (:mod:`lmidsl.feasibility`)
@@ -104,7 +106,8 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
     solution.analysis = None
     if diagnose and diagnosis_needed(solution):
         t0 = time.perf_counter()
-        report = feasp(instance, backend=backend, solver=solver, margin=solution.margin)
+        report = feasp(instance, backend=backend, solver=solver,
+                       margin=solution.margin if margin is None else margin)
         solution.feasp = report
         if report.verdict in ("infeasible", "marginal"):
             solution.solver_status = solution.status

@@ -9,8 +9,10 @@ at every vertex and the worst γ is reported (a vertex-wise certificate).
 The minimum sits on the boundary of the strict set, where a solver's point may miss the strict
 LMIs by its tolerance.  When it does, the analysis is solved again as a feasibility problem at a
 level (the synthesis γ, else the minimum plus the tolerance): a point inside the strict set at
-that level is the certificate (``method`` "level").  An infeasible analysis carries the feasp
-diagnosis (:mod:`lmidsl.feasibility`).
+that level is the certificate (``method`` "level").  When the default solver fails numerically,
+:data:`FALLBACK_SOLVERS` are tried (the certificate is numpy's, whichever solver found the
+point).  An analysis without a certified point carries the feasp diagnosis
+(:mod:`lmidsl.feasibility`).
 """
 from __future__ import annotations
 
@@ -19,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from .errors import InputError
+from .errors import InputError, LmidslError
 from .instance import Instance, bind
 
 
@@ -37,6 +39,7 @@ class AnalysisCertificate:
     method: str = "min"
     minimum: float | None = None
     feasp: list = field(default_factory=list)
+    solvers: list = field(default_factory=list)
 
     @property
     def passed(self) -> bool:
@@ -53,6 +56,7 @@ class AnalysisCertificate:
         return {"theorem": self.theorem, "status": self.status, "gamma": self.gamma,
                 "synthesis_gamma": self.synthesis_gamma, "tolerance": self.tolerance,
                 "passed": self.passed, "method": self.method, "minimum": self.minimum,
+                "solvers": self.solvers,
                 "per_vertex": self.per_vertex, "lmis": self.lmis,
                 "feasp": [r.as_dict() for r in self.feasp]}
 
@@ -88,8 +92,13 @@ def objective_level(theorem, gamma: float) -> float | None:
     return float(roots[0]) if roots else None
 
 
-def _solve_one(model, solver, synthesis_gamma, tolerance):
-    """min γ, then (when its point is not strictly feasible) the level problem; (solution, method, min γ)."""
+FALLBACK_SOLVERS = {"cvxpy": ("CVXOPT", "SCS"), "picos": ()}
+"""Solvers tried, in order, when the default solver fails (solver_error) on an analysis problem:
+a solver's numerical failure is not a verdict on the filter."""
+
+
+def _attempt(model, solver, synthesis_gamma, tolerance):
+    """min γ, then (when its point is not strictly feasible) the level problems."""
     from .api import solve_model
 
     sol = solve_model(model, solver)
@@ -109,7 +118,25 @@ def _solve_one(model, solver, synthesis_gamma, tolerance):
         level_sol = model.solve(solver, problem=model.level_problem(bound))
         if level_sol.ok and level_sol.certified:
             return level_sol, "level", minimum
+        if sol.status == "solver_error" and level_sol.status != "solver_error":
+            sol = level_sol
     return sol, "min", minimum
+
+
+def _solve_one(make_model, solver, backend, synthesis_gamma, tolerance):
+    """(solution, method, min γ, solver used): the requested solver, else the fallbacks."""
+    candidates = [solver] if solver is not None else [None, *FALLBACK_SOLVERS.get(backend, ())]
+    result = None
+    for name in candidates:
+        try:
+            sol, method, minimum = _attempt(make_model(), name, synthesis_gamma, tolerance)
+        except LmidslError:      # a fallback solver that is not installed
+            continue
+        if result is None or (sol.ok and sol.certified):
+            result = (sol, method, minimum, sol.solver)
+        if sol.ok and sol.certified or sol.status not in ("solver_error", "optimal_inaccurate"):
+            break
+    return result
 
 
 def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gamma=None,
@@ -122,12 +149,13 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
     link = instance.theorem.analysis
     analysis = get_theorem(link.theorem)
     vertices = range(instance.nvertices) if instance.nvertices > 1 else [None]
-    gammas, statuses, lmis, methods, minima, reports = [], [], [], [], [], []
+    gammas, statuses, lmis, methods, minima, reports, solvers = [], [], [], [], [], [], []
     for v in vertices:
         sub = bind(analysis, analysis_inputs(instance, analysis, filter_matrices, v),
                    example=instance.example)
-        sol, method, minimum = _solve_one(get_backend(backend)(sub), solver, synthesis_gamma,
-                                          link.gamma_tolerance)
+        sol, method, minimum, used = _solve_one(lambda: get_backend(backend)(sub), solver, backend,
+                                                synthesis_gamma, link.gamma_tolerance)
+        solvers.append(used)
         if not (sol.ok and sol.certified):
             report = feasp(sub, backend=backend, solver=solver)
             reports.append(report)
@@ -147,4 +175,5 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
                                lmis=lmis, synthesis_gamma=synthesis_gamma,
                                tolerance=link.gamma_tolerance,
                                method="level" if "level" in methods else "min",
-                               minimum=minimum, feasp=reports)
+                               minimum=minimum, feasp=reports,
+                               solvers=sorted(set(solvers)))

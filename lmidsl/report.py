@@ -52,7 +52,8 @@ def format_solution(sol) -> str:
         if getattr(analysis, "method", "min") == "level" and analysis.gamma is not None:
             low = "" if analysis.minimum is None else f", solver minimum {analysis.minimum:.6g} not strictly feasible"
             g += f" (point inside the strict set at level {analysis.synthesis_gamma or analysis.minimum:.6g}{low})"
-        lines.append(f"  analysis {analysis.theorem} with the recovered filter: {g} ({verdict})")
+        via = f" [{', '.join(analysis.solvers)}]" if getattr(analysis, "solvers", None) else ""
+        lines.append(f"  analysis {analysis.theorem}{via} with the recovered filter: {g} ({verdict})")
         for rep in getattr(analysis, "feasp", []):
             lines.append(rep.format("    "))
     for note in sol.notes:
