@@ -134,7 +134,7 @@ def _solve_one(make_model, solver, backend, synthesis_gamma, tolerance):
             continue
         if result is None or (sol.ok and sol.certified):
             result = (sol, method, minimum, sol.solver)
-        if sol.ok and sol.certified or sol.status not in ("solver_error", "optimal_inaccurate"):
+        if sol.ok and sol.certified:
             break
     return result
 

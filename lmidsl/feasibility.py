@@ -11,10 +11,11 @@ problem therefore comes with a number, t* ≥ 0, the amount by which the best po
 t* ≥ −margin at R, the radius is enlarged (×100, up to ``max_radius``) before concluding, since a
 badly scaled feasible problem may need large variables.  Verdicts:
 
-* "strictly feasible": t* < −margin, the compiled problem (``N ⪯ −margin I``) has a point;
-* "marginal": −margin ≤ t* < −``FEASP_TOL``: strictly feasible, but by less than the margin
-  (solve again with ``margin`` below |t*|, or rescale the data);
-* "infeasible": t* ≥ −``FEASP_TOL`` (zero up to the solver's accuracy).
+* "strictly feasible": t* < −margin and numpy finds every strict LMI ⪯ −margin I at the
+  returned point: the compiled problem (``N ⪯ −margin I``) has a point;
+* "infeasible": t* ≥ −``FEASP_TOL`` (zero up to the solver's accuracy);
+* "marginal" otherwise: t* < 0 but by less than the margin, or a point the numpy check does not
+  confirm (solve again with a smaller ``margin``, or rescale the data).
 
 Per LMI the report gives
 * ``value``   λ_max(N_k) at the feasp point (the LMIs with value ≈ t* are the binding ones);
@@ -82,11 +83,13 @@ class FeasibilityReport:
     solver: str = ""
 
     radii: list = field(default_factory=list)
+    point_certified: bool = False
 
     @property
     def feasible(self) -> bool:
-        """Strictly feasible with the compiled margin: t* < −margin."""
-        return self.tmin is not None and self.tmin < -self.margin
+        """Strictly feasible with the compiled margin: t* < −margin, and numpy confirms every strict
+        LMI ⪯ −margin I at the returned point (the solver's t* alone is not a certificate)."""
+        return self.tmin is not None and self.tmin < -self.margin and self.point_certified
 
     @property
     def infeasible(self) -> bool:
@@ -107,6 +110,7 @@ class FeasibilityReport:
 
     def as_dict(self) -> dict:
         return {"tmin": self.tmin, "verdict": self.verdict, "feasible": self.feasible,
+                "point_certified": self.point_certified,
                 "status": self.status, "margin": self.margin, "radius": self.radius,
                 "radii": self.radii,
                 "solver": self.solver, "responsible": self.responsible,
@@ -202,28 +206,38 @@ def feasp(instance: Instance, backend: str = "cvxpy", solver: str | None = None,
 
     model = get_backend(backend)(instance, margin=margin)
     compiled = compiled_lmis(model)
+    def point_values(tmin):
+        """λ_max of every LMI at the returned point, with numpy (the certificate)."""
+        if tmin is None:
+            return {}
+        point = dict(instance.data)
+        point.update(model.values())
+        return {(r.label, r.vertex): r.max_eig for r in lmi_certificate(instance, point)}
+
+    def certified(values):
+        strict = [values.get((c.label, None if c.vertex is None else c.vertex + 1)) for c in compiled if c.strict]
+        return bool(values) and all(v is not None and v < -model.margin for v in strict)
+
     radii = []
     while True:
         tmin, status = _tmin(model, compiled, radius, solver, options)
+        values = point_values(tmin)
         radii.append([radius, tmin])
-        if (tmin is not None and tmin < -model.margin) or radius * 100 > max_radius:
+        if certified(values) or radius * 100 > max_radius:
             break
         radius *= 100
     found = [r for r in radii if r[1] is not None]
-    if found and not (tmin is not None and tmin < -model.margin):
-        # a larger radius did not help: keep the smallest radius that reaches the least t*
+    if found and not certified(values):
+        # a larger radius did not give a certified point: keep the smallest radius that reaches
+        # the least t* (large radii cost accuracy)
         least = min(r[1] for r in found)
         chosen = next(r for r in found if r[1] <= least + 1e-6 * max(1.0, abs(least)) + FEASP_TOL)
         if chosen[0] != radius:
             radius = chosen[0]
             tmin, status = _tmin(model, compiled, radius, solver, options)
+            values = point_values(tmin)
     report = FeasibilityReport(tmin, status, model.margin, radius, solver=model.solver_name(solver),
-                               radii=radii)
-    values = {}
-    if tmin is not None:
-        point = dict(instance.data)
-        point.update(model.values())
-        values = {(r.label, r.vertex): r.max_eig for r in lmi_certificate(instance, point)}
+                               radii=radii, point_certified=certified(values))
     tol = max(1e-6 * max(1.0, abs(tmin or 0.0)), 10 * model.margin)
     for c in compiled:
         vertex = None if c.vertex is None else c.vertex + 1

@@ -35,6 +35,10 @@ def register(sub):
 def filter_and_plants(instance, solver=None):
     """[(vertex label, matrices)] with the recovered (synthesis) or given (analysis) filter."""
     theorem = instance.theorem
+    names = set(instance.data) | set(theorem.recovery)
+    missing = [k for k in PLANT_NAMES + FILTER_NAMES if k not in names]
+    if missing:
+        raise InputError(f"{theorem.id}: not an impulsive filtering theorem (no {', '.join(missing)})")
     if theorem.recovery:
         sol = solve_instance(instance, solver=solver, certify=False)
         if not sol.ok:
@@ -42,9 +46,6 @@ def filter_and_plants(instance, solver=None):
         filt = {k: sol.recovered[k] for k in FILTER_NAMES if k in sol.recovered}
     else:
         filt = {k: instance.data[k] for k in FILTER_NAMES if k in instance.data}
-    missing = [k for k in PLANT_NAMES + FILTER_NAMES if k not in instance.data and k not in filt]
-    if missing:
-        raise InputError(f"{theorem.id}: not an impulsive filtering theorem (no {', '.join(missing)})")
     out = []
     for v in range(instance.nvertices):
         plant = {k: (instance.data[k][v] if isinstance(instance.data[k], list) else instance.data[k])
