@@ -10,10 +10,11 @@ import time
 
 from .backends import get_backend
 from .certify import certify_by_analysis
-from .errors import InputError
+from .errors import InputError, LmidslError
 from .feasibility import diagnosis_needed, feasp
 from .instance import Instance, bind
 from .recovery import recover
+from .scaling import apply_scaling
 from .registry import get_example, get_theorem
 from .solution import Solution
 from .theorem import Theorem
@@ -81,13 +82,49 @@ def solve_model(model, solver: str | None = None, escalate: bool = True, **optio
 
 
 def solve_instance(instance: Instance, solver: str | None = None, backend: str = "cvxpy",
-                   margin: float | None = None, certify: bool = True, diagnose: bool = True,
-                   **options) -> Solution:
-    """Compile, solve (with margin escalation), recover the filter and certify it by analysis;
-    an uncertified solve gets the feasp diagnosis (``diagnose``)."""
-    model = get_backend(backend)(instance, margin=margin)
+                   margin: float | None = None, certify: bool = True, scaling="auto",
+                   backoff: float | None = None, diagnose: bool = True, **options) -> Solution:
+    """Compile, solve, recover the filter and (optionally) certify it by analysis.
+
+    An uncertified solve gets the feasp diagnosis (``diagnose``, see :func:`finish_solution`).
+    ``scaling``: the theorem's declared signal scalings ('auto', 'none' or {signal: factor});
+    the solver sees the scaled instance, recovered matrices are mapped back
+    (:mod:`lmidsl.scaling`).  ``backoff`` = δ: re-solve at objective ≤ (1 + δ)·optimum for a
+    well-conditioned recovery (:mod:`lmidsl.backoff`); ``"auto"``: only when the filter recovered
+    at the optimum fails its analysis certificate (or its recovery fails), with δ = 10⁻².
+    """
+    applied = apply_scaling(instance, scaling)
+    model = get_backend(backend)(applied.scaled, margin=margin)
     base_margin = model.margin
     solution = solve_model(model, solver, **options)
+    solution.scaling = applied
+    reason = None
+    if backoff == "auto":
+        # back off only when the filter recovered at the optimum is not certified
+        finish_solution(solution, solver=solver, backend=backend, certify=certify,
+                        diagnose=diagnose, margin=base_margin)
+        failed = solution.message.startswith("recovery failed")
+        uncertified = solution.analysis is not None and not solution.analysis.passed
+        if not (solution.ok and instance.theorem.conditioned and (failed or uncertified)):
+            return solution
+        from .backoff import DEFAULT_DELTA
+        reason = (solution.message if failed else
+                  f"{solution.analysis.theorem} did not certify the filter recovered at the optimum "
+                  f"({solution.analysis.status}, gamma {solution.analysis.gamma})")
+        backoff = DEFAULT_DELTA
+    if backoff is not None and solution.ok:
+        from .backoff import backoff_solution
+        optimum = solution
+        t0 = time.perf_counter()
+        solution = backoff_solution(model, optimum, backoff, solver, **options)
+        solution.times["backoff"] = time.perf_counter() - t0
+        if reason and solution.backoff is not None:
+            solution.backoff["reason"] = reason
+        if instance.theorem.recovery:
+            try:
+                solution.backoff["recovery_cond_before"] = recover(applied.scaled, optimum.values)[1]
+            except LmidslError as exc:
+                solution.backoff["recovery_cond_before"] = f"recovery failed: {exc}"
     finish_solution(solution, solver=solver, backend=backend, certify=certify, diagnose=diagnose,
                     margin=base_margin)
     return solution
@@ -95,7 +132,8 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str =
 
 def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=True,
                     diagnose=True, margin: float | None = None) -> Solution:
-    """Feasibility diagnosis, recovery and analysis certificate for a solved point (in place).
+    """Feasibility diagnosis, recovery (mapped back through any scaling) and analysis
+    certificate, in place.
 
     When the solver returns no certified point, the feasp diagnosis (:mod:`lmidsl.feasibility`)
     is attached; if it finds no strictly feasible point, ``status`` becomes "infeasible" (or
@@ -103,6 +141,7 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
     ``solver_status``.  An infeasible problem is a result, not an error.
     """
     instance = solution.instance
+    original = solution.scaling.original if solution.scaling is not None else instance
     solution.analysis = None
     if diagnose and diagnosis_needed(solution):
         t0 = time.perf_counter()
@@ -115,11 +154,18 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
         solution.times["feasp"] = time.perf_counter() - t0
     if solution.ok and instance.theorem.recovery:
         t0 = time.perf_counter()
-        solution.recovered, solution.inverted = recover(instance, solution.values)
+        try:
+            recovered, solution.inverted = recover(instance, solution.values)
+        except LmidslError as exc:
+            solution.message = f"recovery failed: {exc}"
+            return solution
+        if solution.scaling is not None:
+            recovered = solution.scaling.undo(recovered)
+        solution.recovered = recovered
         solution.times["recover"] = time.perf_counter() - t0
         if certify and instance.theorem.analysis is not None:
             t0 = time.perf_counter()
-            solution.analysis = certify_by_analysis(instance, solution.recovered, solution.gamma,
+            solution.analysis = certify_by_analysis(original, solution.recovered, solution.gamma,
                                                     solver=solver, backend=backend)
             solution.times["analysis"] = time.perf_counter() - t0
     return solution
@@ -127,12 +173,13 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
 
 def solve(theorem, example: str | None = None, data: dict | None = None,
           overrides: dict | None = None, solver: str | None = None, backend: str = "cvxpy",
-          margin: float | None = None, certify: bool = True, diagnose: bool = True,
-          **options) -> Solution:
+          margin: float | None = None, certify: bool = True, scaling="auto",
+          backoff: float | None = None, diagnose: bool = True, **options) -> Solution:
     """Solve a theorem on an example or data; returns a :class:`Solution`."""
     t0 = time.perf_counter()
     instance = make_instance(theorem, example, data, overrides)
     bind_time = time.perf_counter() - t0
-    solution = solve_instance(instance, solver, backend, margin, certify, diagnose, **options)
+    solution = solve_instance(instance, solver, backend, margin, certify, scaling, backoff,
+                              diagnose=diagnose, **options)
     solution.times = {"bind": bind_time, **solution.times}
     return solution

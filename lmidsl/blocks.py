@@ -42,6 +42,23 @@ class SizedIdentity:
 
     __rmul__ = __mul__
 
+    # next to a matrix expression, I takes the size of that matrix: X - g*I, I + X
+    def _with(self, other, sign_self, sign_other):
+        if isinstance(other, sp.MatrixExpr):
+            return sign_other * other + sign_self * self.sized(other.shape[0])
+        return NotImplemented
+
+    def __add__(self, other):
+        return self._with(other, 1, 1)
+
+    __radd__ = __add__
+
+    def __sub__(self, other):
+        return self._with(other, 1, -1)
+
+    def __rsub__(self, other):
+        return self._with(other, -1, 1)
+
     def sized(self, n):
         return self.coefficient * Identity(n) if self.coefficient != 1 else Identity(n)
 

@@ -58,16 +58,20 @@ class LMIMargin:
     without: float | None = None
     binding: bool = False
     responsible: bool = False
+    point: str = ""
 
     @property
     def name(self) -> str:
-        return self.label + (f" @ vertex {self.vertex}" if self.vertex is not None else "")
+        return (self.label + (f" @ vertex {self.vertex}" if self.vertex is not None else "")
+                + (f" @ {self.point}" if self.point else ""))
 
     def as_dict(self) -> dict:
         d = {"label": self.label, "size": self.size, "value": self.value, "alone": self.alone,
              "without": self.without, "binding": self.binding, "responsible": self.responsible}
         if self.vertex is not None:
             d["vertex"] = self.vertex
+        if self.point:
+            d["point"] = self.point
         return d
 
 
@@ -164,6 +168,12 @@ class CompiledLMI:
     N: object
     size: int
     strict: bool
+    point: str = ""
+
+    @property
+    def key(self) -> tuple:
+        """(label, 1-based vertex or None, point): the key of :class:`~lmidsl.solution.LMIReport`."""
+        return (self.label, None if self.vertex is None else self.vertex + 1, self.point)
 
 
 def compiled_lmis(model) -> list[CompiledLMI]:
@@ -171,10 +181,12 @@ def compiled_lmis(model) -> list[CompiledLMI]:
     by_label = {lmi.label: lmi for lmi in model.instance.theorem.lmis}
     dims = model.instance.dims
     out = []
-    for (label, vertex), N in model.lmi_matrices:
+    for key, N in model.lmi_matrices:
+        label, vertex = key[0], key[1]
+        point = key[2] if len(key) > 2 else ""
         lmi = by_label[label]
         size = sum(int(sp.sympify(s).xreplace(dims)) for s in lmi.negative_form().sizes)
-        out.append(CompiledLMI(label, vertex, N, size, lmi.strict))
+        out.append(CompiledLMI(label, vertex, N, size, lmi.strict, point or ""))
     return out
 
 
@@ -212,10 +224,11 @@ def feasp(instance: Instance, backend: str = "cvxpy", solver: str | None = None,
             return {}
         point = dict(instance.data)
         point.update(model.values())
-        return {(r.label, r.vertex): r.max_eig for r in lmi_certificate(instance, point)}
+        return {(r.label, r.vertex, getattr(r, "point", "") or ""): r.max_eig
+                for r in lmi_certificate(instance, point)}
 
     def certified(values):
-        strict = [values.get((c.label, None if c.vertex is None else c.vertex + 1)) for c in compiled if c.strict]
+        strict = [values.get(c.key) for c in compiled if c.strict]
         return bool(values) and all(v is not None and v < -model.margin for v in strict)
 
     radii = []
@@ -240,10 +253,9 @@ def feasp(instance: Instance, backend: str = "cvxpy", solver: str | None = None,
                                radii=radii, point_certified=certified(values))
     tol = max(1e-6 * max(1.0, abs(tmin or 0.0)), 10 * model.margin)
     for c in compiled:
-        vertex = None if c.vertex is None else c.vertex + 1
-        value = values.get((c.label, vertex))
+        value = values.get(c.key)
         binding = tmin is not None and value is not None and c.strict and value >= tmin - tol
-        report.lmis.append(LMIMargin(c.label, vertex, c.size, value, binding=binding))
+        report.lmis.append(LMIMargin(c.label, c.key[1], c.size, value, binding=binding, point=c.point))
     if detail is None:
         detail = len(compiled) <= MAX_DETAILED
     if detail and len(compiled) > 1:

@@ -31,6 +31,7 @@ class Instance:
     nvertices: int = 1
     example: str | None = None
     notes: list = field(default_factory=list)
+    uncertain: dict = field(default_factory=dict)  # name -> points (units of the bound)
 
     def dim_values(self) -> dict:
         return {str(k): v for k, v in self.dims.items()}
@@ -123,12 +124,23 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None) -> Instance
     Per-vertex data go under ``vertices`` (a list of objects, one per polytope vertex); a
     per-vertex datum given once, outside ``vertices``, is common to every vertex, and without
     ``vertices`` the polytope is the single vertex of the data given.
+    A theorem whose block structure depends on an input (``theorem.specialise``, see
+    :mod:`lmidsl.family`) is first replaced by the member that input selects.  Inputs named
+    after an uncertain symbol choose its points (:mod:`lmidsl.uncertainty`).
     """
+    from .uncertainty import bind_points
+    if hasattr(theorem, "specialise"):
+        theorem = theorem.specialise(inputs)
     inputs = dict(inputs)
+    uncertain = bind_points(theorem, inputs)
     vertices = inputs.pop("vertices", None)
     per_vertex = theorem.per_vertex_names
     known = set(theorem.data_decl) | set(theorem.param_decl) | set(theorem.dims)
     for name in inputs:
+        if name in theorem.derived_decl:
+            defn = theorem.derived_decl[name].symbol.definition
+            raise InputError(f"{theorem.id}: {name} is derived ({name} = {defn}); set the parameters it "
+                             f"depends on instead")
         if name not in known:
             raise InputError(
                 f"{theorem.id}: unknown data or parameter {name!r} (known: {', '.join(sorted(known))})")
@@ -181,7 +193,7 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None) -> Instance
                     raise InputError(f"{theorem.id}: data {name} must be symmetric")
     dims = _infer_dims(theorem, matrices, given_dims)
     params = _evaluate_params(theorem, {k: inputs[k] for k in theorem.param_decl if k in inputs})
-    instance = Instance(theorem, dims, data, params, nvertices, example)
+    instance = Instance(theorem, dims, data, params, nvertices, example, uncertain=uncertain)
     check_symmetric_blocks(instance)
     return instance
 
@@ -214,13 +226,15 @@ def random_point(instance: Instance, rng: np.random.Generator) -> dict:
 
 def check_symmetric_blocks(instance: Instance) -> None:
     """Refuse an LMI whose diagonal block is not symmetric (never symmetrise silently)."""
+    from .uncertainty import scenarios
     rng = np.random.default_rng(0)
     values = random_point(instance, rng)
     theorem = instance.theorem
     for lmi in theorem.lmis:
         ev = NumericEvaluator(instance.dims, values, instance.params, vertex=0)
+        scenario = scenarios(instance, lmi)[0]
         for i, row in enumerate(lmi.spec.lower):
-            blk = row[i]
+            blk = scenario.apply(row[i])
             try:
                 value = ev.visit(blk)
             except Exception as exc:  # a theorem that cannot be evaluated is a definition error

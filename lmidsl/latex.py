@@ -417,8 +417,9 @@ def _get_lmi(theorem: Theorem, label: str) -> LMI:
 
 
 def _equation_tag(label: str) -> str | None:
-    m = re.fullmatch(r"\((.+)\)", label.strip())
-    return m.group(1) if m else None
+    """The tag printed beside an LMI: a label that starts with the paper's '(n)' ('(30)', '(10)-exact')."""
+    label = label.strip()
+    return label if re.match(r"\(.+?\)", label) else None
 
 
 def lmi_where(theorem: Theorem, lmi: LMI, **settings) -> list[tuple[str, str]]:
@@ -471,7 +472,7 @@ def lmi_latex(theorem: Theorem, label: str, *, display: bool = False, **settings
 
 def _display(theorem, lmi, body, where) -> str:
     tag = _equation_tag(lmi.label)
-    text = f"\\lmidisplay{{{body}}}{{{'(' + tag + ')' if tag else ''}}}"
+    text = f"\\lmidisplay{{{body}}}{{{tag or ''}}}"
     if where or lmi.per_vertex:
         text += "\n" + _where_block(where, lmi.per_vertex)
     return text

@@ -30,12 +30,36 @@ def format_solution(sol) -> str:
         lines.append(f"  objective = {sol.objective:.8g}")
     if sol.gamma is not None:
         lines.append(f"  gamma     = {sol.gamma:.8g}")
+    scaling = getattr(sol, "scaling", None)
+    if scaling is not None and scaling.records:
+        for rec in scaling.records:
+            lines.append(f"  scaling: {rec.signal} = diag({', '.join(f'{f:g}' for f in rec.factors)}) "
+                         f"{rec.signal}' ({rec.how}); solved on the scaled data, filter mapped back")
+    backoff = getattr(sol, "backoff", None)
+    if backoff and backoff.get("failed"):
+        lines.append(f"  back-off δ = {backoff['delta']:g} FAILED: {backoff['failed']}; this is the optimum")
+    elif backoff:
+        lines.append(f"  back-off δ = {backoff['delta']:g}: objective {backoff['objective_opt']:.8g} -> "
+                     f"{backoff['objective']:.8g} (gamma {backoff['gamma_opt']:.8g} -> {backoff['gamma']:.8g}), "
+                     f"{backoff['solves']} solves")
+        if backoff.get("reason"):
+            lines.append(f"    automatic back-off: {backoff['reason']}")
+        for name, before in backoff["cond_before"].items():
+            after = backoff["cond_after"].get(name, {}).get("cond")
+            if after is not None:
+                lines.append(f"    cond({name}): {before['cond']:.3g} at the optimum -> "
+                             f"{after:.3g} at the back-off point")
+        rec_before = backoff.get("recovery_cond_before")
+        if isinstance(rec_before, list):
+            lines.append("    at the optimum the recovery would invert: "
+                         + ", ".join(f"{r['matrix']} ({r['cond']:.3g})" for r in rec_before))
     if sol.lmis:
         lines.append(f"  LMIs at the returned point (largest eigenvalue of N in N < 0; margin {sol.margin:g}):")
         for r in sol.lmis:
             where = f" @ vertex {r.vertex}" if r.vertex is not None else ""
+            where += f" @ {r.point}" if getattr(r, "point", "") else ""
             mark = "holds" if r.max_eig < 0 else "VIOLATED"
-            lines.append(f"    {r.label + where:<22} {r.max_eig: .3e}  ({r.size}x{r.size}, {mark})")
+            lines.append(f"    {r.label + where:<30} {r.max_eig: .3e}  ({r.size}x{r.size}, {mark})")
     if getattr(sol, "solver_status", None):
         lines.append(f"  (solver status {sol.solver_status}; status from the feasp diagnosis below)")
     if getattr(sol, "feasp", None) is not None:
@@ -44,7 +68,8 @@ def format_solution(sol) -> str:
         lines.append("  recovered:")
         lines += [format_matrix(k, v, "    ") for k, v in sol.recovered.items()]
     for inv in sol.inverted:
-        lines.append(f"  inverted {inv['matrix']}: condition number {inv['cond']:.3g}")
+        note = f" ({inv['note']})" if inv.get("note") else ""
+        lines.append(f"  inverted {inv['matrix']}: condition number {inv['cond']:.3g}{note}")
     analysis = getattr(sol, "analysis", None)
     if analysis is not None:
         verdict = "certified" if analysis.passed else "NOT certified"

@@ -21,11 +21,14 @@ class LMIReport:
     max_eig: float
     size: int
     vertex: int | None = None
+    point: str = ""  # values of uncertain symbols, e.g. "Delta=+1*beta"
 
     def as_dict(self) -> dict:
         d = {"label": self.label, "max_eig": self.max_eig, "size": self.size}
         if self.vertex is not None:
             d["vertex"] = self.vertex
+        if self.point:
+            d["point"] = self.point
         return d
 
 
@@ -52,6 +55,8 @@ class Solution:
     instance: Instance | None = None
     solver_status: str | None = None
     feasp: object | None = None
+    scaling: object = None          # lmidsl.scaling.AppliedScaling (instance is the scaled one)
+    backoff: dict | None = None     # lmidsl.backoff record when the point is a back-off point
 
     @property
     def ok(self) -> bool:
@@ -92,20 +97,23 @@ class Solution:
             "times": self.times,
             "feasp": self.feasp.as_dict() if self.feasp is not None else None,
             "notes": self.notes,
+            "scaling": self.scaling.as_dict() if self.scaling is not None else None,
+            "backoff": self.backoff,
         }
 
 
 def lmi_certificate(instance: Instance, values: dict) -> list[LMIReport]:
     """Largest eigenvalue of every LMI (form N ≺ 0) at the given point, evaluated in numpy."""
+    from .uncertainty import scenarios, spec_at
     reports = []
     for lmi in instance.theorem.lmis:
-        vertices = range(instance.nvertices) if lmi.per_vertex else [None]
         negative = lmi.negative_form()
-        for v in vertices:
+        for sc in scenarios(instance, lmi):
+            v = sc.vertex
             ev = NumericEvaluator(instance.dims, values, instance.params, vertex=v)
-            M = evaluate_block_matrix(ev, negative)
+            M = evaluate_block_matrix(ev, spec_at(negative, sc))
             reports.append(LMIReport(lmi.label, max_eigenvalue(M), M.shape[0],
-                                     None if v is None else v + 1))
+                                     None if v is None else v + 1, sc.label))
     return reports
 
 

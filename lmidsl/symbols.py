@@ -8,6 +8,8 @@
   (``Λ = [[X, Z], [Z, Z]]``); it compiles to its expansion and prints as its name.
 * :class:`ScalarVariable` - a scalar decision variable (``g = γ²``, a multiplier ``ε``).
 * :class:`Param` - a scalar parameter fixed at bind time and swept without recompiling (``r̄``).
+* :class:`RecoveredMatrix` - an intermediate matrix of a recovery, computed by a library
+  factorisation after the solve (``R``, ``S`` with ``R Sᵀ = I − X Z⁻¹``).
 * :class:`DerivedParam` - a named scalar defined by an expression of parameters
   (``a = (1 − r̄) r̄``); LMIs use the name, the value follows from the definition.
 
@@ -138,6 +140,11 @@ class StructuredVariable(_TaggedMatrix):
         if self.symmetric:
             return self
         return sp.Transpose(self)
+
+
+class RecoveredMatrix(DataMatrix):
+    """An intermediate matrix of a recovery (``R``, ``S`` with ``R Sᵀ = I − X Z⁻¹``), computed
+    after the solve by a library factorisation; it may appear in recovery formulas, never in an LMI."""
 
 
 class ScalarVariable(_TaggedScalar):

@@ -20,8 +20,9 @@ from .blocks import BlockMatrixSpec, block_matrix
 from .errors import LmidslError, ShapeMismatchError, TheoremDefinitionError
 from .linearity import check_affine
 from .shapes import check_conformance
-from .symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, ScalarVariable,
-                      StructuredVariable, SymmetricDataMatrix, SymmetricVariable, Variable)
+from .symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, RecoveredMatrix,
+                      ScalarVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
+                      Variable)
 
 
 @dataclass(frozen=True)
@@ -107,6 +108,52 @@ class AnalysisLink:
 
 
 @dataclass
+class ErrorSystemLink:
+    """The filtering-error system of a theorem whose data include the filter, for certification.
+
+    ``system`` is a :class:`lmidsl.certify.ErrorSystem` in the theorem's symbols, ``figure`` the
+    exact figure that applies ('energy_to_peak' or 'h_infinity'), ``filter`` the names of the
+    filter matrices among the data, ``simulate(d, w, runs, rng)`` the original model with the
+    filter in numpy (for Monte Carlo; optional).
+    """
+
+    system: Any
+    figure: str
+    filter: tuple
+    simulate: Any = None
+
+
+FIGURES = ("energy_to_peak", "h_infinity")
+
+
+@dataclass
+class FactorStep:
+    """A recovery step: ``names`` = ``factorization(*args)`` with ``args`` evaluated numerically."""
+
+    names: tuple
+    factorization: Any
+    args: tuple
+
+
+@dataclass
+class SignalScaling:
+    """An exact change of units of one signal, u = S u' with S = diag(s) > 0.
+
+    Data in ``rows`` produce the signal (M' = S⁻¹M), data in ``cols`` consume it (M' = M S);
+    recovered matrices are mapped back: ``recovered_cols`` (consumers) M = M' S⁻¹,
+    ``recovered_rows`` (producers) M = S M'.  The theorem author asserts that this substitution
+    is a change of coordinates under which the theorem's conditions and γ are invariant.
+    """
+
+    signal: str
+    rows: tuple = ()
+    cols: tuple = ()
+    recovered_rows: tuple = ()
+    recovered_cols: tuple = ()
+    description: str = ""
+
+
+@dataclass
 class Declaration:
     symbol: Any
     latex: str
@@ -130,17 +177,25 @@ class Theorem:
         self.param_decl: dict[str, Declaration] = {}
         self.derived_decl: dict[str, Declaration] = {}
         self.notation: dict[str, Declaration] = {}
+        self.uncertain_decl: dict[str, Declaration] = {}
         self.lmis: list[LMI] = []
         self.objective: sp.Expr | None = None
         self.performance: tuple[str, sp.Expr] | None = None
         self.recovery: dict[str, sp.MatrixExpr] = {}
+        self.recovery_steps: list = []          # ("formula", name) or FactorStep, in order
+        self.intermediate_decl: dict[str, Declaration] = {}
+        self.scalings: list[SignalScaling] = []
+        self.conditioned: list[sp.MatrixExpr] = []
         self.analysis: AnalysisLink | None = None
+        self.certification: ErrorSystemLink | None = None
+        self.linearisation: dict[str, sp.MatrixExpr] = {}
         self.examples: dict[str, Example] = {}
 
     # -- declarations -------------------------------------------------------------------
     def _check_new(self, name: str):
         taken = (self.dims.keys() | self.data_decl.keys() | self.var_decl.keys()
-                 | self.param_decl.keys() | self.derived_decl.keys() | self.notation.keys())
+                 | self.param_decl.keys() | self.derived_decl.keys() | self.notation.keys()
+                 | self.uncertain_decl.keys() | self.intermediate_decl.keys())
         if name in taken:
             raise TheoremDefinitionError(f"{self.id}: the name {name!r} is declared twice")
 
@@ -241,6 +296,18 @@ class Theorem:
         self.notation[name] = Declaration(expr, latex or name, description)
         return expr
 
+    def uncertain(self, name: str, rows=None, cols=None, *, bound, pattern=None, points=None,
+                  latex: str | None = None, description: str = ""):
+        """Declare an uncertain scalar |Δ| ≤ bound (or matrix |Δ_ij| ≤ bound) entering affinely.
+
+        Every LMI that mentions it is imposed at the vertices (or at the ``points`` an instance
+        chooses, in units of the bound) with common variables; see :mod:`lmidsl.uncertainty`.
+        """
+        from .uncertainty import declare
+        self._check_new(name)
+        return declare(self, name, rows, cols, bound=bound, pattern=pattern, points=points,
+                       latex=latex, description=description)
+
     # -- conditions ---------------------------------------------------------------------
     def lmi(self, label: str, rows, *, sense: str = "<", triangle: str = "lower", sizes=None,
             strict: bool = True, description: str = "") -> LMI:
@@ -259,6 +326,8 @@ class Theorem:
                 except LmidslError as exc:
                     raise type(exc)(f"{where} block ({i + 1},{j + 1}): {exc}") from None
         lmi = LMI(label, spec, sense, strict and sense in ("<", ">"), description)
+        if any(isinstance(a, RecoveredMatrix) for a in lmi.symbols()):
+            raise TheoremDefinitionError(f"{where}: uses a recovery intermediate (declared by factor)")
         lmi.per_vertex = any(getattr(s, "per_vertex", False) for s in lmi.symbols())
         self.lmis.append(lmi)
         return lmi
@@ -288,10 +357,83 @@ class Theorem:
             except ShapeMismatchError as exc:
                 raise ShapeMismatchError(f"{self.id}: recovery of {name}: {exc}") from None
             self.recovery[name] = expr
+            self.recovery_steps.append(("formula", name))
+
+    def factor(self, names: str, factorization, *args, latex: str | None = None,
+               description: str = ""):
+        """Recovery intermediates computed by a library factorisation, e.g.
+        ``R, S = thm.factor("R S", rs_split, I - X*Z.I)`` for R Sᵀ = I − X Z⁻¹.
+
+        ``factorization`` is a :class:`lmidsl.factorization.Factorization`; its arguments are
+        matrix expressions evaluated at the solved point.  The returned symbols may be used in
+        later recovery formulas (``Af = R.I * Af_hat * ...``).
+        """
+        names = names.split()
+        try:
+            shapes = [check_conformance(a) for a in args]
+        except ShapeMismatchError as exc:
+            raise ShapeMismatchError(f"{self.id}: factor {' '.join(names)}: {exc}") from None
+        out = factorization.shapes(*shapes)
+        if len(out) != len(names):
+            raise TheoremDefinitionError(
+                f"{self.id}: factor {' '.join(names)}: {factorization.name} gives {len(out)} matrices")
+        symbols = []
+        latex = (latex or "").split() or names
+        for name, shape, tex in zip(names, out, latex):
+            self._check_new(name)
+            symbol = self._describe(RecoveredMatrix(name, *shape, self.id), tex, description)
+            self.intermediate_decl[name] = Declaration(symbol, symbol.latex_name, description)
+            symbols.append(symbol)
+        self.recovery_steps.append(FactorStep(tuple(names), factorization, tuple(args)))
+        return symbols[0] if len(symbols) == 1 else tuple(symbols)
+
+    def scale_signal(self, signal: str, *, rows=(), cols=(), recovered_rows=(), recovered_cols=(),
+                     description: str = "") -> SignalScaling:
+        """Declare an exact rescaling of ``signal`` the library may apply and undo (see
+        :class:`SignalScaling` and :mod:`lmidsl.scaling`)."""
+        for name in (*rows, *cols):
+            if name not in self.data_decl:
+                raise TheoremDefinitionError(f"{self.id}: scaling of {signal}: {name} is not declared data")
+        decl = SignalScaling(signal, tuple(rows), tuple(cols), tuple(recovered_rows),
+                             tuple(recovered_cols), description)
+        self.scalings.append(decl)
+        return decl
+
+    def well_conditioned(self, *exprs):
+        """Positive definite expressions the recovery inverts (e.g. Z and X − Z); the back-off
+        (:mod:`lmidsl.backoff`) improves their conditioning at a γ slightly above the optimum."""
+        for expr in exprs:
+            try:
+                check_conformance(expr)
+                check_affine(expr)
+            except LmidslError as exc:
+                raise type(exc)(f"{self.id}: well_conditioned {expr}: {exc}") from None
+            self.conditioned.append(expr)
+
+    def linearise(self, **updates):
+        """Data that are a linearisation point, with their update from a solved point.
+
+        E.g. ``Sbar=S.I``: after a solve, the datum ``Sbar`` is replaced by ``S⁻¹`` and the LMI
+        is solved again (BMI by successive LMIs, :mod:`lmidsl.bmi`).
+        """
+        for name, expr in updates.items():
+            if name not in self.data_decl:
+                raise TheoremDefinitionError(f"{self.id}: linearisation point {name} is not declared data")
+            check_conformance(expr)
+            self.linearisation[name] = expr
 
     def certified_by(self, theorem: str, filter: tuple, gamma_tolerance: float = 1e-3):
         """Name the analysis theorem that certifies the recovered ``filter`` matrices."""
         self.analysis = AnalysisLink(theorem, tuple(filter), gamma_tolerance)
+
+    def error_system(self, system, *, figure: str, filter: tuple, simulate=None):
+        """Declare the error system (data + filter -> stochastic system), its figure and simulation."""
+        if figure not in FIGURES:
+            raise TheoremDefinitionError(f"{self.id}: error_system: figure must be one of {', '.join(FIGURES)}")
+        missing = [f for f in filter if f not in self.data_decl]
+        if missing:
+            raise TheoremDefinitionError(f"{self.id}: error_system: filter {missing} are not declared data")
+        self.certification = ErrorSystemLink(system, figure, tuple(filter), simulate)
 
     def example(self, name: str, data: dict, *, params: dict | None = None,
                 printed: dict | None = None, vertices: list | None = None,

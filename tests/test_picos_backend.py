@@ -80,7 +80,7 @@ def numpy_lmis(instance, point) -> dict:
     for lmi in instance.theorem.lmis:
         for v in (range(instance.nvertices) if lmi.per_vertex else [None]):
             ev = NumericEvaluator(instance.dims, values, instance.params, vertex=v)
-            out[(lmi.label, v)] = evaluate_block_matrix(ev, lmi.negative_form())
+            out[(lmi.label, v, "")] = evaluate_block_matrix(ev, lmi.negative_form())
     return out
 
 

@@ -125,7 +125,7 @@ def test_compiled_matrix_equals_numpy_evaluation():
     point = random_point(inst, np.random.default_rng(3))
     for (name, _), var in model._variables.items():
         var.value = point[name] if np.ndim(point[name]) else point[name]
-    for lmi, ((label, _), con) in zip(inst.theorem.lmis, model.constraints):
+    for lmi, ((label, _, _), con) in zip(inst.theorem.lmis, model.constraints):
         ev = NumericEvaluator(inst.dims, point, inst.params)
         expected = evaluate_block_matrix(ev, lmi.negative_form())
         size = expected.shape[0]
@@ -146,3 +146,33 @@ def test_parameter_change_resolves_without_rebuilding():
     fresh = CvxpyModel(inst.with_params(rbar=0.6)).solve()
     assert second.gamma == pytest.approx(fresh.gamma, rel=1e-6)
     assert second.gamma > first.gamma
+
+
+def test_structured_and_diagonal_variables_solve():
+    """Λ = [[X, Z], [Z, Z]] (seed 001's structure) and a diagonal D compile, solve and keep
+    their structure: minimise trace-free γ² with Λ ≻ 0 and AᵀΛA − Λ + D ≺ 0, D ≻ I."""
+    import lmidsl.api as api
+    thm = Theorem("t.struct", "structured", Source("none", "(1)"))
+    n = thm.dim("n")
+    A = thm.data("A", 2 * n, 2 * n)
+    X = thm.var("X", n, kind="symmetric")
+    Z = thm.var("Z", n, kind="symmetric")
+    D = thm.var("D", 2 * n, kind="diagonal")
+    Lam = thm.structured("Lambda", [[X, Z], [Z, Z]], symmetric=True, latex=r"\Lambda")
+    assert Lam.T is Lam
+    g = thm.scalar("g")
+    thm.lmi("(1)", [[-Lam], [Lam * A, -Lam + D]], sizes=[2 * n, 2 * n])
+    thm.lmi("(2)", [[Lam - g * I]], sense="<")
+    thm.lmi("(3)", [[D - I]], sense=">")
+    thm.positive(Lam)
+    thm.minimize(g)
+    A0 = np.diag([0.5, 0.3, -0.2, 0.1])
+    sol = api.solve(thm, data={"A": A0.tolist(), "n": 2})
+    assert sol.status == "optimal" and sol.certified
+    Dv = sol.values["D"]
+    assert np.allclose(Dv, np.diag(np.diag(Dv)))
+    assert np.all(np.diag(Dv) >= 1 - 1e-6)
+    Xv, Zv = sol.values["X"], sol.values["Z"]
+    Lv = np.block([[Xv, Zv], [Zv, Zv]])
+    assert np.linalg.eigvalsh(Lv)[0] > 0
+    assert sol.objective == pytest.approx(np.linalg.eigvalsh(Lv)[-1], rel=1e-4)

@@ -16,7 +16,9 @@ Reading taken (NOTES.md §1.7 item 2): the factor ``a`` appears both off the dia
 (aPA_cl1, aEB̂fC, aB̂fC) and on the diagonal (−aP, a(P − V − Vᵀ)), exactly as printed; the Schur
 complement then weighs A_cl1ᵀPA_cl1 by a²/a = a, as the variance computation requires.
 """
+import numpy as np
 from lmidsl import I, Source, Theorem
+from lmidsl.certify import ErrorSystem
 from sympy import BlockMatrix, ZeroMatrix, sqrt
 
 PAPER = "000_33978a18bf0584d4.txt"
@@ -116,6 +118,27 @@ thm1.lmi("(11)", [
 ])
 thm1.positive(P)
 thm1.minimize(g1, performance=("gamma", sqrt(g1)))
+
+
+def plant_1_with_filter_4(d, w, runs, rng):
+    """Plant (1) and filter (4) from zero state, r(k) ~ Bernoulli(r̄) drawn per run and step.
+
+    ``w``: K × m deterministic disturbance; returns e(k) = z(k) − ẑ(k), runs × K × p.
+    """
+    x = np.zeros((runs, d.A.shape[0]))
+    xh = np.zeros((runs, d.Af.shape[0]))
+    e = []
+    for wk in w:
+        r = (rng.random((runs, 1)) < d.rbar).astype(float)   # r(k) ∈ {0, 1}, Pr{r = 1} = r̄
+        y = r * (x @ d.C.T) + wk @ d.D.T                       # y = r(k) C x + D w
+        e.append(x @ d.L.T - xh @ d.Cf.T)                      # e = L x − Cf x̂
+        x, xh = x @ d.A.T + wk @ d.B.T, xh @ d.Af.T + y @ d.Bf.T
+    return np.stack(e, axis=1)
+
+
+# error system (5): A_cl = A_cl0 + (r − r̄) A_cl1 with var(r) = a; index (6): energy to peak
+thm1.error_system(ErrorSystem(A=A_cl0, B=B_cl, C=C_cl, noise=[{"A": A_cl1}], covariance=[_a]),
+                  figure="energy_to_peak", filter=("Af", "Bf", "Cf"), simulate=plant_1_with_filter_4)
 thm1.example("paper-full-printed", {**PLANT, **FULL_FILTER}, params={"rbar": 0.8},
              printed={"gamma_bound": 0.3373}, printed_note=PRINTED_AT,
              description="the full-order filter the paper prints, analysed by Theorem 1")

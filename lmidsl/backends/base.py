@@ -4,7 +4,7 @@ A backend subclasses :class:`CompiledModel` and fills in a handful of hooks (mak
 a parameter, a block matrix, an LMI constraint, a problem; solve; read a value).  Everything
 else -- which sub-trees are constants (folded once with numpy), which scalar sub-expressions
 of parameters become one backend parameter each (so that changing r̄ re-solves without
-rebuilding, and products of parameters stay DPP-compliant), per-vertex instantiation,
+rebuilding, and products of parameters stay DPP-compliant), per-vertex instantiation (polytope vertices × points of uncertain symbols),
 the strictness margin, and the backend-independent certificate -- lives here.
 
 Strictness policy: a strict LMI ``N ≺ 0`` is imposed as ``N ⪯ −ε I`` and ``X ≻ 0`` as
@@ -23,6 +23,7 @@ from ..instance import Instance
 from ..numeric import NumericEvaluator
 from ..solution import Solution, evaluate_performance, lmi_certificate
 from ..symbols import DECISION_TYPES, DerivedParam, Param, ScalarVariable, expand_derived
+from ..uncertainty import scenarios
 from ..walker import ExpressionWalker
 
 DEFAULT_MARGIN = 1e-7
@@ -103,24 +104,25 @@ class CompiledModel:
         self._variables: dict = {}
         self._parameters: dict = {}
         self.constraints: list = []
-        self.lmi_matrices: list = []  # ((label, vertex), assembled backend expression N)
-        self.current_lmi = None       # (label, vertex) being compiled, for error messages
+        self.lmi_matrices: list = []  # ((label, vertex, point), assembled backend expression N)
+        self.current_lmi = None       # (label, vertex, point) being compiled, for error messages
         theorem = instance.theorem
         self._margin_parameter = self.new_parameter("margin", self.margin)
         for lmi in theorem.lmis:
-            vertices = range(instance.nvertices) if lmi.per_vertex else [None]
             negative = lmi.negative_form()
-            for v in vertices:
+            for scenario in scenarios(instance, lmi):  # polytope vertices x uncertainty points
+                v = scenario.vertex
                 compiler = self.compiler_class(self, v)
-                lower = [[compiler.visit(b) for b in row] for row in negative.lower]
+                lower = [[compiler.visit(scenario.apply(b)) for b in row] for row in negative.lower]
                 rows = [[lower[i][j] if j <= i else compiler.transpose(lower[j][i])
                          for j in range(negative.nblocks)] for i in range(negative.nblocks)]
                 size = sum(compiler.size(s) for s in negative.sizes)
                 eps = self._margin_parameter if lmi.strict else None
-                self.current_lmi = (lmi.label, v)
+                key = (lmi.label, v, scenario.label)
+                self.current_lmi = key
                 N = self.assemble(rows)
-                self.lmi_matrices.append(((lmi.label, v), N))
-                self.constraints.append(((lmi.label, v), self.lmi_constraint(N, size, eps)))
+                self.lmi_matrices.append((key, N))
+                self.constraints.append((key, self.lmi_constraint(N, size, eps)))
         self.current_lmi = None
         objective = None
         if theorem.objective is not None:
@@ -213,6 +215,8 @@ class CompiledModel:
         solution.times = {"compile": self.compile_time, "solve": wall}
         if solver_time is not None:
             solution.times["solver"] = solver_time
+        if getattr(self, "last_solver_call", None) is not None:
+            solution.times["solver_call"] = self.last_solver_call  # incl. the solver's interface
         if status in ("optimal", "optimal_inaccurate"):
             t1 = time.perf_counter()
             values = self.values()
@@ -249,7 +253,8 @@ class CompiledModel:
 
     def run_solver(self, solver, problem=None, **options):
         """Solve ``problem`` (default: the compiled one); return (status, objective value,
-        message, solver time or None)."""
+        message, solver time or None); may set ``self.last_solver_call`` to the wall time of the
+        solver call with its interface."""
         raise NotImplementedError
 
     def shifted_lmi_constraint(self, N, t, size: int):

@@ -1,6 +1,8 @@
 """``lmidsl solve``: bind, compile, solve, recover and certify one instance."""
 from __future__ import annotations
 
+import argparse
+
 from ..api import solve
 from ..backends import BACKENDS
 from ..report import format_solution
@@ -16,14 +18,34 @@ def register(sub):
                    "any installed SDP solver of the backend")
     p.add_argument("--backend", default="cvxpy", help=f"modelling backend ({', '.join(BACKENDS)})")
     p.add_argument("--margin", type=float, help="strictness margin ε (N <= -ε I); default 1e-7")
+    p.add_argument("--scaling", default="auto", choices=("auto", "none"),
+                   help="exact signal rescaling declared by the theorem, applied and undone by lmidsl "
+                        "(default auto)")
+    p.add_argument("--backoff", type=_backoff, metavar="DELTA|auto",
+                   help="re-solve at objective <= (1+DELTA)*optimum, minimising the condition number "
+                        "of what the recovery inverts (e.g. 1e-2); 'auto': only when the filter "
+                        "recovered at the optimum is not certified")
     p.add_argument("--no-certify", action="store_true", help="skip the analysis certificate")
     p.add_argument("--json", action="store_true", help="one JSON object on stdout")
     p.set_defaults(run=run)
 
 
+def _backoff(text):
+    if text == "auto":
+        return text
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive number or 'auto', got {text!r}") from None
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"expected a positive number or 'auto', got {text!r}")
+    return value
+
+
 def run(args):
     sol = solve(args.theorem, solver=args.solver, backend=args.backend, margin=args.margin,
-                certify=not args.no_certify, **instance_spec(args))
+                certify=not args.no_certify, scaling=args.scaling, backoff=args.backoff,
+                **instance_spec(args))
     if args.json:
         out = sol.as_dict()
         analysis = getattr(sol, "analysis", None)

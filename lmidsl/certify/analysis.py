@@ -21,8 +21,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from .errors import InputError, LmidslError
-from .instance import Instance, bind
+from ..errors import InputError, LmidslError
+from ..instance import Instance, bind
+from ..scaling import apply_scaling
 
 
 @dataclass
@@ -40,6 +41,7 @@ class AnalysisCertificate:
     minimum: float | None = None
     feasp: list = field(default_factory=list)
     solvers: list = field(default_factory=list)
+    scaling: dict | None = None   # the analysis instance's own exact signal scaling (lmidsl.scaling)
 
     @property
     def passed(self) -> bool:
@@ -58,7 +60,7 @@ class AnalysisCertificate:
                 "passed": self.passed, "method": self.method, "minimum": self.minimum,
                 "solvers": self.solvers,
                 "per_vertex": self.per_vertex, "lmis": self.lmis,
-                "feasp": [r.as_dict() for r in self.feasp]}
+                "feasp": [r.as_dict() for r in self.feasp], "scaling": self.scaling}
 
 
 def analysis_inputs(instance: Instance, analysis_theorem, filter_matrices: dict,
@@ -75,6 +77,9 @@ def analysis_inputs(instance: Instance, analysis_theorem, filter_matrices: dict,
             raise InputError(f"{analysis_theorem.id}: no value for {name} in the synthesis instance or filter")
     for name in analysis_theorem.param_decl:
         inputs[name] = instance.params[name]
+    for name in getattr(analysis_theorem, "uncertain_decl", {}):
+        if name in instance.uncertain:  # the same uncertainty points as the synthesis
+            inputs[name] = [np.asarray(p).tolist() for p in instance.uncertain[name]]
     return inputs
 
 
@@ -99,7 +104,7 @@ a solver's numerical failure is not a verdict on the filter."""
 
 def _attempt(model, solver, synthesis_gamma, tolerance):
     """min γ, then (when its point is not strictly feasible) the level problems."""
-    from .api import solve_model
+    from ..api import solve_model
 
     sol = solve_model(model, solver)
     minimum = sol.gamma if sol.ok else None
@@ -142,22 +147,24 @@ def _solve_one(make_model, solver, backend, synthesis_gamma, tolerance):
 def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gamma=None,
                         solver: str | None = None, backend: str = "cvxpy") -> AnalysisCertificate:
     """Solve the analysis counterpart of ``instance.theorem`` with ``filter_matrices`` fixed."""
-    from .backends import get_backend
-    from .feasibility import feasp
-    from .registry import get_theorem
+    from ..backends import get_backend
+    from ..feasibility import feasp
+    from ..registry import get_theorem
 
     link = instance.theorem.analysis
     analysis = get_theorem(link.theorem)
     vertices = range(instance.nvertices) if instance.nvertices > 1 else [None]
-    gammas, statuses, lmis, methods, minima, reports, solvers = [], [], [], [], [], [], []
+    gammas, statuses, lmis, methods, minima, reports, solvers, scalings = [], [], [], [], [], [], [], []
     for v in vertices:
         sub = bind(analysis, analysis_inputs(instance, analysis, filter_matrices, v),
                    example=instance.example)
-        sol, method, minimum, used = _solve_one(lambda: get_backend(backend)(sub), solver, backend,
-                                                synthesis_gamma, link.gamma_tolerance)
+        scaled = apply_scaling(sub, "auto")
+        scalings.append(scaled.as_dict())
+        sol, method, minimum, used = _solve_one(lambda: get_backend(backend)(scaled.scaled), solver,
+                                                backend, synthesis_gamma, link.gamma_tolerance)
         solvers.append(used)
         if not (sol.ok and sol.certified):
-            report = feasp(sub, backend=backend, solver=solver)
+            report = feasp(scaled.scaled, backend=backend, solver=solver)
             reports.append(report)
             if report.verdict in ("infeasible", "marginal"):
                 sol.status = report.verdict
@@ -168,12 +175,16 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
         lmis += [dict(r.as_dict(), vertex=None if v is None else v + 1) for r in sol.lmis]
     ok = all(s in ("optimal", "optimal_inaccurate") for s in statuses)
     worst = max(gammas) if ok and all(g is not None for g in gammas) else None
-    status = "optimal" if ok else next(s for s in statuses if s not in ("optimal", "optimal_inaccurate"))
+    if ok:
+        status = "optimal" if all(s == "optimal" for s in statuses) else "optimal_inaccurate"
+    else:
+        status = next(s for s in statuses if s not in ("optimal", "optimal_inaccurate"))
     minimum = max(minima) if all(m is not None for m in minima) else None
     return AnalysisCertificate(analysis.id, status, worst,
                                per_vertex=gammas if len(gammas) > 1 else [],
                                lmis=lmis, synthesis_gamma=synthesis_gamma,
                                tolerance=link.gamma_tolerance,
+                               scaling=scalings[0] if scalings else None,
                                method="level" if "level" in methods else "min",
                                minimum=minimum, feasp=reports,
                                solvers=sorted(set(solvers)))

@@ -1,0 +1,77 @@
+"""``lmidsl verify``: certify a designed, printed or given filter by independent evidence."""
+from __future__ import annotations
+
+import json
+
+from ..errors import InputError
+from .common import add_instance_arguments, instance_spec, print_json
+
+ORDER = 25
+
+
+def register(sub):
+    p = sub.add_parser("verify", help="certify a filter: synthesis LMIs, analysis, exact figure, Monte Carlo")
+    add_instance_arguments(p)
+    p.add_argument("--filter", metavar="FILE.json|printed",
+                   help="certify these matrices instead of a fresh design: a JSON object of name -> "
+                        "matrix (or the JSON of `solve`/`verify`), or 'printed' for the example's printed filter")
+    p.add_argument("--gamma", type=float, help="the level γ claimed for the filter (default: synthesis or printed γ)")
+    p.add_argument("--runs", type=int, default=10000, help="Monte Carlo runs (0: no simulation; default 10000)")
+    p.add_argument("--seed", type=int, default=0, help="random seed of the simulation (default 0)")
+    p.add_argument("--confidence", type=float, default=0.95, help="confidence level of the interval (default 0.95)")
+    p.add_argument("--disturbance", default="worst", metavar="worst|impulse|FILE.json",
+                   help="simulated disturbance: the exact worst case (default), a unit impulse, or a "
+                        "JSON list of w(k) rows")
+    p.add_argument("--horizon", type=int, default=50, help="steps simulated with an impulse (default 50)")
+    p.add_argument("--solver", help="solver name (default: clarabel)")
+    p.add_argument("--backend", default="cvxpy", help="modelling backend")
+    p.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    p.set_defaults(run=run)
+
+
+def _load_json(path: str, option: str):
+    try:
+        with open(path) as fh:
+            return json.load(fh)
+    except OSError as exc:
+        raise InputError(f"{option} {path}: {exc.strerror}") from None
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{option} {path}: not valid JSON ({exc.msg} at line {exc.lineno})") from None
+
+
+def load_filter(arg: str | None):
+    """None, 'printed', or a dict of matrices (also accepts the JSON of `solve` / `verify`)."""
+    if arg is None or arg == "printed":
+        return arg
+    data = _load_json(arg, "--filter")
+    if isinstance(data, dict):
+        for key in ("filter", "recovered"):
+            if isinstance(data.get(key), dict) and data[key]:
+                return data[key]
+        return data
+    raise InputError(f"--filter {arg}: expected a JSON object of filter matrices by name")
+
+
+def load_disturbance(arg: str):
+    if arg in ("worst", "impulse"):
+        return arg
+    data = _load_json(arg, "--disturbance")
+    if isinstance(data, dict) and "w" in data:
+        data = data["w"]
+    if not isinstance(data, list) or not data:
+        raise InputError(f"--disturbance {arg}: expected a JSON list of w(k) (numbers or rows)")
+    return [[x] if not isinstance(x, list) else x for x in data]
+
+
+def run(args):
+    from ..certify.verification import verify
+
+    result = verify(args.theorem, filter=load_filter(args.filter), gamma=args.gamma, runs=args.runs,
+                    seed=args.seed, confidence=args.confidence,
+                    disturbance=load_disturbance(args.disturbance), horizon=args.horizon,
+                    solver=args.solver, backend=args.backend, **instance_spec(args))
+    if args.json:
+        print_json(result.as_dict())
+    else:
+        print(result.format())
+    return 0 if result.certified else 1
