@@ -11,6 +11,7 @@ import time
 from .backends import get_backend
 from .certify import certify_by_analysis
 from .errors import InputError, LmidslError
+from .feasibility import diagnosis_needed, feasp
 from .instance import Instance, bind
 from .recovery import recover
 from .scaling import apply_scaling
@@ -82,9 +83,10 @@ def solve_model(model, solver: str | None = None, escalate: bool = True, **optio
 
 def solve_instance(instance: Instance, solver: str | None = None, backend: str = "cvxpy",
                    margin: float | None = None, certify: bool = True, scaling="auto",
-                   backoff: float | None = None, **options) -> Solution:
+                   backoff: float | None = None, diagnose: bool = True, **options) -> Solution:
     """Compile, solve, recover the filter and (optionally) certify it by analysis.
 
+    An uncertified solve gets the feasp diagnosis (``diagnose``, see :func:`finish_solution`).
     ``scaling``: the theorem's declared signal scalings ('auto', 'none' or {signal: factor});
     the solver sees the scaled instance, recovered matrices are mapped back
     (:mod:`lmidsl.scaling`).  ``backoff`` = δ: re-solve at objective ≤ (1 + δ)·optimum for a
@@ -93,12 +95,14 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str =
     """
     applied = apply_scaling(instance, scaling)
     model = get_backend(backend)(applied.scaled, margin=margin)
+    base_margin = model.margin
     solution = solve_model(model, solver, **options)
     solution.scaling = applied
     reason = None
     if backoff == "auto":
         # back off only when the filter recovered at the optimum is not certified
-        finish_solution(solution, solver=solver, backend=backend, certify=certify)
+        finish_solution(solution, solver=solver, backend=backend, certify=certify,
+                        diagnose=diagnose, margin=base_margin)
         failed = solution.message.startswith("recovery failed")
         uncertified = solution.analysis is not None and not solution.analysis.passed
         if not (solution.ok and instance.theorem.conditioned and (failed or uncertified)):
@@ -121,15 +125,33 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str =
                 solution.backoff["recovery_cond_before"] = recover(applied.scaled, optimum.values)[1]
             except LmidslError as exc:
                 solution.backoff["recovery_cond_before"] = f"recovery failed: {exc}"
-    finish_solution(solution, solver=solver, backend=backend, certify=certify)
+    finish_solution(solution, solver=solver, backend=backend, certify=certify, diagnose=diagnose,
+                    margin=base_margin)
     return solution
 
 
-def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=True) -> Solution:
-    """Recovery (mapped back through any scaling) and analysis certificate, in place."""
+def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=True,
+                    diagnose=True, margin: float | None = None) -> Solution:
+    """Feasibility diagnosis, recovery (mapped back through any scaling) and analysis
+    certificate, in place.
+
+    When the solver returns no certified point, the feasp diagnosis (:mod:`lmidsl.feasibility`)
+    is attached; if it finds no strictly feasible point, ``status`` becomes "infeasible" (or
+    "marginal": feasible by less than the margin); the solver's own word stays in
+    ``solver_status``.  An infeasible problem is a result, not an error.
+    """
     instance = solution.instance
     original = solution.scaling.original if solution.scaling is not None else instance
     solution.analysis = None
+    if diagnose and diagnosis_needed(solution):
+        t0 = time.perf_counter()
+        report = feasp(instance, backend=backend, solver=solver,
+                       margin=solution.margin if margin is None else margin)
+        solution.feasp = report
+        if report.verdict in ("infeasible", "marginal"):
+            solution.solver_status = solution.status
+            solution.status = report.verdict
+        solution.times["feasp"] = time.perf_counter() - t0
     if solution.ok and instance.theorem.recovery:
         t0 = time.perf_counter()
         try:
@@ -152,11 +174,12 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
 def solve(theorem, example: str | None = None, data: dict | None = None,
           overrides: dict | None = None, solver: str | None = None, backend: str = "cvxpy",
           margin: float | None = None, certify: bool = True, scaling="auto",
-          backoff: float | None = None, **options) -> Solution:
+          backoff: float | None = None, diagnose: bool = True, **options) -> Solution:
     """Solve a theorem on an example or data; returns a :class:`Solution`."""
     t0 = time.perf_counter()
     instance = make_instance(theorem, example, data, overrides)
     bind_time = time.perf_counter() - t0
-    solution = solve_instance(instance, solver, backend, margin, certify, scaling, backoff, **options)
+    solution = solve_instance(instance, solver, backend, margin, certify, scaling, backoff,
+                              diagnose=diagnose, **options)
     solution.times = {"bind": bind_time, **solution.times}
     return solution

@@ -121,6 +121,9 @@ def _infer_dims(theorem: Theorem, matrices: dict, given_dims: dict) -> dict:
 def bind(theorem: Theorem, inputs: dict, example: str | None = None) -> Instance:
     """Check and bind ``inputs`` (data, dims, parameters, optional 'vertices') to ``theorem``.
 
+    Per-vertex data go under ``vertices`` (a list of objects, one per polytope vertex); a
+    per-vertex datum given once, outside ``vertices``, is common to every vertex, and without
+    ``vertices`` the polytope is the single vertex of the data given.
     A theorem whose block structure depends on an input (``theorem.specialise``, see
     :mod:`lmidsl.family`) is first replaced by the member that input selects.  Inputs named
     after an uncertain symbol choose its points (:mod:`lmidsl.uncertainty`).
@@ -141,24 +144,29 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None) -> Instance
         if name not in known:
             raise InputError(
                 f"{theorem.id}: unknown data or parameter {name!r} (known: {', '.join(sorted(known))})")
-    if per_vertex and vertices is None:
-        given = per_vertex & set(inputs)
-        if given:
-            raise InputError(f"{theorem.id}: {', '.join(sorted(given))} vary over the polytope; "
-                             f"give them under 'vertices' as a list of objects")
-        raise InputError(f"{theorem.id}: missing 'vertices' (per-vertex data {', '.join(sorted(per_vertex))})")
     if vertices is not None and not per_vertex:
         raise InputError(f"{theorem.id}: this theorem has no per-vertex data, but 'vertices' was given")
+    if per_vertex and vertices is None:
+        vertices = [{}]          # one vertex: the per-vertex data are all given once
     if vertices is not None:
         if not isinstance(vertices, list) or not vertices or not all(isinstance(v, dict) for v in vertices):
             raise InputError(f"{theorem.id}: 'vertices' must be a non-empty list of objects")
+        # a per-vertex datum given once, outside 'vertices', is common to every vertex
+        common = per_vertex & set(inputs)
         for k, v in enumerate(vertices):
             extra = set(v) - per_vertex
-            missing = per_vertex - set(v)
+            twice = set(v) & common
+            missing = per_vertex - set(v) - common
             if extra:
                 raise InputError(f"{theorem.id}: vertex {k + 1}: {', '.join(sorted(extra))} are not per-vertex data")
+            if twice:
+                raise InputError(f"{theorem.id}: vertex {k + 1}: {', '.join(sorted(twice))} given both in "
+                                 f"the vertex and once for all vertices")
             if missing:
                 raise InputError(f"{theorem.id}: vertex {k + 1}: missing {', '.join(sorted(missing))}")
+        vertices = [{**{c: inputs[c] for c in common}, **v} for v in vertices]
+        for c in common:
+            inputs.pop(c)
     nvertices = len(vertices) if vertices else 1
 
     given_dims = {}

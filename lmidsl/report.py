@@ -60,6 +60,10 @@ def format_solution(sol) -> str:
             where += f" @ {r.point}" if getattr(r, "point", "") else ""
             mark = "holds" if r.max_eig < 0 else "VIOLATED"
             lines.append(f"    {r.label + where:<30} {r.max_eig: .3e}  ({r.size}x{r.size}, {mark})")
+    if getattr(sol, "solver_status", None):
+        lines.append(f"  (solver status {sol.solver_status}; status from the feasp diagnosis below)")
+    if getattr(sol, "feasp", None) is not None:
+        lines.append(sol.feasp.format("  "))
     if sol.recovered:
         lines.append("  recovered:")
         lines += [format_matrix(k, v, "    ") for k, v in sol.recovered.items()]
@@ -69,8 +73,14 @@ def format_solution(sol) -> str:
     analysis = getattr(sol, "analysis", None)
     if analysis is not None:
         verdict = "certified" if analysis.passed else "NOT certified"
-        g = "infeasible" if analysis.gamma is None else f"gamma = {analysis.gamma:.8g}"
-        lines.append(f"  analysis {analysis.theorem} with the recovered filter: {g} ({verdict})")
+        g = analysis.status if analysis.gamma is None else f"gamma = {analysis.gamma:.8g}"
+        if getattr(analysis, "method", "min") == "level" and analysis.gamma is not None:
+            low = "" if analysis.minimum is None else f", solver minimum {analysis.minimum:.6g} not strictly feasible"
+            g += f" (point inside the strict set at level {analysis.synthesis_gamma or analysis.minimum:.6g}{low})"
+        via = f" [{', '.join(analysis.solvers)}]" if getattr(analysis, "solvers", None) else ""
+        lines.append(f"  analysis {analysis.theorem}{via} with the recovered filter: {g} ({verdict})")
+        for rep in getattr(analysis, "feasp", []):
+            lines.append(rep.format("    "))
     for note in sol.notes:
         lines.append(f"  note: {note}")
     if sol.times:

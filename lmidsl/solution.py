@@ -53,6 +53,8 @@ class Solution:
     params: dict = field(default_factory=dict)
     notes: list = field(default_factory=list)
     instance: Instance | None = None
+    solver_status: str | None = None
+    feasp: object | None = None
     scaling: object = None          # lmidsl.scaling.AppliedScaling (instance is the scaled one)
     backoff: dict | None = None     # lmidsl.backoff record when the point is a back-off point
 
@@ -81,6 +83,7 @@ class Solution:
             "backend": self.backend,
             "solver": self.solver,
             "status": self.status,
+            "solver_status": self.solver_status or self.status,
             "message": self.message,
             "objective": self.objective,
             "gamma": self.gamma,
@@ -92,6 +95,7 @@ class Solution:
             "inverted": self.inverted,
             "values": {k: listify(v) for k, v in self.values.items()},
             "times": self.times,
+            "feasp": self.feasp.as_dict() if self.feasp is not None else None,
             "notes": self.notes,
             "scaling": self.scaling.as_dict() if self.scaling is not None else None,
             "backoff": self.backoff,

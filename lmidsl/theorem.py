@@ -346,6 +346,13 @@ class Theorem:
         if performance is not None:
             self.performance = (performance[0], sp.sympify(performance[1]))
 
+    def feasibility(self, *, performance: tuple[str, Any] | None = None):
+        """A feasibility problem (no objective); ``performance`` = (name, expr) names the level
+        the LMIs are stated at, e.g. ('gamma', γ) for a prescribed γ parameter."""
+        self.objective = None
+        if performance is not None:
+            self.performance = (performance[0], sp.sympify(performance[1]))
+
     def recover(self, **formulas):
         """Recovery formulas, e.g. ``Af=V2.I * Af_hat``: evaluated after the solve, in order."""
         for name, expr in formulas.items():

@@ -133,6 +133,7 @@ class CompiledModel:
         objective = None
         if theorem.objective is not None:
             objective = self.compiler_class(self, None).visit(theorem.objective)
+        self.objective = objective
         self.problem = self.make_problem(objective, [c for _, c in self.constraints])
         self.compile_time = time.perf_counter() - t0
 
@@ -205,11 +206,17 @@ class CompiledModel:
         """Numeric value of every assembled LMI matrix N at the current variable values."""
         return {key: np.asarray(self.expression_value(N), dtype=float) for key, N in self.lmi_matrices}
 
-    def solve(self, solver: str | None = None, **options) -> Solution:
-        """Solve, then evaluate the certificate at the returned point with numpy."""
+    def level_problem(self, bound: float):
+        """The feasibility problem 'every LMI, and objective ≤ bound': a point inside the strict
+        set at a prescribed level rather than on its boundary at the optimum."""
+        return self.make_problem(None, [c for _, c in self.constraints] + [self.objective <= bound])
+
+    def solve(self, solver: str | None = None, problem=None, **options) -> Solution:
+        """Solve (``problem``: default the compiled one), then evaluate the certificate at the
+        returned point with numpy."""
         instance = self.instance
         t0 = time.perf_counter()
-        status, objective, message, solver_time = self.run_solver(solver, **options)
+        status, objective, message, solver_time = self.run_solver(solver, problem, **options)
         wall = time.perf_counter() - t0
         solution = Solution(instance.theorem.id, instance.example, self.backend,
                             self.solver_name(solver), status, objective, margin=self.margin,
@@ -253,9 +260,18 @@ class CompiledModel:
     def make_problem(self, objective, constraints):
         raise NotImplementedError
 
-    def run_solver(self, solver, **options):
-        """Return (status, objective value, message, solver time or None); may set
-        ``self.last_solver_call`` to the wall time of the solver call with its interface."""
+    def run_solver(self, solver, problem=None, **options):
+        """Solve ``problem`` (default: the compiled one); return (status, objective value,
+        message, solver time or None); may set ``self.last_solver_call`` to the wall time of the
+        solver call with its interface."""
+        raise NotImplementedError
+
+    def shifted_lmi_constraint(self, N, t, size: int):
+        """``N ⪯ t I`` for a scalar variable ``t`` (auxiliary problems such as feasp)."""
+        return self.lmi_constraint(N - t * np.eye(size), size, None)
+
+    def norm_bound(self, radius: float):
+        """‖(all decision variables stacked)‖₂ ≤ radius: the feasibility radius of LMI Lab's feasp."""
         raise NotImplementedError
 
     def solver_name(self, solver) -> str:

@@ -85,23 +85,29 @@ class CvxpyModel(CompiledModel):
     def solver_name(self, solver):
         return resolve_solver(solver)
 
-    def run_solver(self, solver, **options):
+    def run_solver(self, solver, problem=None, **options):
         name = resolve_solver(solver)
+        problem = self.problem if problem is None else problem
         try:
             with warnings.catch_warnings():
                 # cvxpy warns "Solution may be inaccurate"; the status and certificate say so
                 warnings.simplefilter("ignore", UserWarning)
-                self.problem.solve(solver=name, **options)
+                problem.solve(solver=name, **options)
         except cp.error.SolverError as exc:
             return "solver_error", None, str(exc).splitlines()[0] if str(exc) else "solver failed", None
-        status = _STATUS.get(self.problem.status, str(self.problem.status))
+        status = _STATUS.get(problem.status, str(problem.status))
         # wall time of the solver call including its interface (cvxpy's own measurement)
-        self.last_solver_call = getattr(self.problem, "_solve_time", None)
-        stats = self.problem.solver_stats
-        value = self.problem.value
+        self.last_solver_call = getattr(problem, "_solve_time", None)
+        stats = problem.solver_stats
+        value = problem.value
         objective = float(value) if value is not None and np.isfinite(value) else None
         solver_time = getattr(stats, "solve_time", None)
         return status, objective, "", solver_time if solver_time is not None else self.last_solver_call
+
+    def norm_bound(self, radius):
+        parts = [cp.reshape(v, (1,), order="F") if v.ndim == 0 else cp.vec(v, order="F")
+                 for v in self._variables.values()]
+        return cp.norm(cp.hstack(parts), 2) <= radius
 
     def value_of(self, variable):
         value = variable.value

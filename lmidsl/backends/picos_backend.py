@@ -147,8 +147,9 @@ class PicosModel(CompiledModel):
     def solver_name(self, solver):
         return resolve_solver(solver)
 
-    def run_solver(self, solver, **options):
+    def run_solver(self, solver, problem=None, **options):
         name = resolve_solver(solver)
+        problem = self.problem if problem is None else problem
         from picos.modeling.options import OPTIONS
         known = {o[0] for o in OPTIONS}
         unknown = sorted(set(options) - known)
@@ -158,7 +159,7 @@ class PicosModel(CompiledModel):
         settings = {"verbosity": 0, "primals": None, "duals": False,
                     **SOLVER_DEFAULTS.get(name, {}), **options}
         try:
-            solution = self.problem.solve(solver=name, **settings)
+            solution = problem.solve(solver=name, **settings)
         except Exception as exc:  # any PICOS/solver failure is a status, not a crash
             text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             return "solver_error", None, text, None
@@ -180,11 +181,15 @@ class PicosModel(CompiledModel):
         objective = None
         if status in ("optimal", "optimal_inaccurate"):
             try:
-                value = self.problem.value
+                value = problem.value
                 objective = float(value) if value is not None and np.isfinite(value) else None
             except Exception:
                 objective = None
         return status, objective, message, solution.searchTime
+
+    def norm_bound(self, radius):
+        parts = [v.vec for v in self._variables.values()]
+        return abs(picos.block([[p] for p in parts])) <= radius
 
     def value_of(self, variable):
         try:

@@ -5,14 +5,23 @@ is data.  The analysis instance takes the synthesis instance's data and paramete
 for polytopic theorems) and the recovered filter; minimising its γ² gives the level that the
 paper's own analysis certifies for this filter.  For a polytopic synthesis the analysis is run
 at every vertex and the worst γ is reported (a vertex-wise certificate).
+
+The minimum sits on the boundary of the strict set, where a solver's point may miss the strict
+LMIs by its tolerance.  When it does, the analysis is solved again as a feasibility problem at a
+level (the synthesis γ, else the minimum plus the tolerance): a point inside the strict set at
+that level is the certificate (``method`` "level").  When the default solver fails numerically,
+:data:`FALLBACK_SOLVERS` are tried (the certificate is numpy's, whichever solver found the
+point).  An analysis without a certified point carries the feasp diagnosis
+(:mod:`lmidsl.feasibility`).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
 import numpy as np
+import sympy as sp
 
-from ..errors import InputError
+from ..errors import InputError, LmidslError
 from ..instance import Instance, bind
 from ..scaling import apply_scaling
 
@@ -28,6 +37,10 @@ class AnalysisCertificate:
     lmis: list = field(default_factory=list)
     synthesis_gamma: float | None = None
     tolerance: float = 1e-3
+    method: str = "min"
+    minimum: float | None = None
+    feasp: list = field(default_factory=list)
+    solvers: list = field(default_factory=list)
     scaling: dict | None = None   # the analysis instance's own exact signal scaling (lmidsl.scaling)
 
     @property
@@ -44,8 +57,10 @@ class AnalysisCertificate:
     def as_dict(self) -> dict:
         return {"theorem": self.theorem, "status": self.status, "gamma": self.gamma,
                 "synthesis_gamma": self.synthesis_gamma, "tolerance": self.tolerance,
-                "passed": self.passed, "per_vertex": self.per_vertex, "lmis": self.lmis,
-                "scaling": self.scaling}
+                "passed": self.passed, "method": self.method, "minimum": self.minimum,
+                "solvers": self.solvers,
+                "per_vertex": self.per_vertex, "lmis": self.lmis,
+                "feasp": [r.as_dict() for r in self.feasp], "scaling": self.scaling}
 
 
 def analysis_inputs(instance: Instance, analysis_theorem, filter_matrices: dict,
@@ -68,25 +83,95 @@ def analysis_inputs(instance: Instance, analysis_theorem, filter_matrices: dict,
     return inputs
 
 
+def objective_level(theorem, gamma: float) -> float | None:
+    """The objective value at which the theorem's performance equals ``gamma`` (γ² for √g)."""
+    if theorem.objective is None or theorem.performance is None:
+        return None
+    perf, obj = theorem.performance[1], theorem.objective
+    if perf == sp.sqrt(obj):
+        return gamma ** 2
+    if perf == obj:
+        return gamma
+    level = sp.Symbol("level_", positive=True)
+    roots = [r for r in sp.solve(sp.Eq(perf.xreplace({obj: level}), gamma), level) if r.is_real]
+    return float(roots[0]) if roots else None
+
+
+FALLBACK_SOLVERS = {"cvxpy": ("CVXOPT", "SCS"), "picos": ()}
+"""Solvers tried, in order, when the default solver fails (solver_error) on an analysis problem:
+a solver's numerical failure is not a verdict on the filter."""
+
+
+def _attempt(model, solver, synthesis_gamma, tolerance):
+    """min γ, then (when its point is not strictly feasible) the level problems."""
+    from ..api import solve_model
+
+    sol = solve_model(model, solver)
+    minimum = sol.gamma if sol.ok else None
+    if sol.ok and sol.certified:
+        return sol, "min", minimum
+    levels = []
+    if synthesis_gamma is not None:
+        levels.append(synthesis_gamma)
+    if minimum is not None:
+        levels.append(minimum * (1 + tolerance))
+    theorem = model.instance.theorem
+    for gamma in sorted(set(levels)):
+        bound = objective_level(theorem, gamma)
+        if bound is None or model.objective is None:
+            break
+        level_sol = model.solve(solver, problem=model.level_problem(bound))
+        if level_sol.ok and level_sol.certified:
+            return level_sol, "level", minimum
+        if sol.status == "solver_error" and level_sol.status != "solver_error":
+            sol = level_sol
+    return sol, "min", minimum
+
+
+def _solve_one(make_model, solver, backend, synthesis_gamma, tolerance):
+    """(solution, method, min γ, solver used): the requested solver, else the fallbacks."""
+    candidates = [solver] if solver is not None else [None, *FALLBACK_SOLVERS.get(backend, ())]
+    result = None
+    for name in candidates:
+        try:
+            sol, method, minimum = _attempt(make_model(), name, synthesis_gamma, tolerance)
+        except LmidslError:      # a fallback solver that is not installed
+            continue
+        if result is None or (sol.ok and sol.certified):
+            result = (sol, method, minimum, sol.solver)
+        if sol.ok and sol.certified:
+            break
+    return result
+
+
 def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gamma=None,
                         solver: str | None = None, backend: str = "cvxpy") -> AnalysisCertificate:
     """Solve the analysis counterpart of ``instance.theorem`` with ``filter_matrices`` fixed."""
-    from ..api import solve_model
     from ..backends import get_backend
+    from ..feasibility import feasp
     from ..registry import get_theorem
 
     link = instance.theorem.analysis
     analysis = get_theorem(link.theorem)
     vertices = range(instance.nvertices) if instance.nvertices > 1 else [None]
-    gammas, statuses, lmis, scalings = [], [], [], []
+    gammas, statuses, lmis, methods, minima, reports, solvers, scalings = [], [], [], [], [], [], [], []
     for v in vertices:
         sub = bind(analysis, analysis_inputs(instance, analysis, filter_matrices, v),
                    example=instance.example)
         scaled = apply_scaling(sub, "auto")
         scalings.append(scaled.as_dict())
-        sol = solve_model(get_backend(backend)(scaled.scaled), solver)
+        sol, method, minimum, used = _solve_one(lambda: get_backend(backend)(scaled.scaled), solver,
+                                                backend, synthesis_gamma, link.gamma_tolerance)
+        solvers.append(used)
+        if not (sol.ok and sol.certified):
+            report = feasp(scaled.scaled, backend=backend, solver=solver)
+            reports.append(report)
+            if report.verdict in ("infeasible", "marginal"):
+                sol.status = report.verdict
         statuses.append(sol.status)
         gammas.append(sol.gamma)
+        methods.append(method)
+        minima.append(minimum)
         lmis += [dict(r.as_dict(), vertex=None if v is None else v + 1) for r in sol.lmis]
     ok = all(s in ("optimal", "optimal_inaccurate") for s in statuses)
     worst = max(gammas) if ok and all(g is not None for g in gammas) else None
@@ -94,7 +179,12 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
         status = "optimal" if all(s == "optimal" for s in statuses) else "optimal_inaccurate"
     else:
         status = next(s for s in statuses if s not in ("optimal", "optimal_inaccurate"))
+    minimum = max(minima) if all(m is not None for m in minima) else None
     return AnalysisCertificate(analysis.id, status, worst,
                                per_vertex=gammas if len(gammas) > 1 else [],
                                lmis=lmis, synthesis_gamma=synthesis_gamma,
-                               tolerance=link.gamma_tolerance, scaling=scalings[0] if scalings else None)
+                               tolerance=link.gamma_tolerance,
+                               scaling=scalings[0] if scalings else None,
+                               method="level" if "level" in methods else "min",
+                               minimum=minimum, feasp=reports,
+                               solvers=sorted(set(solvers)))

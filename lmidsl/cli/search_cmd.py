@@ -1,0 +1,45 @@
+"""``lmidsl search``: grid (and Nelder–Mead refinement) over a theorem's fixed scalars."""
+from __future__ import annotations
+
+from ..api import make_instance
+from ..errors import InputError
+from ..scalar_search import OBJECTIVES, format_result, parse_axis, scalar_search
+from .common import add_instance_arguments, instance_spec, print_json
+
+ORDER = 25
+
+
+def register(sub):
+    p = sub.add_parser("search", help="search a theorem's fixed scalars (grid, then Nelder-Mead)")
+    add_instance_arguments(p)
+    p.add_argument("--grid", action="append", default=[], metavar="NAME=a:b:n",
+                   help="grid axis: n points from a to b, or NAME=v1,v2,... (repeatable)")
+    p.add_argument("--refine", action="store_true", help="Nelder-Mead refinement from the best grid point")
+    p.add_argument("--objective", choices=OBJECTIVES,
+                   help="gamma (optimal level; default when the theorem minimises) or tmin (feasp t*)")
+    p.add_argument("--workers", type=int, help="worker processes (default: number of CPUs; 1 = serial)")
+    p.add_argument("--maxfev", type=int, default=80, help="refinement evaluations (default 80)")
+    p.add_argument("--solver", help="solver name (default: clarabel)")
+    p.add_argument("--backend", default="cvxpy", help="modelling backend")
+    p.add_argument("--margin", type=float, help="strictness margin ε (N <= -ε I); default 1e-7")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    p.set_defaults(run=run)
+
+
+def run(args):
+    if not args.grid:
+        raise InputError("search: give at least one --grid NAME=a:b:n")
+    axes = dict(parse_axis(g) for g in args.grid)
+    instance = make_instance(args.theorem, **instance_spec(args))
+    if args.workers is not None and args.workers < 1:
+        raise InputError("--workers must be at least 1")
+    result = scalar_search(instance, axes, args.objective, refine_best=args.refine,
+                           workers=args.workers, progress=False if args.no_progress or args.json else None,
+                           solver=args.solver, backend=args.backend, margin=args.margin,
+                           maxfev=args.maxfev)
+    if args.json:
+        print_json(result.as_dict())
+    else:
+        print(format_result(result))
+    return 0 if result.best is not None else 1
