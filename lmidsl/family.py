@@ -61,3 +61,151 @@ class TheoremFamily(Theorem):
         out = super().summary()
         out["family_index"] = {"name": self.index, "default": self.default, "domain": list(self.domain)}
         return out
+
+
+# -- families of objects indexed by subsystem ------------------------------------------
+
+import re  # noqa: E402
+
+
+def _latex(template: str | None, base: str, idx: tuple) -> str:
+    template = template or base
+    if "{i}" in template or "{j}" in template:
+        out = template.replace("{i}", str(idx[0]))
+        if len(idx) > 1:
+            out = out.replace("{j}", str(idx[1]))
+        return out
+    return f"{template}_{{{''.join(map(str, idx))}}}"
+
+
+def member_name(base: str, *idx) -> str:
+    """``A`` with index (1,) → ``A_1``; ``Ad`` with (1, 2) → ``Ad_1_2``."""
+    return base + "".join(f"_{k}" for k in idx)
+
+
+class Family:
+    """Members 1..N of a theorem (subsystems), with indexed declarations."""
+
+    def __init__(self, theorem, size: int, index: str = "i"):
+        if size < 1:
+            raise InputError(f"{theorem.id}: a family needs at least one member, got {size}")
+        self.theorem = theorem
+        self.size = int(size)
+        self.index = index
+
+    def __iter__(self):
+        return iter(range(1, self.size + 1))
+
+    def __len__(self):
+        return self.size
+
+    @property
+    def pairs(self) -> list[tuple[int, int]]:
+        return [(i, j) for i in self for j in self]
+
+    def _keys(self, pairs: bool):
+        return self.pairs if pairs else [(i,) for i in self]
+
+    @staticmethod
+    def _shape(value, idx):
+        if callable(value):
+            return value(*idx)
+        return value
+
+    # -- declarations -------------------------------------------------------------------
+    def dims(self, names: str) -> tuple[dict, ...] | dict:
+        """Per-member dimensions: ``n, m = fam.dims("n m")`` gives ``n[i]`` = Dim ``n_i``."""
+        made = []
+        for base in names.split():
+            made.append({i: self.theorem.dim(member_name(base, i)) for i in self})
+        return made[0] if len(made) == 1 else tuple(made)
+
+    def data(self, base: str, rows, cols, *, pairs: bool = False, latex: str | None = None,
+             description: str = "", **kwargs) -> dict:
+        """Indexed data; ``rows``/``cols`` are dimensions or functions of the index."""
+        out = {}
+        for idx in self._keys(pairs):
+            symbol = self.theorem.data(member_name(base, *idx), self._shape(rows, idx),
+                                       self._shape(cols, idx), latex=_latex(latex, base, idx),
+                                       description=description, **kwargs)
+            out[idx if pairs else idx[0]] = symbol
+        return out
+
+    def var(self, base: str, rows, cols=None, *, pairs: bool = False, latex: str | None = None,
+            description: str = "", **kwargs) -> dict:
+        """Indexed decision matrices (``kind`` as in ``Theorem.var``)."""
+        out = {}
+        for idx in self._keys(pairs):
+            c = None if cols is None else self._shape(cols, idx)
+            symbol = self.theorem.var(member_name(base, *idx), self._shape(rows, idx), c,
+                                      latex=_latex(latex, base, idx), description=description,
+                                      **kwargs)
+            out[idx if pairs else idx[0]] = symbol
+        return out
+
+    def scalar(self, base: str, *, pairs: bool = False, latex: str | None = None,
+               description: str = "", **kwargs) -> dict:
+        """Indexed scalar decision variables (multipliers ε_i, levels ρ_i = γ_i²)."""
+        out = {}
+        for idx in self._keys(pairs):
+            out[idx if pairs else idx[0]] = self.theorem.scalar(
+                member_name(base, *idx), latex=_latex(latex, base, idx), description=description,
+                **kwargs)
+        return out
+
+    def param(self, base: str, *, pairs: bool = False, latex: str | None = None,
+              description: str = "", **kwargs) -> dict:
+        """Indexed scalar parameters (e.g. delays τ_ij)."""
+        out = {}
+        for idx in self._keys(pairs):
+            out[idx if pairs else idx[0]] = self.theorem.param(
+                member_name(base, *idx), latex=_latex(latex, base, idx), description=description,
+                **kwargs)
+        return out
+
+    def lmis(self, label: str, build, **kwargs) -> list:
+        """One LMI per member: ``build(i)`` returns its rows (or a BlockMatrixSpec).
+
+        ``label`` may contain ``{i}``; otherwise ``" (i=1)"`` is appended.
+        """
+        made = []
+        for i in self:
+            text = label.replace("{i}", str(i)) if "{i}" in label else f"{label} (i={i})"
+            made.append(self.theorem.lmi(text, build(i), **kwargs))
+        return made
+
+
+def count_members(inputs, key: str) -> int:
+    """The N for which ``key_1 .. key_N`` are all present among ``inputs`` (names)."""
+    pattern = re.compile(rf"^{re.escape(key)}_(\d+)$")
+    found = sorted(int(m.group(1)) for name in inputs for m in [pattern.match(str(name))] if m)
+    if not found:
+        return 0
+    if found != list(range(1, len(found) + 1)):
+        raise InputError(f"the subsystems given as {key}_<i> are {found}; expected {key}_1 .. {key}_{len(found)}")
+    return len(found)
+
+
+def sized_theorem(build, default_size: int, key: str):
+    """The theorem ``build(default_size)``, resized to the data by ``Theorem.for_inputs``.
+
+    ``build(N)`` must return a :class:`~lmidsl.theorem.Theorem` stated for N members, with the
+    same id for every N; ``key`` names the indexed datum whose count gives N (e.g. ``"A"``).
+    Built theorems are cached per N.
+    """
+    cache: dict = {}
+
+    def get(size: int):
+        if size not in cache:
+            theorem = build(size)
+            theorem.resizer = resize
+            cache[size] = theorem
+        return cache[size]
+
+    def resize(inputs):
+        return get(count_members(inputs, key) or default_size)
+
+    return get(default_size)
+
+
+__all__ = ["Family", "member_name", "count_members", "sized_theorem"]
