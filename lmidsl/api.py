@@ -10,12 +10,13 @@ import time
 
 from .backends import get_backend
 from .certify import certify_by_analysis
+from .checks import run_checks
 from .errors import InputError, LmidslError
 from .instance import Instance, bind
 from .recovery import recover
 from .scaling import apply_scaling
 from .registry import get_example, get_theorem
-from .solution import Solution
+from .solution import Solution, evaluate_reported
 from .theorem import Theorem
 
 
@@ -49,7 +50,8 @@ def make_instance(theorem, example: str | None = None, data: dict | None = None,
     thm = _theorem(theorem)
     if example is None and data is None and thm.examples:
         example = next(iter(thm.examples))
-    return bind(thm, instance_inputs(thm, example, data, overrides), example=example)
+    inputs = instance_inputs(thm, example, data, overrides)
+    return bind(thm.for_inputs(inputs), inputs, example=example)
 
 
 MARGIN_ESCALATION = (10.0, 100.0, 1000.0)
@@ -130,6 +132,8 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
     instance = solution.instance
     original = solution.scaling.original if solution.scaling is not None else instance
     solution.analysis = None
+    if solution.ok and instance.theorem.reported:
+        solution.reported = evaluate_reported(instance, {**instance.data, **solution.values})
     if solution.ok and instance.theorem.recovery:
         t0 = time.perf_counter()
         try:
@@ -146,6 +150,10 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
             solution.analysis = certify_by_analysis(original, solution.recovered, solution.gamma,
                                                     solver=solver, backend=backend)
             solution.times["analysis"] = time.perf_counter() - t0
+    if certify and solution.ok and instance.theorem.checks:
+        t0 = time.perf_counter()
+        solution.checks = run_checks(solution)
+        solution.times["checks"] = time.perf_counter() - t0
     return solution
 
 

@@ -32,27 +32,27 @@ def run_checks(solution) -> list[CheckResult]:
     return results
 
 
-def figures_agree(tolerance: float = 1e-3, name: str = "analysis figures"):
-    """A check: every reported figure equals the analysis value within ``tolerance`` (relative).
+def reported_agree(tolerance: float = 1e-3, name: str = "analysis values"):
+    """A check: every reported value equals the analysis value within ``tolerance`` (relative).
 
-    For a synthesis theorem whose analysis counterpart reports the same figures (e.g. the γ_i of
+    For a synthesis theorem whose analysis counterpart reports the same values (e.g. the γ_i of
     each subsystem): the analysis of the recovered filter must give back the synthesis values.
     """
 
     def check(solution) -> CheckResult:
         analysis = getattr(solution, "analysis", None)
-        if analysis is None or not analysis.figures:
-            return CheckResult(name, False, "no analysis figures to compare")
+        if analysis is None or not analysis.reported:
+            return CheckResult(name, False, "no analysis values to compare")
         diffs = {}
-        for key, value in solution.figures.items():
-            if key in analysis.figures:
-                other = analysis.figures[key]
+        for key, value in solution.reported.items():
+            if key in analysis.reported:
+                other = analysis.reported[key]
                 diffs[key] = abs(other - value) / max(abs(value), 1e-12)
         if not diffs:
-            return CheckResult(name, False, "the analysis theorem reports none of the figures")
+            return CheckResult(name, False, "the analysis theorem reports none of these values")
         worst = max(diffs, key=diffs.get)
         passed = diffs[worst] <= tolerance
-        summary = (f"{len(diffs)} figures, largest relative difference {diffs[worst]:.1e} ({worst}); "
+        summary = (f"{len(diffs)} values, largest relative difference {diffs[worst]:.1e} ({worst}); "
                    f"tolerance {tolerance:g}")
         return CheckResult(name, passed, summary, {"relative_differences": diffs})
 

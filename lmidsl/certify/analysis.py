@@ -15,6 +15,7 @@ import numpy as np
 from ..errors import InputError
 from ..instance import Instance, bind
 from ..scaling import apply_scaling
+from ..solution import evaluate_reported
 
 
 @dataclass
@@ -29,6 +30,7 @@ class AnalysisCertificate:
     synthesis_gamma: float | None = None
     tolerance: float = 1e-3
     scaling: dict | None = None   # the analysis instance's own exact signal scaling (lmidsl.scaling)
+    reported: dict = field(default_factory=dict)
 
     @property
     def passed(self) -> bool:
@@ -45,7 +47,7 @@ class AnalysisCertificate:
         return {"theorem": self.theorem, "status": self.status, "gamma": self.gamma,
                 "synthesis_gamma": self.synthesis_gamma, "tolerance": self.tolerance,
                 "passed": self.passed, "per_vertex": self.per_vertex, "lmis": self.lmis,
-                "scaling": self.scaling}
+                "scaling": self.scaling, "reported": self.reported}
 
 
 def analysis_inputs(instance: Instance, analysis_theorem, filter_matrices: dict,
@@ -76,9 +78,9 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
     from ..registry import get_theorem
 
     link = instance.theorem.analysis
-    analysis = get_theorem(link.theorem)
+    analysis = get_theorem(link.theorem).for_inputs({**instance.data, **instance.params})
     vertices = range(instance.nvertices) if instance.nvertices > 1 else [None]
-    gammas, statuses, lmis, scalings = [], [], [], []
+    gammas, statuses, lmis, scalings, reported = [], [], [], [], []
     for v in vertices:
         sub = bind(analysis, analysis_inputs(instance, analysis, filter_matrices, v),
                    example=instance.example)
@@ -88,6 +90,8 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
         statuses.append(sol.status)
         gammas.append(sol.gamma)
         lmis += [dict(r.as_dict(), vertex=None if v is None else v + 1) for r in sol.lmis]
+        if sol.ok and analysis.reported:
+            reported.append(evaluate_reported(scaled.scaled, {**scaled.scaled.data, **sol.values}))
     ok = all(s in ("optimal", "optimal_inaccurate") for s in statuses)
     worst = max(gammas) if ok and all(g is not None for g in gammas) else None
     if ok:
@@ -97,4 +101,5 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
     return AnalysisCertificate(analysis.id, status, worst,
                                per_vertex=gammas if len(gammas) > 1 else [],
                                lmis=lmis, synthesis_gamma=synthesis_gamma,
-                               tolerance=link.gamma_tolerance, scaling=scalings[0] if scalings else None)
+                               tolerance=link.gamma_tolerance, scaling=scalings[0] if scalings else None,
+                               reported=reported[0] if len(reported) == 1 else {})
