@@ -175,14 +175,15 @@ class Family:
         return made
 
 
-def count_members(inputs, key: str) -> int:
+def count_members(inputs, key: str, where: str = "") -> int:
     """The N for which ``key_1 .. key_N`` are all present among ``inputs`` (names)."""
     pattern = re.compile(rf"^{re.escape(key)}_(\d+)$")
     found = sorted(int(m.group(1)) for name in inputs for m in [pattern.match(str(name))] if m)
     if not found:
         return 0
     if found != list(range(1, len(found) + 1)):
-        raise InputError(f"the subsystems given as {key}_<i> are {found}; expected {key}_1 .. {key}_{len(found)}")
+        raise InputError(f"{where + ': ' if where else ''}the subsystems given as {key}_<i> are {found}; "
+                         f"expected {key}_1 .. {key}_{len(found)}")
     return len(found)
 
 
@@ -203,9 +204,10 @@ def sized_theorem(build, default_size: int, key: str):
         return cache[size]
 
     def resize(inputs):
-        return get(count_members(inputs, key) or default_size)
+        return get(count_members(inputs, key, where=first.id) or default_size)
 
-    return get(default_size)
+    first = get(default_size)
+    return first
 
 
 __all__ = ["Family", "member_name", "count_members", "sized_theorem"]
