@@ -178,3 +178,25 @@ def test_analysis_of_a_fixed_observer():
     assert sol.ok and sol.certified
     assert all(c.passed for c in sol.checks)
     assert sol.checks[0].details["weighted_peak"] <= 1.0
+
+
+def test_family_declares_indexed_names_and_latex():
+    from lmidsl.family import Family
+    thm = Theorem("test_family.names", "t", Source("p", "e"), time="continuous")
+    fam = Family(thm, 3)
+    n = fam.dims("n")
+    A = fam.data("A", lambda i: n[i], lambda i: n[i])
+    Ad = fam.data("A", lambda i, j: n[i], lambda i, j: n[j], pairs=True, latex="A_{{i}{j}}")
+    Q = fam.var("Q", lambda i, j: n[j], pairs=True, kind="symmetric")
+    assert [A[i].name for i in fam] == ["A_1", "A_2", "A_3"]
+    assert Ad[2, 3].name == "A_2_3" and Ad[2, 3].latex_name == "A_{23}" and Ad[2, 3].shape == (n[2], n[3])
+    assert Q[3, 1].latex_name == "Q_{31}" and Q[3, 1].T == Q[3, 1]
+    assert len(fam.pairs) == 9
+
+
+def test_cli_reports_a_gap_in_the_subsystems_in_one_line(capsys):
+    from lmidsl.cli import main
+    code = main(["solve", THM2, "--example", "paper", "--set", "A_4=[[1]]", "--no-certify"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and err.count("\n") == 0
+    assert err.startswith("error: interconnected_delay.thm2:") and "A_1 .. A_3" in err
