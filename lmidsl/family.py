@@ -166,13 +166,21 @@ class Family:
     def lmis(self, label: str, build, **kwargs) -> list:
         """One LMI per member: ``build(i)`` returns its rows (or a BlockMatrixSpec).
 
-        ``label`` may contain ``{i}``; otherwise ``" (i=1)"`` is appended.
+        ``label`` may contain ``{i}``; a paper label ``"(18)"`` becomes ``"(18, i=1)"``
+        (still an equation tag); any other label gets ``" (i=1)"`` appended.
         """
         made = []
         for i in self:
-            text = label.replace("{i}", str(i)) if "{i}" in label else f"{label} (i={i})"
-            made.append(self.theorem.lmi(text, build(i), **kwargs))
+            made.append(self.theorem.lmi(member_label(label, i), build(i), **kwargs))
         return made
+
+
+def member_label(label: str, i: int) -> str:
+    """The label of member i's LMI: ``"(18)"`` → ``"(18, i=1)"``, ``"{i}"`` replaced."""
+    if "{i}" in label:
+        return label.replace("{i}", str(i))
+    m = re.fullmatch(r"\((.+)\)", label.strip())
+    return f"({m.group(1)}, i={i})" if m else f"{label} (i={i})"
 
 
 def count_members(inputs, key: str, where: str = "") -> int:
@@ -210,4 +218,4 @@ def sized_theorem(build, default_size: int, key: str):
     return first
 
 
-__all__ = ["Family", "member_name", "count_members", "sized_theorem"]
+__all__ = ["Family", "member_name", "member_label", "count_members", "sized_theorem"]

@@ -473,7 +473,7 @@ def _network_and_filters(solution, size, names, common_coupling):
     net = DelayNetwork.from_values(values, size, names, common_coupling)
     flt = Filters.from_values(values, size, names)
     nm = dict(DEFAULT_NAMES, **(names or {}))
-    gammas = [solution.figures[f"{nm['gamma']}_{i}"] for i in range(1, size + 1)]
+    gammas = [solution.reported[f"{nm['gamma']}_{i}"] for i in range(1, size + 1)]
     return net, flt, gammas
 
 

@@ -44,10 +44,10 @@ def test_paper_example_solves_recovers_and_certifies(clarabel):
     assert sol.analysis.passed
     assert sol.analysis.gamma == pytest.approx(sol.gamma, rel=1e-3)
     for i in (1, 2):
-        assert sol.analysis.figures[f"gamma_{i}"] == pytest.approx(sol.figures[f"gamma_{i}"], rel=1e-3)
-    assert sol.gamma == pytest.approx(np.sqrt(sum(sol.figures[f"gamma_{i}"] ** 2 for i in (1, 2))), rel=1e-9)
+        assert sol.analysis.reported[f"gamma_{i}"] == pytest.approx(sol.reported[f"gamma_{i}"], rel=1e-3)
+    assert sol.gamma == pytest.approx(np.sqrt(sum(sol.reported[f"gamma_{i}"] ** 2 for i in (1, 2))), rel=1e-9)
     checks = {c.name: c for c in sol.checks}
-    assert set(checks) == {"frequency sweep", "simulation", "analysis figures"}
+    assert set(checks) == {"frequency sweep", "simulation", "analysis values"}
     assert all(c.passed for c in checks.values())
     assert checks["frequency sweep"].details["weighted_peak"] <= 1.0
     assert max(checks["simulation"].details["ratios"].values()) < 1.0
@@ -81,7 +81,7 @@ def test_congruence_of_18_and_15(clarabel):
         for j in (1, 2):
             point[f"Q_{i}_{j}"] = v[f"Q_{i}_{j}"]
     reports = {r.label: r.max_eig for r in lmi_certificate(inst, point)}
-    assert reports["(15) i=1"] < 0 and reports["(15) i=2"] < 0
+    assert reports["(15, i=1)"] < 0 and reports["(15, i=2)"] < 0
     assert reports["P_1 > 0"] < 0 and reports["P_2 > 0"] < 0
 
 
@@ -139,9 +139,9 @@ def three_subsystems() -> dict:
 def test_any_number_of_subsystems():
     sol = solve(THM2, data=three_subsystems())
     assert sol.ok and sol.certified and sol.analysis.passed
-    assert [r.label for r in sol.lmis if r.label.startswith("(18)")] == ["(18) i=1", "(18) i=2", "(18) i=3"]
+    assert [r.label for r in sol.lmis if r.label.startswith("(18")] == ["(18, i=1)", "(18, i=2)", "(18, i=3)"]
     assert {"Af_3", "Bf_3", "Lf_3"} <= set(sol.recovered)
-    assert set(sol.figures) == {"gamma_1", "gamma_2", "gamma_3"}
+    assert set(sol.reported) == {"gamma_1", "gamma_2", "gamma_3"}
     assert all(c.passed for c in sol.checks), [c.summary for c in sol.checks]
 
 
@@ -200,3 +200,11 @@ def test_cli_reports_a_gap_in_the_subsystems_in_one_line(capsys):
     err = capsys.readouterr().err.strip()
     assert code == 2 and err.count("\n") == 0
     assert err.startswith("error: interconnected_delay.thm2:") and "A_1 .. A_3" in err
+
+
+def test_verify_runs_the_theorem_checks():
+    from lmidsl.certify import verify
+    r = verify(THM2, example="paper")
+    assert r.certified
+    assert r.checks["frequency_sweep"] and r.checks["simulation"] and r.checks["analysis_values"]
+    assert any(n.startswith("simulation: energy ratio") for n in r.notes)

@@ -46,8 +46,8 @@ from operator import add
 from sympy import BlockMatrix, Identity, ZeroMatrix, sqrt
 
 from lmidsl import He, I, Source, Theorem
-from lmidsl.checks import figures_agree
-from lmidsl.family import Family, sized_theorem
+from lmidsl.checks import reported_agree
+from lmidsl.family import Family, member_label, sized_theorem
 from lmidsl.interconnected import FrequencySweepCheck, SimulationCheck
 from lmidsl.uncertainty_nb import NormBounded, sprocedure
 
@@ -226,16 +226,17 @@ def build_thm1(N: int, variant: str = "A", condition19: str | None = None, suffi
         terms = [NormBounded(H=[P[i] * Hbar] + zeros, E=[Ebar] + zeros, eps=eps2[i], form="diag",
                              name=f"F_{i}")]
         terms += _coupling_terms(fam, i, [P[i] * Mbar] + zeros, eps1, 2, variant, d["N"])
-        return sprocedure(rows, terms, where=f"{thm.id}: LMI (15) i={i}")
+        return sprocedure(rows, terms, where=f"{thm.id}: LMI {member_label('(15)', i)}")
 
-    fam.lmis("(15) i={i}", lmi15)
+    fam.lmis("(15)", lmi15)
     thm.positive(*[P[i] for i in fam])
     thm.positive(*[Q[i, j] for i, j in fam.pairs])
     if condition19:
         R = fam.data("R", lambda i: n[i], lambda i: n[i], symmetric=True, description="given R_i > 0 of (9)")
         for i in fam:
             U = BlockMatrix([[Identity(n[i]), ZeroMatrix(n[i], n[i])]])
-            thm.lmi(f"(9) i={i}", [[U * P[i] * U.T - _bound19(condition19, rho[i], R[i])]], sense="<=")
+            thm.lmi(member_label("(9)", i), [[U * P[i] * U.T - _bound19(condition19, rho[i], R[i])]],
+                    sense="<=")
     _objective(thm, fam, rho)
     _checks(thm, N, variant)
     return thm
@@ -278,17 +279,16 @@ def build_thm2(N: int, variant: str = "A", condition19: str | None = None, suffi
                              E=[d["E"][i], d["E"][i]] + zeros, eps=eps2[i], form="diag", name=f"F_{i}")]
         terms += _coupling_terms(fam, i, [X[i] * d["M"][i], Y[i] * d["M"][i]] + zeros, eps1, 2,
                                  variant, d["N"])                                 # H_i3, H_i5, H_i6
-        return sprocedure(rows, terms, where=f"{thm.id}: LMI (18) i={i}")
+        return sprocedure(rows, terms, where=f"{thm.id}: LMI {member_label('(18)', i)}")
 
-    fam.lmis("(18) i={i}", lmi18)
-    for i in fam:
-        thm.lmi(f"(17) X_{i} > 0", [[X[i]]], sense=">")
-        thm.lmi(f"(17) Y_{i} - X_{i} > 0", [[Y[i] - X[i]]], sense=">")
+    fam.lmis("(18)", lmi18)
+    for i in fam:                                       # (17): X_i > 0, Y_i − X_i > 0 (P_i > 0)
+        thm.lmi(member_label("(17)", i), [[X[i]], [0, Y[i] - X[i]]], sense=">")
     thm.positive(*[Q[i, j] for i, j in fam.pairs])
     if condition19:
         R = fam.data("R", ni, ni, symmetric=True, description="given R_i > 0 of (19)")
         for i in fam:
-            thm.lmi(f"(19) i={i}", [[Y[i] - _bound19(condition19, rho[i], R[i])]], sense="<=")
+            thm.lmi(member_label("(19)", i), [[Y[i] - _bound19(condition19, rho[i], R[i])]], sense="<=")
     _objective(thm, fam, rho)
     thm.recover(**{name: expr for i in fam for name, expr in (
         (f"Af_{i}", (X[i] - Y[i]).I * Ah[i]),                                  # (25)
@@ -328,7 +328,7 @@ def _thm1_for(N, variant, condition19, suffix):
 
 def _thm2_for(N, variant, condition19, suffix):
     thm = build_thm2(N, variant, condition19, suffix)
-    thm.verify_with(figures_agree())
+    thm.verify_with(reported_agree())
     if N == 2:
         data = {**PAPER_DATA, **(R_READ if condition19 else {})}
         thm.example("paper", data, params=dict(TAU_GUESSED), printed=dict(PRINTED_FILTER),
