@@ -50,8 +50,7 @@ def make_instance(theorem, example: str | None = None, data: dict | None = None,
     thm = _theorem(theorem)
     if example is None and data is None and thm.examples:
         example = next(iter(thm.examples))
-    inputs = instance_inputs(thm, example, data, overrides)
-    return bind(thm.for_inputs(inputs), inputs, example=example)
+    return bind(thm, instance_inputs(thm, example, data, overrides), example=example)
 
 
 MARGIN_ESCALATION = (10.0, 100.0, 1000.0)

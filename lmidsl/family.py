@@ -1,4 +1,5 @@
-"""Theorems whose block structure depends on an integer (e.g. the maximum number of losses N).
+"""Theorems whose block structure depends on an integer (e.g. the maximum number of losses N,
+the number of subsystems), and objects indexed by subsystem.
 
 A paper often states one LMI for every N, with N delay blocks.  The theorem file writes a
 function ``build(thm, N)`` that declares everything for one N (building the N blocks in a
@@ -12,9 +13,19 @@ building that member on demand::
 
 All members share the family's id and examples; the analysis link passes N along with the
 other parameters, so a synthesis for N = 3 is certified by the analysis member for N = 3.
+:class:`SubsystemFamily` also reads N off the data (the number of ``A_1, A_2, ...`` given).
+
+Objects indexed by subsystem: an interconnected system with N subsystems has data A_i, B_i, ...
+for every i, coupling data A_ij for every pair, and one LMI per subsystem sharing variables
+(Q_ij) across the family.  :class:`Family` declares them on a theorem in one call each; they
+come back as dictionaries keyed by ``i`` (1-based) or ``(i, j)``, so a build function writes
+``A[i]``, ``Q[j, i]`` and ``sum(Q[j, i] for j in fam)`` as the paper does.  Names: member i of
+``A`` is ``A_i``, pair (i, j) is ``A_i_j``; LaTeX templates may contain ``{i}`` and ``{j}``
+(replaced literally, e.g. ``\\hat{A}_{f{i}}``), otherwise the index is appended as a subscript.
 """
 from __future__ import annotations
 
+import re
 from typing import Callable
 
 from .errors import InputError
@@ -63,10 +74,7 @@ class TheoremFamily(Theorem):
         return out
 
 
-# -- families of objects indexed by subsystem ------------------------------------------
-
-import re  # noqa: E402
-
+# -- objects indexed by subsystem -------------------------------------------------------
 
 def _latex(template: str | None, base: str, idx: tuple) -> str:
     template = template or base
@@ -195,27 +203,19 @@ def count_members(inputs, key: str, where: str = "") -> int:
     return len(found)
 
 
-def sized_theorem(build, default_size: int, key: str):
-    """The theorem ``build(default_size)``, resized to the data by ``Theorem.for_inputs``.
+class SubsystemFamily(TheoremFamily):
+    """A :class:`TheoremFamily` indexed by the number of subsystems N, which the data also tell:
+    when ``N`` is not given, it is the number of ``<key>_1, <key>_2, ...`` among the inputs."""
 
-    ``build(N)`` must return a :class:`~lmidsl.theorem.Theorem` stated for N members, with the
-    same id for every N; ``key`` names the indexed datum whose count gives N (e.g. ``"A"``).
-    Built theorems are cached per N.
-    """
-    cache: dict = {}
+    def __init__(self, id: str, title: str, source: Source, build, *, key: str, index: str = "N",
+                 default: int = 2, **kwargs):
+        self.key = key
+        super().__init__(id, title, source, build, index=index, default=default, **kwargs)
 
-    def get(size: int):
-        if size not in cache:
-            theorem = build(size)
-            theorem.resizer = resize
-            cache[size] = theorem
-        return cache[size]
-
-    def resize(inputs):
-        return get(count_members(inputs, key, where=first.id) or default_size)
-
-    first = get(default_size)
-    return first
+    def specialise(self, inputs: dict) -> Theorem:
+        if self.index in inputs:
+            return self.member(inputs[self.index])
+        return self.member(count_members(inputs, self.key, where=self.id) or self.default)
 
 
-__all__ = ["Family", "member_name", "member_label", "count_members", "sized_theorem"]
+__all__ = ["TheoremFamily", "SubsystemFamily", "Family", "member_name", "member_label", "count_members"]

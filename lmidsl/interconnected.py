@@ -468,7 +468,8 @@ def peak_direction(net, flt, gammas, peak) -> np.ndarray:
 # -- checks for Theorem.verify_with ----------------------------------------------------------
 
 def _network_and_filters(solution, size, names, common_coupling):
-    inst = solution.instance
+    scaling = getattr(solution, "scaling", None)
+    inst = scaling.original if scaling is not None else solution.instance   # unscaled data
     values = {**inst.data, **inst.params, **solution.recovered}
     net = DelayNetwork.from_values(values, size, names, common_coupling)
     flt = Filters.from_values(values, size, names)

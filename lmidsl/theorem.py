@@ -197,7 +197,6 @@ class Theorem:
         self.examples: dict[str, Example] = {}
         self.reported: dict[str, sp.Expr] = {}
         self.checks: list = []
-        self.resizer = None
 
     # -- declarations -------------------------------------------------------------------
     def _check_new(self, name: str):
@@ -363,11 +362,6 @@ class Theorem:
         """Extra certificates run after recovery: callables ``check(solution) -> CheckResult``
         (frequency sweeps, simulations; see :mod:`lmidsl.checks`)."""
         self.checks.extend(checks)
-
-    def for_inputs(self, inputs) -> "Theorem":
-        """This theorem, or the member of its family sized for ``inputs`` (names suffice);
-        see :func:`lmidsl.family.sized_theorem`."""
-        return self if self.resizer is None else self.resizer(inputs)
 
     def recover(self, **formulas):
         """Recovery formulas, e.g. ``Af=V2.I * Af_hat``: evaluated after the solve, in order."""

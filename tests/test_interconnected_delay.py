@@ -145,6 +145,12 @@ def test_any_number_of_subsystems():
     assert all(c.passed for c in sol.checks), [c.summary for c in sol.checks]
 
 
+def test_explicit_N_selects_the_same_member():
+    inst = make_instance(THM2, data={**three_subsystems(), "N": 3})
+    assert inst.theorem is make_instance(THM2, data=three_subsystems()).theorem
+    assert inst.params["N"] == 3 and "A_3" in inst.data
+
+
 def test_missing_subsystem_index_is_an_input_error():
     data = three_subsystems()
     data = {k: v for k, v in data.items() if k != "A_2"}

@@ -31,8 +31,8 @@ S-procedure helper (:mod:`lmidsl.uncertainty_nb`): He(PH̄ F Ē) with ε_i2 in t
 (ε_i2 ĒᵀĒ on the diagonal, column PH̄), He(PM̄ ΔF [N_i1 … N_iN]) with ε_i1 in the "columns"
 form (columns ε_i1 Nᵀ and PM̄) — the block layout of (15) and (18).
 
-The theorems are stated for any N (:func:`lmidsl.family.sized_theorem`): N is the number of
-``A_<i>`` given.  Data names: ``A_i``, ``A_i_j`` (= A_ij), ``B_i``, ``C_i``, ``D_i``, ``L_i``,
+The theorems are stated for any number of subsystems N (:class:`lmidsl.family.SubsystemFamily`):
+N is the parameter ``N`` if given, else the number of ``A_<i>`` in the data.  Data names: ``A_i``, ``A_i_j`` (= A_ij), ``B_i``, ``C_i``, ``D_i``, ``L_i``,
 ``HA_i`` (= H_i1, ΔA part), ``HC_i`` (= H_i2, ΔC part), ``E_i``, ``M_i``, ``N_i_j``; delays
 ``tau_i_j`` are parameters used by the simulation only (the conditions are delay-independent).
 
@@ -47,7 +47,7 @@ from sympy import BlockMatrix, Identity, ZeroMatrix, sqrt
 
 from lmidsl import He, I, Source, Theorem
 from lmidsl.checks import reported_agree
-from lmidsl.family import Family, member_label, sized_theorem
+from lmidsl.family import Family, SubsystemFamily, member_label
 from lmidsl.interconnected import FrequencySweepCheck, SimulationCheck
 from lmidsl.uncertainty_nb import NormBounded, sprocedure
 
@@ -125,6 +125,7 @@ def _plant(thm: Theorem, N: int):
         N=fam.data("N", lambda i, j: r[i], lambda i, j: n[j], pairs=True, latex="N_{{i}{j}}",
                    description="coupling uncertainty output"),
     )
+    thm.param("N", domain=(N, N), default=N, description="number of subsystems")
     fam.param("tau", pairs=True, latex=r"\tau_{{i}{j}}", domain=(0.0, 1e6),
               description="delay (simulation only: the conditions are delay-independent)")
     return fam, (n, m, p, q, k, r), d
@@ -189,13 +190,8 @@ def _title(base: str, variant: str, condition19) -> str:
     return base + (" - " + "; ".join(extra) if extra else "")
 
 
-def build_thm1(N: int, variant: str = "A", condition19: str | None = None, suffix: str = "") -> Theorem:
-    thm = Theorem(f"interconnected_delay.thm1{suffix}",
-                  _title("Robust H∞ analysis of decentralised filters on a delayed interconnection "
-                         "(Theorem 1, (15))", variant, condition19),
-                  Source(PAPER, "Theorem 1, (8), (15)", CITATION), time="continuous",
-                  description="min Σρ_i over P_i > 0, Q_ij > 0, ε such that (15) holds for every i "
-                              f"(variant {variant}; filters A_fi, B_fi, L_fi fixed).")
+def build_thm1(thm: Theorem, N: int, variant: str = "A", condition19: str | None = None) -> None:
+    """Declare Theorem 1 (15) for N subsystems on ``thm``."""
     fam, (n, m, p, q, k, r), d = _plant(thm, N)
     Af = fam.data("Af", lambda i: n[i], lambda i: n[i], latex="A_{f{i}}", description="filter state matrix")
     Bf = fam.data("Bf", lambda i: n[i], lambda i: p[i], latex="B_{f{i}}", description="filter input matrix")
@@ -239,17 +235,12 @@ def build_thm1(N: int, variant: str = "A", condition19: str | None = None, suffi
                     sense="<=")
     _objective(thm, fam, rho)
     _checks(thm, N, variant)
-    return thm
 
 
 # -- Theorem 2 (18): synthesis ----------------------------------------------------------------
-def build_thm2(N: int, variant: str = "A", condition19: str | None = None, suffix: str = "") -> Theorem:
-    thm = Theorem(f"interconnected_delay.thm2{suffix}",
-                  _title("Decentralised robust H∞ filters for a delayed interconnection "
-                         "(Theorem 2, (18), (26))", variant, condition19),
-                  Source(PAPER, "Theorem 2, (17), (18), (25), (26)", CITATION), time="continuous",
-                  description="min Σρ_i subject to (18) and (17) for every i, jointly (the Q_ij are "
-                              f"shared); recovery (25) (variant {variant}).")
+def build_thm2(thm: Theorem, N: int, variant: str = "A", condition19: str | None = None,
+               suffix: str = "") -> None:
+    """Declare Theorem 2 (17), (18), (25), (26) for N subsystems on ``thm``."""
     fam, (n, m, p, q, k, r), d = _plant(thm, N)
     A, Ad, B, C, D, L = d["A"], d["Ad"], d["B"], d["C"], d["D"], d["L"]
     ni = lambda i: n[i]  # noqa: E731
@@ -297,7 +288,7 @@ def build_thm2(N: int, variant: str = "A", condition19: str | None = None, suffi
     filt = tuple(f"{b}_{i}" for i in fam for b in ("Af", "Bf", "Lf"))
     thm.certified_by(f"interconnected_delay.thm1{suffix}", filter=filt)
     _checks(thm, N, variant)
-    return thm
+    thm.verify_with(reported_agree())
 
 
 # Not from the paper: a plain observer per subsystem for the analysis example,
@@ -315,40 +306,49 @@ def _observer() -> dict:
     return out
 
 
-def _thm1_for(N, variant, condition19, suffix):
-    thm = build_thm1(N, variant, condition19, suffix)
-    if N == 2:
-        data = {**PAPER_DATA, **(R_READ if condition19 else {}), **_observer()}
-        thm.example("observer", data, params=dict(TAU_GUESSED),
-                    description="not from the paper: decentralised observers A_fi = A_i - K_i C_i, "
-                                "B_fi = K_i, L_fi = L_i (K_1 = [0; 1], K_2 = [1; 0]) on the Section 4 "
-                                "data.  " + DESCRIPTION)
-    return thm
-
-
-def _thm2_for(N, variant, condition19, suffix):
-    thm = build_thm2(N, variant, condition19, suffix)
-    thm.verify_with(reported_agree())
-    if N == 2:
-        data = {**PAPER_DATA, **(R_READ if condition19 else {})}
-        thm.example("paper", data, params=dict(TAU_GUESSED), printed=dict(PRINTED_FILTER),
-                    printed_note=PRINTED_NOTE, description=DESCRIPTION)
-    return thm
-
-
 VARIANTS = {"": ("A", None), "b": ("B", None), "_r19": ("A", "rhoR")}
 
 
-def _make(builder, suffix):
+def _thm1_family(suffix: str) -> SubsystemFamily:
     variant, condition19 = VARIANTS[suffix]
-    return sized_theorem(lambda N: builder(N, variant, condition19, suffix), 2, "A")
+    thm = SubsystemFamily(
+        f"interconnected_delay.thm1{suffix}",
+        _title("Robust H∞ analysis of decentralised filters on a delayed interconnection (Theorem 1, (15))",
+               variant, condition19),
+        Source(PAPER, "Theorem 1, (8), (15)", CITATION),
+        lambda t, N: build_thm1(t, N, variant, condition19), key="A", default=2, time="continuous",
+        description="min Σρ_i over P_i > 0, Q_ij > 0, ε such that (15) holds for every i "
+                    f"(variant {variant}; filters A_fi, B_fi, L_fi fixed).")
+    data = {**PAPER_DATA, **(R_READ if condition19 else {}), **_observer()}
+    thm.example("observer", data, params=dict(TAU_GUESSED),
+                description="not from the paper: decentralised observers A_fi = A_i - K_i C_i, "
+                            "B_fi = K_i, L_fi = L_i (K_1 = [0; 1], K_2 = [1; 0]) on the Section 4 "
+                            "data.  " + DESCRIPTION)
+    return thm
 
 
-thm1 = _make(_thm1_for, "")
-thm2 = _make(_thm2_for, "")
-thm1b = _make(_thm1_for, "b")
-thm2b = _make(_thm2_for, "b")
-thm1_r19 = _make(_thm1_for, "_r19")
-thm2_r19 = _make(_thm2_for, "_r19")
+def _thm2_family(suffix: str) -> SubsystemFamily:
+    variant, condition19 = VARIANTS[suffix]
+    thm = SubsystemFamily(
+        f"interconnected_delay.thm2{suffix}",
+        _title("Decentralised robust H∞ filters for a delayed interconnection (Theorem 2, (18), (26))",
+               variant, condition19),
+        Source(PAPER, "Theorem 2, (17), (18), (25), (26)", CITATION),
+        lambda t, N: build_thm2(t, N, variant, condition19, suffix), key="A", default=2,
+        time="continuous",
+        description="min Σρ_i subject to (18) and (17) for every i, jointly (the Q_ij are shared); "
+                    f"recovery (25) (variant {variant}).  N = number of subsystems (default: the "
+                    "number of A_<i> given).")
+    thm.example("paper", {**PAPER_DATA, **(R_READ if condition19 else {})}, params=dict(TAU_GUESSED),
+                printed=dict(PRINTED_FILTER), printed_note=PRINTED_NOTE, description=DESCRIPTION)
+    return thm
+
+
+thm1 = _thm1_family("")
+thm2 = _thm2_family("")
+thm1b = _thm1_family("b")
+thm2b = _thm2_family("b")
+thm1_r19 = _thm1_family("_r19")
+thm2_r19 = _thm2_family("_r19")
 
 THEOREMS = [thm1, thm2, thm1b, thm2b, thm1_r19, thm2_r19]

@@ -70,15 +70,25 @@ def analysis_inputs(instance: Instance, analysis_theorem, filter_matrices: dict,
     return inputs
 
 
+def analysis_theorem_for(instance: Instance):
+    """The analysis counterpart of ``instance.theorem``; for a family (:mod:`lmidsl.family`), the
+    member matching the instance (its data names may depend on the family index)."""
+    from ..registry import get_theorem
+
+    analysis = get_theorem(instance.theorem.analysis.theorem)
+    if hasattr(analysis, "specialise"):
+        analysis = analysis.specialise({**instance.data, **instance.params})
+    return analysis
+
+
 def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gamma=None,
                         solver: str | None = None, backend: str = "cvxpy") -> AnalysisCertificate:
     """Solve the analysis counterpart of ``instance.theorem`` with ``filter_matrices`` fixed."""
     from ..api import solve_model
     from ..backends import get_backend
-    from ..registry import get_theorem
 
     link = instance.theorem.analysis
-    analysis = get_theorem(link.theorem).for_inputs({**instance.data, **instance.params})
+    analysis = analysis_theorem_for(instance)
     vertices = range(instance.nvertices) if instance.nvertices > 1 else [None]
     gammas, statuses, lmis, scalings, reported = [], [], [], [], []
     for v in vertices:

@@ -28,7 +28,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..instance import bind
-from .analysis import analysis_inputs, certify_by_analysis
+from .analysis import analysis_inputs, analysis_theorem_for, certify_by_analysis
 from .declaration import namespace
 from .figures import FIGURES, exact_figure
 from .montecarlo import monte_carlo
@@ -132,9 +132,7 @@ class Verification:
 
 def analysis_instances_for(instance, filter_matrices: dict) -> list:
     """The analysis theorem's instances (one per vertex) for a synthesis instance and a filter."""
-    from ..registry import get_theorem
-
-    analysis_thm = get_theorem(instance.theorem.analysis.theorem)
+    analysis_thm = analysis_theorem_for(instance)
     vertices = range(instance.nvertices) if instance.nvertices > 1 else [None]
     return [bind(analysis_thm, analysis_inputs(instance, analysis_thm, filter_matrices, v),
                  example=instance.example) for v in vertices]
