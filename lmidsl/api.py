@@ -10,13 +10,14 @@ import time
 
 from .backends import get_backend
 from .certify import certify_by_analysis
+from .checks import run_checks
 from .errors import InputError, LmidslError
 from .feasibility import diagnosis_needed, feasp
 from .instance import Instance, bind
 from .recovery import recover
 from .scaling import apply_scaling
 from .registry import get_example, get_theorem
-from .solution import Solution
+from .solution import Solution, evaluate_reported
 from .theorem import Theorem
 
 
@@ -152,6 +153,8 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
             solution.solver_status = solution.status
             solution.status = report.verdict
         solution.times["feasp"] = time.perf_counter() - t0
+    if solution.ok and instance.theorem.reported:
+        solution.reported = evaluate_reported(instance, {**instance.data, **solution.values})
     if solution.ok and instance.theorem.recovery:
         t0 = time.perf_counter()
         try:
@@ -168,6 +171,10 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
             solution.analysis = certify_by_analysis(original, solution.recovered, solution.gamma,
                                                     solver=solver, backend=backend)
             solution.times["analysis"] = time.perf_counter() - t0
+    if certify and solution.ok and instance.theorem.checks:
+        t0 = time.perf_counter()
+        solution.checks = run_checks(solution)
+        solution.times["checks"] = time.perf_counter() - t0
     return solution
 
 

@@ -53,6 +53,11 @@ def format_solution(sol) -> str:
         if isinstance(rec_before, list):
             lines.append("    at the optimum the recovery would invert: "
                          + ", ".join(f"{r['matrix']} ({r['cond']:.3g})" for r in rec_before))
+    analysis = getattr(sol, "analysis", None)
+    for name, value in getattr(sol, "reported", {}).items():
+        other = analysis.reported.get(name) if analysis is not None else None
+        cmp = "" if other is None else f"   (analysis: {other:.8g}, rel. diff {abs(other - value) / max(abs(value), 1e-300):.1e})"
+        lines.append(f"  {name:<9} = {value:.8g}{cmp}")
     if sol.lmis:
         lines.append(f"  LMIs at the returned point (largest eigenvalue of N in N < 0; margin {sol.margin:g}):")
         for r in sol.lmis:
@@ -83,6 +88,8 @@ def format_solution(sol) -> str:
             lines.append(rep.format("    "))
     for note in sol.notes:
         lines.append(f"  note: {note}")
+    for check in getattr(sol, "checks", []):
+        lines.append(f"  check {check.name}: {'passed' if check.passed else 'FAILED'}: {check.summary}")
     if sol.times:
         lines.append("  times: " + ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in sol.times.items()))
     return "\n".join(lines)

@@ -57,6 +57,8 @@ class Solution:
     feasp: object | None = None
     scaling: object = None          # lmidsl.scaling.AppliedScaling (instance is the scaled one)
     backoff: dict | None = None     # lmidsl.backoff record when the point is a back-off point
+    reported: dict = field(default_factory=dict)
+    checks: list = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
@@ -99,6 +101,8 @@ class Solution:
             "notes": self.notes,
             "scaling": self.scaling.as_dict() if self.scaling is not None else None,
             "backoff": self.backoff,
+            "reported": self.reported,
+            "checks": [c.as_dict() for c in self.checks],
         }
 
 
@@ -124,3 +128,9 @@ def evaluate_performance(instance: Instance, values: dict):
         return None
     ev = NumericEvaluator(instance.dims, values, instance.params)
     return float(ev.visit(perf[1]))
+
+
+def evaluate_reported(instance: Instance, values: dict) -> dict:
+    """The theorem's reported values (``Theorem.report``) at a point."""
+    ev = NumericEvaluator(instance.dims, values, instance.params)
+    return {name: float(ev.visit(expr)) for name, expr in instance.theorem.reported.items()}

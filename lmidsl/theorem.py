@@ -25,6 +25,9 @@ from .symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, Re
                       Variable)
 
 
+TIME_DOMAINS = ("discrete", "continuous")
+
+
 @dataclass(frozen=True)
 class Source:
     """Where a theorem comes from: the paper file and its equation numbers."""
@@ -170,6 +173,8 @@ class Theorem:
 
     def __init__(self, id: str, title: str, source: Source, *, description: str = "",
                  time: str = "discrete"):
+        if time not in TIME_DOMAINS:
+            raise TheoremDefinitionError(f"{id}: time must be one of {TIME_DOMAINS}, got {time!r}")
         self.id = id
         self.title = title
         self.source = source
@@ -194,6 +199,8 @@ class Theorem:
         self.certification: ErrorSystemLink | None = None
         self.linearisation: dict[str, sp.MatrixExpr] = {}
         self.examples: dict[str, Example] = {}
+        self.reported: dict[str, sp.Expr] = {}
+        self.checks: list = []
 
     # -- declarations -------------------------------------------------------------------
     def _check_new(self, name: str):
@@ -352,6 +359,20 @@ class Theorem:
         self.objective = None
         if performance is not None:
             self.performance = (performance[0], sp.sympify(performance[1]))
+
+    def report(self, **values):
+        """Named scalar values evaluated at the solution, e.g. ``gamma_1=sqrt(rho_1)``.
+
+        They are printed with the solution and, when the analysis theorem declares the same
+        names, compared with the analysis values.
+        """
+        for name, expr in values.items():
+            self.reported[name] = sp.sympify(expr)
+
+    def verify_with(self, *checks):
+        """Extra certificates run after recovery: callables ``check(solution) -> CheckResult``
+        (frequency sweeps, simulations; see :mod:`lmidsl.checks`)."""
+        self.checks.extend(checks)
 
     def recover(self, **formulas):
         """Recovery formulas, e.g. ``Af=V2.I * Af_hat``: evaluated after the solve, in order."""

@@ -24,6 +24,7 @@ import sympy as sp
 from ..errors import InputError, LmidslError
 from ..instance import Instance, bind
 from ..scaling import apply_scaling
+from ..solution import evaluate_reported
 
 
 @dataclass
@@ -42,6 +43,7 @@ class AnalysisCertificate:
     feasp: list = field(default_factory=list)
     solvers: list = field(default_factory=list)
     scaling: dict | None = None   # the analysis instance's own exact signal scaling (lmidsl.scaling)
+    reported: dict = field(default_factory=dict)
 
     @property
     def passed(self) -> bool:
@@ -60,7 +62,8 @@ class AnalysisCertificate:
                 "passed": self.passed, "method": self.method, "minimum": self.minimum,
                 "solvers": self.solvers,
                 "per_vertex": self.per_vertex, "lmis": self.lmis,
-                "feasp": [r.as_dict() for r in self.feasp], "scaling": self.scaling}
+                "feasp": [r.as_dict() for r in self.feasp], "scaling": self.scaling,
+                "reported": self.reported}
 
 
 def analysis_inputs(instance: Instance, analysis_theorem, filter_matrices: dict,
@@ -144,17 +147,27 @@ def _solve_one(make_model, solver, backend, synthesis_gamma, tolerance):
     return result
 
 
+def analysis_theorem_for(instance: Instance):
+    """The analysis counterpart of ``instance.theorem``; for a family (:mod:`lmidsl.family`), the
+    member matching the instance (its data names may depend on the family index)."""
+    from ..registry import get_theorem
+
+    analysis = get_theorem(instance.theorem.analysis.theorem)
+    if hasattr(analysis, "specialise"):
+        analysis = analysis.specialise({**instance.data, **instance.params})
+    return analysis
+
+
 def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gamma=None,
                         solver: str | None = None, backend: str = "cvxpy") -> AnalysisCertificate:
     """Solve the analysis counterpart of ``instance.theorem`` with ``filter_matrices`` fixed."""
     from ..backends import get_backend
     from ..feasibility import feasp
-    from ..registry import get_theorem
 
     link = instance.theorem.analysis
-    analysis = get_theorem(link.theorem)
+    analysis = analysis_theorem_for(instance)
     vertices = range(instance.nvertices) if instance.nvertices > 1 else [None]
-    gammas, statuses, lmis, methods, minima, reports, solvers, scalings = [], [], [], [], [], [], [], []
+    gammas, statuses, lmis, methods, minima, reports, solvers, scalings, reported = [], [], [], [], [], [], [], [], []
     for v in vertices:
         sub = bind(analysis, analysis_inputs(instance, analysis, filter_matrices, v),
                    example=instance.example)
@@ -173,6 +186,8 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
         methods.append(method)
         minima.append(minimum)
         lmis += [dict(r.as_dict(), vertex=None if v is None else v + 1) for r in sol.lmis]
+        if sol.ok and analysis.reported:
+            reported.append(evaluate_reported(scaled.scaled, {**scaled.scaled.data, **sol.values}))
     ok = all(s in ("optimal", "optimal_inaccurate") for s in statuses)
     worst = max(gammas) if ok and all(g is not None for g in gammas) else None
     if ok:
@@ -187,4 +202,5 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
                                scaling=scalings[0] if scalings else None,
                                method="level" if "level" in methods else "min",
                                minimum=minimum, feasp=reports,
-                               solvers=sorted(set(solvers)))
+                               solvers=sorted(set(solvers)),
+                               reported=reported[0] if len(reported) == 1 else {})

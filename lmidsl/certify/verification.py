@@ -28,7 +28,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..instance import bind
-from .analysis import analysis_inputs, certify_by_analysis
+from .analysis import analysis_inputs, analysis_theorem_for, certify_by_analysis
 from .declaration import namespace
 from .figures import FIGURES, exact_figure
 from .montecarlo import monte_carlo
@@ -132,9 +132,7 @@ class Verification:
 
 def analysis_instances_for(instance, filter_matrices: dict) -> list:
     """The analysis theorem's instances (one per vertex) for a synthesis instance and a filter."""
-    from ..registry import get_theorem
-
-    analysis_thm = get_theorem(instance.theorem.analysis.theorem)
+    analysis_thm = analysis_theorem_for(instance)
     vertices = range(instance.nvertices) if instance.nvertices > 1 else [None]
     return [bind(analysis_thm, analysis_inputs(instance, analysis_thm, filter_matrices, v),
                  example=instance.example) for v in vertices]
@@ -238,6 +236,7 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
     if not 0 < confidence < 1:
         raise InputError(f"{thm.id}: the confidence level must be in (0, 1)")
 
+    extra = []                                 # results of the theorem's own checks
     if thm.certification is not None:          # an analysis theorem: the filter is data
         link, analysis_thm = thm.certification, thm
         tol = thm.analysis.gamma_tolerance if thm.analysis else 1e-3
@@ -295,6 +294,7 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
         _set_analysis(result, cert.status, cert.gamma, cert.lmis)
         result.analysis_per_vertex = cert.per_vertex
         analysis_instances = analysis_instances_for(instance, fil)
+        extra = _theorem_checks(thm, instance, fil, cert, sol if filter is None else None)
     else:
         raise InputError(f"{thm.id} declares neither an analysis counterpart (certified_by) "
                          "nor an error system (error_system): nothing to verify against")
@@ -306,7 +306,8 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
     checks["analysis"] = bool(result.analysis_gamma is not None and (result.claimed_gamma is None
                                                or result.analysis_gamma <= result.claimed_gamma * (1 + tol)))
     if link is None:
-        result.notes.append(f"{analysis_thm.id} declares no error system: no exact figure, no simulation")
+        result.notes.append(f"{analysis_thm.id} declares no error system: no exact figure"
+                            + ("" if thm.checks else ", no simulation"))
     else:
         figures = exact_figures(analysis_instances)
         worst = worst_index(figures)
@@ -331,8 +332,31 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
             result.monte_carlo = mc
             if ref is not None:
                 checks["monte_carlo"] = bool(mc.ci_low <= (ref * (1 + tol)) ** 2)
+    for res in extra:                      # the theorem's own checks (Theorem.verify_with)
+        checks[res.name.replace(" ", "_")] = res.passed
+        result.notes.append(f"{res.name}: {res.summary}")
     result.checks = checks
     return result
+
+
+def _theorem_checks(thm, instance, fil: dict, cert, sol) -> list:
+    """Run ``thm.checks`` on the filter: the designed solution, or a stand-in for a printed or
+    given filter whose reported values (e.g. the γ_i) come from the analysis."""
+    from types import SimpleNamespace
+
+    from ..checks import run_checks
+
+    if not thm.checks:
+        return []
+    if cert.status not in OK_STATUS:
+        return []
+    designed = sol is not None
+    if sol is None:
+        sol = SimpleNamespace(instance=instance, values={}, recovered=fil,
+                              reported=dict(cert.reported), analysis=cert)
+    else:
+        sol.analysis = cert
+    return run_checks(sol, designed=designed)
 
 
 __all__ = ["verify", "Verification", "FIGURES"]
