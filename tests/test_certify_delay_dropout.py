@@ -197,3 +197,19 @@ def test_reproduce_row_shows_the_exact_h_infinity_figure():
     assert row["verdict"].startswith("reproduced") and row["certified"] is True
     assert row["exact_kind"] == "h_infinity" and row["mean_square_stable"] is True
     assert row["exact_gamma"] < row["certified_gamma"] <= row["computed_gamma"] * 1.01
+
+
+def test_cli_verify_backoff(capsys):
+    """`verify --backoff 1e-2`: the filter of the back-off point is the one certified."""
+    code = main(["verify", THM, "--example", "paper", "--backoff", "1e-2", "--runs", "0", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and out["certified"] is True
+    bo = out["backoff"]
+    assert bo["delta"] == 1e-2 and out["synthesis_gamma"] == bo["gamma"]
+    assert bo["gamma"] <= bo["gamma_opt"] * (1 + 1e-2) ** 0.5 * (1 + 1e-6)
+    assert out["analysis_gamma"] <= out["synthesis_gamma"] * (1 + 1e-2)
+    assert out["exact"]["value"] < out["analysis_gamma"]
+    assert out["monte_carlo"] is None and "optimum_lmis" not in bo
+    with pytest.raises(SystemExit) as exc:
+        main(["verify", THM, "--example", "paper", "--backoff", "-1"])
+    assert exc.value.code == 2
