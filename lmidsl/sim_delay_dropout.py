@@ -102,6 +102,35 @@ def run_filter(f: LinearFilter, y: np.ndarray) -> np.ndarray:
     return zh
 
 
+def measurements(plant: Plant, w: np.ndarray, xi1: float, xi2: float, rng):
+    """z, the received y and the events (runs × K) of model (2) driven by w (runs × K × p)."""
+    runs, K, _ = w.shape
+    _, ytil, z = simulate_plant(plant, w)
+    y, events = received(ytil, *network(K, runs, xi1, xi2, rng))
+    return z, y, events
+
+
+def estimation_error(plant: Plant, f: LinearFilter, w: np.ndarray, xi1: float, xi2: float, rng) -> np.ndarray:
+    """e_k = z_k − ẑ_k (runs × K × m) of filter ``f`` on model (2) driven by w (runs × K × p)."""
+    z, y, _ = measurements(plant, w, xi1, xi2, rng)
+    return z - run_filter(f, y)
+
+
+def model_2_with_filter_6(d, w, runs: int, rng) -> np.ndarray:
+    """The certification layer's simulation (:mod:`lmidsl.certify.montecarlo`): plant (1),
+    network (2) with ξ1,k, ξ2,k drawn per run and step, filter (6), all from zero state.
+
+    ``d`` holds the analysis instance's data and parameters as attributes (A, B, C1, C2, D1, D2,
+    Af, Bf, Cf, Df, xi1, xi2); ``w`` is the deterministic disturbance (K × p), the same in every
+    run.  Returns e (runs × K × m).
+    """
+    values = vars(d)
+    w = np.atleast_2d(np.asarray(w, dtype=float))
+    w = np.broadcast_to(w[None], (runs,) + w.shape)
+    return estimation_error(Plant.from_data(values), LinearFilter.from_data(values), w,
+                            float(d.xi1), float(d.xi2), rng)
+
+
 def kalman(plant: Plant, y: np.ndarray, Qw: float = 1.0, P0: float = 1.0) -> np.ndarray:
     """ẑ_k = D1 x̂_{k|k} + D2 ŵ_{k|k} of the Kalman filter for the nominal model y_k = ỹ_k.
 
@@ -156,9 +185,7 @@ def monte_carlo(plant: Plant, filters: dict, xi1: float, xi2: float, *, runs: in
     """MSE over ``runs`` of every filter in ``filters`` (name → LinearFilter) and of the Kalman filter."""
     rng = np.random.default_rng(seed)
     w = disturbance(kind, runs, steps, plant.B.shape[1], rng, Qw)
-    _, ytil, z = simulate_plant(plant, w)
-    a, b = network(steps, runs, xi1, xi2, rng)
-    y, events = received(ytil, a, b)
+    z, y, events = measurements(plant, w, xi1, xi2, rng)
     estimates = {name: run_filter(f, y) for name, f in filters.items()}
     estimates["Kalman"] = kalman(plant, y, Qw)
     mse = {name: np.mean(np.sum((z - zh) ** 2, axis=2), axis=0) for name, zh in estimates.items()}

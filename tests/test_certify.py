@@ -294,66 +294,33 @@ def test_reproduce_row_has_the_independent_figure():
     assert row["exact_gamma"] < row["computed_gamma"]
 
 
-# -- the H∞ path on a seed-001-type model (NOTES.md §2.2), with a fixed test filter ----------------
+# -- the H∞ path on seed 001's model (NOTES.md §2.2), with a fixed test filter ----------------
 def _seed001_type(filter_seed=5):
-    """UPS data of seed 001, a small fixed filter (not a designed one), error system (7)."""
-    A = np.array([[0.9226, -0.6330, 0], [1, 0, 0], [0, 1, 0]])
-    B = np.array([[1.0], [0], [0]])
-    C1, C2 = np.array([[23.737, 20.287, 0]]), np.array([[0.3]])
-    D1, D2 = np.array([[-0.3, 0.1, 0]]), np.array([[0.1]])
-    xi1, xi2 = 0.7, 0.8
-    t1, t2 = xi1, (1 - xi1) * xi2
-    n, r = 3, 1
-    na = n + 2 * r
-    Z, I = np.zeros, np.eye
-    Phi0 = np.block([[A, Z((n, r)), Z((n, r))], [Z((r, n)), I(r), Z((r, r))], [Z((r, n)), I(r), Z((r, r))]])
-    Phi1 = np.block([[Z((n, na))], [C1, -I(r), Z((r, r))], [C1, -I(r), Z((r, r))]])
-    Phi2 = np.block([[Z((n, na))], [C1, -I(r), Z((r, r))], [Z((r, na))]])
-    G0, G1, G2 = np.vstack([B, Z((2 * r, 1))]), np.vstack([Z((n, 1)), C2, C2]), np.vstack([Z((n, 1)), C2, Z((r, 1))])
-    H0, H1 = np.hstack([Z((r, n)), I(r), Z((r, r))]), np.hstack([C1, -I(r), Z((r, r))])
-    D1bar = np.hstack([D1, Z((1, 2 * r))])
+    """UPS data of seed 001, a small fixed filter (not a designed one), error system (7) as
+    li_delay_dropout.thm1 declares it, and model (2) + filter (6) simulated literally."""
+    from lmidsl.certify.declaration import namespace
+    from lmidsl.certify.verification import analysis_instances_for
+    from lmidsl.sim_delay_dropout import model_2_with_filter_6
+
+    na, r = 5, 1
     rng = np.random.default_rng(filter_seed)
     Af = rng.normal(size=(na, na))
     Af *= 0.5 / np.max(np.abs(np.linalg.eigvals(Af)))
-    Bf, Cf, Df = 0.01 * rng.normal(size=(na, r)), 0.1 * rng.normal(size=(1, na)), np.array([[0.005]])
-    A0 = np.block([[Phi0, Z((na, na))], [Bf @ H0, Af]])
-    A1 = np.block([[Phi1, Z((na, na))], [Bf @ H1, Z((na, na))]])
-    A2 = np.block([[Phi2, Z((na, na))], [Z((na, 2 * na))]])
-    B0, B1, B2 = np.vstack([G0, Z((na, 1))]), np.vstack([G1, Bf @ C2]), np.vstack([G2, Z((na, 1))])
-    Gc0, Gc1 = np.hstack([D1bar - Df @ H0, -Cf]), np.hstack([-Df @ H1, Z((1, na))])
-    F0, F1 = D2, -Df @ C2
-    cov = [[t1 * (1 - t1), -t1 * t2], [-t1 * t2, t2 * (1 - t2)]]
-    sys = StochasticSystem.build(A0 + t1 * A1 + t2 * A2, B0 + t1 * B1 + t2 * B2, Gc0 + t1 * Gc1, F0 + t1 * F1,
-                                 noise=[{"A": A1, "B": B1, "C": Gc1, "D": F1}, {"A": A2, "B": B2}],
-                                 covariance=cov)
-
-    def simulate(d, w, runs, rng):
-        """Model (2) literally (ξ1, ξ2 drawn per step; ỹ(−1) = y(−1) = 0) with filter (6)."""
-        x, xh = np.zeros((runs, n)), np.zeros((runs, na))
-        yt_prev, y_prev, xi1_prev = np.zeros((runs, r)), np.zeros((runs, r)), np.ones((runs, 1))
-        out = []
-        for wk in w:
-            a = (rng.random((runs, 1)) < xi1).astype(float)
-            b = (rng.random((runs, 1)) < xi2).astype(float)
-            yt = x @ C1.T + wk @ C2.T
-            y = a * yt + (1 - a) * (1 - xi1_prev) * b * yt_prev + (1 - a) * (1 - (1 - xi1_prev) * b) * y_prev
-            out.append(x @ D1.T + wk @ D2.T - (xh @ Cf.T + y @ Df.T))
-            x, xh = x @ A.T + wk @ B.T, xh @ Af.T + y @ Bf.T
-            yt_prev, y_prev, xi1_prev = yt, y, a
-        return np.stack(out, axis=1)
-
-    return sys, simulate
+    fil = {"Af": Af, "Bf": 0.01 * rng.normal(size=(na, r)), "Cf": 0.1 * rng.normal(size=(1, na)),
+           "Df": np.array([[0.005]])}
+    ai = analysis_instances_for(make_instance("li_delay_dropout.thm2", "paper"), fil)[0]
+    return ai.theorem.certification.system.evaluate(ai), model_2_with_filter_6, namespace(ai)
 
 
 def test_h_infinity_figure_and_monte_carlo_of_model_2():
     from lmidsl.certify.montecarlo import monte_carlo
-    sys, simulate = _seed001_type()
+    sys, simulate, d = _seed001_type()
     assert sys.mean_square_stable()
     fig = h_infinity(sys, horizon=100)
     w = fig.worst_disturbance
     expected = sys.mean_square_output(w)
     assert expected.sum() / (w ** 2).sum() <= fig.squared * (1 + 1e-9)
-    mc = monte_carlo(simulate, None, w, "h_infinity", runs=20000, seed=0, confidence=0.99,
+    mc = monte_carlo(simulate, d, w, "h_infinity", runs=20000, seed=0, confidence=0.99,
                      expected_trajectory=expected)
     assert mc.ci_low <= mc.expected <= mc.ci_high
     assert mc.ci_high - mc.ci_low < 0.05 * mc.expected

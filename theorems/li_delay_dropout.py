@@ -25,7 +25,9 @@ filter's Bf and Df consume it; the augmentation then changes by the similarity d
 so feasibility and γ are unchanged.
 """
 from lmidsl import I, Source, Theorem
+from lmidsl.certify import ErrorSystem
 from lmidsl.factorization import rs_split
+from lmidsl.sim_delay_dropout import model_2_with_filter_6
 from sympy import BlockMatrix, Identity, ZeroMatrix, sqrt
 
 PAPER = "001_7829ce8d3bf50450.txt"
@@ -129,6 +131,13 @@ thm1.positive(P)
 thm1.minimize(g1, performance=("gamma", sqrt(g1)))
 thm1.scale_signal("y", rows=("C1", "C2"), cols=("Bf", "Df"),
                   description="received measurement y = s·y' (exact: similarity of the augmentation)")
+# error system (7) with the centred noises ν_i = ϑ_i − ϑ̄_i: (ϑ1, ϑ2) ∈ {(1,0), (0,1), (0,0)}, i.i.d.
+# over k, so var ϑ_i = ϑ̄_i(1 − ϑ̄_i) and cov(ϑ1, ϑ2) = −ϑ̄1ϑ̄2 (ϑ1ϑ2 = 0; Remark 3).  Index: H∞
+_t1, _t2 = _w["th1"], _w["th2"]
+thm1.error_system(ErrorSystem(A=Abar, B=Bbar, C=Gbar, D=Fbar,
+                              noise=[{"A": A1, "B": B1, "C": G1, "D": F1}, {"A": A2, "B": B2}],
+                              covariance=[[_t1 * (1 - _t1), -_t1 * _t2], [-_t1 * _t2, _t2 * (1 - _t2)]]),
+                  figure="h_infinity", filter=("Af", "Bf", "Cf", "Df"), simulate=model_2_with_filter_6)
 
 # -- Theorem 2: synthesis (15), problem (20) --------------------------------------------------
 thm2 = Theorem("li_delay_dropout.thm2", "H∞ filter synthesis with random delays and dropouts (Theorem 2)",

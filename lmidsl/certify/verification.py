@@ -59,6 +59,7 @@ class Verification:
     monte_carlo: object = None
     checks: dict = field(default_factory=dict)
     notes: list = field(default_factory=list)
+    backoff: dict | None = None
 
     @property
     def certified(self) -> bool:
@@ -83,6 +84,7 @@ class Verification:
             "exact": exact,
             "monte_carlo": None if self.monte_carlo is None else self.monte_carlo.as_dict(),
             "filter": {k: np.asarray(v, dtype=float).tolist() for k, v in self.filter.items()},
+            "backoff": _backoff_summary(self.backoff),
             "notes": self.notes,
         }
 
@@ -130,6 +132,13 @@ class Verification:
         return "\n".join(lines)
 
 
+def _backoff_summary(record: dict | None) -> dict | None:
+    """The back-off record without the bulky per-LMI list."""
+    if record is None:
+        return None
+    return {k: v for k, v in record.items() if k != "optimum_lmis"}
+
+
 def analysis_instances_for(instance, filter_matrices: dict) -> list:
     """The analysis theorem's instances (one per vertex) for a synthesis instance and a filter."""
     analysis_thm = analysis_theorem_for(instance)
@@ -155,11 +164,14 @@ def figures_for_solution(solution) -> list | None:
     """Exact figures (per vertex) of the filter in a solved instance, or None if not declared.
 
     For an analysis theorem with an error system the filter is the instance's data; for a
-    synthesis theorem it is the recovered filter, put into the analysis counterpart.
+    synthesis theorem it is the recovered filter, put into the analysis counterpart.  The solver
+    saw the signal-scaled instance, but the recovered filter is in the original coordinates
+    (:func:`lmidsl.api.finish_solution`), so the original instance is paired with it.
     """
     from ..registry import get_theorem
 
-    instance = solution.instance
+    scaling = getattr(solution, "scaling", None)
+    instance = scaling.original if scaling is not None else solution.instance
     thm = instance.theorem
     if thm.certification is not None:
         return exact_figures([instance])
@@ -221,8 +233,12 @@ def _disturbance(choice, figure, horizon: int, m: int):
 def verify(theorem, example: str | None = None, data: dict | None = None, overrides: dict | None = None,
            filter=None, gamma: float | None = None, runs: int = 10000, seed: int | None = 0,
            confidence: float = 0.95, disturbance="worst", horizon: int = 50,
-           solver: str | None = None, backend: str = "cvxpy") -> Verification:
-    """Certify a designed, printed (``filter='printed'``) or given (``filter={name: matrix}``) filter."""
+           solver: str | None = None, backend: str = "cvxpy", backoff=None) -> Verification:
+    """Certify a designed, printed (``filter='printed'``) or given (``filter={name: matrix}``) filter.
+
+    ``backoff`` (designed filters only) is passed to :func:`lmidsl.api.solve_instance`: δ, or
+    ``"auto"`` (back off only when the optimum's filter fails its analysis certificate).
+    """
     from ..api import _theorem, make_instance, solve_instance
     from ..backends import get_backend
     from ..registry import get_theorem
@@ -267,8 +283,15 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
         result = Verification(thm.id, instance.example, "designed", {}, gamma, tol,
                               analysis_theorem=analysis_thm.id)
         if filter is None:
-            sol = solve_instance(instance, solver, backend, certify=False)
+            sol = solve_instance(instance, solver, backend, certify=backoff == "auto", backoff=backoff)
             result.synthesis_status = sol.status
+            if sol.backoff is not None:
+                result.backoff = sol.backoff
+                if "gamma" in sol.backoff:
+                    result.notes.append(f"filter recovered at the back-off point (δ = {sol.backoff['delta']:g}"
+                                        f" on the objective; optimum γ {sol.backoff['gamma_opt']:.6g})")
+                else:
+                    result.notes.append(f"back-off failed: {sol.backoff.get('failed')}; the optimum's filter")
             if not sol.ok:
                 result.checks = {"synthesis_lmis": False, "analysis": None}
                 result.notes.append(f"the synthesis did not solve ({sol.status}); no filter to certify")

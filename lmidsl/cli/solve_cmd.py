@@ -21,7 +21,7 @@ def register(sub):
     p.add_argument("--scaling", default="auto", choices=("auto", "none"),
                    help="exact signal rescaling declared by the theorem, applied and undone by lmidsl "
                         "(default auto)")
-    p.add_argument("--backoff", type=_backoff, metavar="DELTA|auto",
+    p.add_argument("--backoff", type=backoff_argument, metavar="DELTA|auto",
                    help="re-solve at objective <= (1+DELTA)*optimum, minimising the condition number "
                         "of what the recovery inverts (e.g. 1e-2); 'auto': only when the filter "
                         "recovered at the optimum is not certified")
@@ -30,7 +30,7 @@ def register(sub):
     p.set_defaults(run=run)
 
 
-def _backoff(text):
+def backoff_argument(text):
     if text == "auto":
         return text
     try:

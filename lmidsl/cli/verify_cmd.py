@@ -5,6 +5,7 @@ import json
 
 from ..errors import InputError
 from .common import add_instance_arguments, instance_spec, print_json
+from .solve_cmd import backoff_argument
 
 ORDER = 25
 
@@ -23,6 +24,10 @@ def register(sub):
                    help="simulated disturbance: the exact worst case (default), a unit impulse, or a "
                         "JSON list of w(k) rows")
     p.add_argument("--horizon", type=int, default=50, help="steps simulated with an impulse (default 50)")
+    p.add_argument("--backoff", type=backoff_argument, metavar="DELTA|auto",
+                   help="design only: recover the filter at objective <= (1+DELTA)*optimum with the best "
+                        "conditioning (see `solve --backoff`); 'auto': only when the optimum's filter "
+                        "is not certified by the analysis")
     p.add_argument("--solver", help="solver name (default: clarabel)")
     p.add_argument("--backend", default="cvxpy", help="modelling backend")
     p.add_argument("--json", action="store_true", help="one JSON object on stdout")
@@ -69,7 +74,7 @@ def run(args):
     result = verify(args.theorem, filter=load_filter(args.filter), gamma=args.gamma, runs=args.runs,
                     seed=args.seed, confidence=args.confidence,
                     disturbance=load_disturbance(args.disturbance), horizon=args.horizon,
-                    solver=args.solver, backend=args.backend, **instance_spec(args))
+                    solver=args.solver, backend=args.backend, backoff=args.backoff, **instance_spec(args))
     if args.json:
         print_json(result.as_dict())
     else:
