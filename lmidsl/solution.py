@@ -127,7 +127,10 @@ def evaluate_performance(instance: Instance, values: dict):
     if perf is None:
         return None
     ev = NumericEvaluator(instance.dims, values, instance.params)
-    return float(ev.visit(perf[1]))
+    value = complex(np.asarray(ev.visit(perf[1])).reshape(()))
+    if value.imag != 0 or not np.isfinite(value.real):
+        return None  # e.g. γ = √g with g < 0 at the solver's point: no real level to report
+    return value.real
 
 
 def evaluate_reported(instance: Instance, values: dict) -> dict:

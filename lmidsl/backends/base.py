@@ -234,6 +234,9 @@ class CompiledModel:
             point.update(values)
             solution.lmis = lmi_certificate(instance, point)
             solution.gamma = evaluate_performance(instance, point)
+            if solution.gamma is None and instance.theorem.performance is not None:
+                solution.notes.append(f"{instance.theorem.performance[0]} is not real at the returned "
+                                      f"point ({instance.theorem.performance[1]} with a negative radicand)")
             solution.times["certificate"] = time.perf_counter() - t1
         return solution
 
