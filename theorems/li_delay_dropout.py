@@ -46,6 +46,12 @@ UPS = {
 PRINTED_AT = "Section 4 (simulation example), NOTES.md §2.6"
 
 
+AUGMENTED_LATEX = {"Phi0": r"\Phi_0", "Phi1": r"\Phi_1", "Phi2": r"\Phi_2", "Gamma0": r"\Gamma_0",
+                   "Gamma1": r"\Gamma_1", "Gamma2": r"\Gamma_2", "H0": "H_0", "H1": "H_1",
+                   "D1bar": r"\bar{D}_1", "Phibar": r"\bar{\Phi}", "Gammabar": r"\bar{\Gamma}",
+                   "Hbar": r"\bar{H}"}
+
+
 def _model(thm: Theorem):
     """Plant (1), probabilities, the weights of Theorem 1 and the augmented matrices of (5)."""
     n, r, p, m = thm.dim("n r p m")
@@ -83,6 +89,9 @@ def _model(thm: Theorem):
     aug["Phibar"] = aug["Phi0"] + th1 * aug["Phi1"] + th2 * aug["Phi2"]
     aug["Gammabar"] = aug["Gamma0"] + th1 * aug["Gamma1"] + th2 * aug["Gamma2"]
     aug["Hbar"] = aug["H0"] + th1 * aug["H1"]
+    # named as the paper names them, so the LaTeX of the LMIs reads like (9) and (15)
+    for name, tex in AUGMENTED_LATEX.items():
+        aug[name] = thm.define(name, aug[name], latex=tex)
     dims = dict(n=n, r=r, p=p, m=m, na=n + 2 * r)
     plant = dict(A=A, B=B, C1=C1, C2=C2, D1=D1, D2=D2)
     weights = dict(th1=th1, th2=th2, s1=s1, s2=s2, s3=s3, s4=s4)
@@ -167,18 +176,24 @@ def _theta_A(top, bottom, extra=None):
     return BlockMatrix([[top, top + extra if extra is not None else top], [bottom, bottom]])
 
 
-Theta_Abar = _theta_A(X * Phibar + Bf_hat * Hbar, Z * Phibar, Af_hat)
-Theta_A1 = s1 * _theta_A(X * Phi1 + Bf_hat * H1, Z * Phi1)
-Theta_A2 = s2 * _theta_A(X * Phi2, Z * Phi2)
-Theta_A12 = s3 * _theta_A(X * (Phi1 - Phi2) + Bf_hat * H1, Z * (Phi1 - Phi2))
-Theta_Bbar = BlockMatrix([[X * Gammabar + th1 * Bf_hat * C2], [Z * Gammabar]])
-Theta_B1 = s1 * BlockMatrix([[X * Gamma1 + Bf_hat * C2], [Z * Gamma1]])
-Theta_B2 = s2 * BlockMatrix([[X * Gamma2], [Z * Gamma2]])
-Theta_B12 = s3 * BlockMatrix([[X * (Gamma1 - Gamma2) + Bf_hat * C2], [Z * (Gamma1 - Gamma2)]])
-Theta_Gbar = BlockMatrix([[D1bar - Df_hat * Hbar, D1bar - Df_hat * Hbar - Cf_hat]])
-Theta_G1 = s4 * BlockMatrix([[-Df_hat * H1, -Df_hat * H1]])
-Theta_Fbar = D2 - th1 * Df_hat * C2
-Theta_F1 = -s4 * Df_hat * C2
+Theta_Abar = thm2.define("Theta_Abar", _theta_A(X * Phibar + Bf_hat * Hbar, Z * Phibar, Af_hat),
+                         latex=r"\Theta_{\bar A}")
+Theta_A1 = thm2.define("Theta_A1", s1 * _theta_A(X * Phi1 + Bf_hat * H1, Z * Phi1), latex=r"\Theta_{A_1}")
+Theta_A2 = thm2.define("Theta_A2", s2 * _theta_A(X * Phi2, Z * Phi2), latex=r"\Theta_{A_2}")
+Theta_A12 = thm2.define("Theta_A12", s3 * _theta_A(X * (Phi1 - Phi2) + Bf_hat * H1, Z * (Phi1 - Phi2)),
+                        latex=r"\Theta_{A_{1,2}}")
+Theta_Bbar = thm2.define("Theta_Bbar", BlockMatrix([[X * Gammabar + th1 * Bf_hat * C2], [Z * Gammabar]]),
+                         latex=r"\Theta_{\bar B}")
+Theta_B1 = thm2.define("Theta_B1", s1 * BlockMatrix([[X * Gamma1 + Bf_hat * C2], [Z * Gamma1]]),
+                       latex=r"\Theta_{B_1}")
+Theta_B2 = thm2.define("Theta_B2", s2 * BlockMatrix([[X * Gamma2], [Z * Gamma2]]), latex=r"\Theta_{B_2}")
+Theta_B12 = thm2.define("Theta_B12", s3 * BlockMatrix([[X * (Gamma1 - Gamma2) + Bf_hat * C2],
+                                                      [Z * (Gamma1 - Gamma2)]]), latex=r"\Theta_{B_{1,2}}")
+Theta_Gbar = thm2.define("Theta_Gbar", BlockMatrix([[D1bar - Df_hat * Hbar, D1bar - Df_hat * Hbar - Cf_hat]]),
+                         latex=r"\Theta_{\bar G}")
+Theta_G1 = thm2.define("Theta_G1", s4 * BlockMatrix([[-Df_hat * H1, -Df_hat * H1]]), latex=r"\Theta_{G_1}")
+Theta_Fbar = thm2.define("Theta_Fbar", D2 - th1 * Df_hat * C2, latex=r"\Theta_{\bar F}")
+Theta_F1 = thm2.define("Theta_F1", -s4 * Df_hat * C2, latex=r"\Theta_{F_1}")
 
 thm2.lmi("(15)", [
     [-Lam],
