@@ -183,6 +183,20 @@ def build_thm2_literal(thm: Theorem, N: int):
     thm.certified_by("zhang_quantized_loss.thm1", filter=("Af", "Bf", "Cf"))
 
 
+def _synthesis_variables(thm: Theorem, n, ny, nz, s_meaning: str):
+    """R, S, H1 = A_f(S − R), H2 = B_f, H3 = C_f(S − R), P2, P̌3 = hP3 and g = γ²: the variables
+    both synthesis routes share (they differ in what S means)."""
+    R = thm.var("R", n, kind="symmetric", latex="R", description="(1,1) block of P̃ = hP")
+    S = thm.var("S", n, kind="symmetric", latex="S", description=s_meaning)
+    H1 = thm.var("H1", n, n, latex="H_1", description="A_f(S − R)")
+    H2 = thm.var("H2", n, ny, latex="H_2", description="B_f")
+    H3 = thm.var("H3", nz, n, latex="H_3", description="C_f(S − R)")
+    P2 = thm.var("P2", n, kind="symmetric", latex="P_2")
+    P3 = thm.var("P3c", n, kind="symmetric", latex=r"\check P_3", description="P̌3 = hP3")
+    g = thm.scalar("g", latex=r"\gamma^2", description="squared H∞ level")
+    return R, S, H1, H2, H3, P2, P3, g
+
+
 # -- Theorem 2 on the cancellation-free statement of (10) ---------------------------------
 def build_thm2(thm: Theorem, N: int):
     """The proof of Theorem 2 (congruences Z1 on the P column, T on ξ, P2 on p2; bounds 𝒮, 𝒫)
@@ -190,14 +204,8 @@ def build_thm2(thm: Theorem, N: int):
     (n, ny, nz, nw), (Ad, Bd, C, D), (h, ab, rho, beta, l, a), Delta = _setup(thm, N)
     Sbar = thm.data("Sbar", n, n, latex=r"\bar S", description="linearisation point for S⁻¹")
     P3bar = thm.data("P3bar", n, n, latex=r"\check{\bar P}_3", description="linearisation point for P̌3⁻¹")
-    R = thm.var("R", n, kind="symmetric", latex="R", description="(1,1) block of P̃ = hP")
-    S = thm.var("S", n, kind="symmetric", latex="S", description="inverse of the (1,1) block of P̃⁻¹")
-    H1 = thm.var("H1", n, n, latex="H_1", description="A_f(S − R)")
-    H2 = thm.var("H2", n, ny, latex="H_2", description="B_f")
-    H3 = thm.var("H3", nz, n, latex="H_3", description="C_f(S − R)")
-    P2 = thm.var("P2", n, kind="symmetric", latex="P_2")
-    P3 = thm.var("P3c", n, kind="symmetric", latex=r"\check P_3", description="P̌3 = hP3")
-    g = thm.scalar("g", latex=r"\gamma^2", description="squared H∞ level")
+    R, S, H1, H2, H3, P2, P3, g = _synthesis_variables(thm, n, ny, nz,
+                                                       "inverse of the (1,1) block of P̃⁻¹")
     sh = sqrt(h)
     Ssc = -Sbar - Sbar.T + Sbar.T * S * Sbar          # 𝒮 ⪰ −S⁻¹
     Psc = -P3bar - P3bar.T + P3bar.T * P3 * P3bar     # 𝒫̌ ⪰ −P̌3⁻¹
@@ -225,14 +233,8 @@ def build_thm2(thm: Theorem, N: int):
 # -- exact change of variables (NOTES §3.5) -----------------------------------------------
 def build_exact(thm: Theorem, N: int):
     (n, ny, nz, nw), (Ad, Bd, C, D), (h, ab, rho, beta, l, a), Delta = _setup(thm, N)
-    R = thm.var("R", n, kind="symmetric", latex="R", description="(1,1) block of P̃ = hP")
-    S = thm.var("S", n, kind="symmetric", latex="S", description="S = R − ((2,2) block of P̃)⁻¹")
-    H1 = thm.var("H1", n, n, latex="H_1", description="A_f(S − R)")
-    H2 = thm.var("H2", n, ny, latex="H_2", description="B_f")
-    H3 = thm.var("H3", nz, n, latex="H_3", description="C_f(S − R)")
-    P2 = thm.var("P2", n, kind="symmetric", latex="P_2")
-    P3 = thm.var("P3c", n, kind="symmetric", latex=r"\check P_3", description="P̌3 = hP3")
-    g = thm.scalar("g", latex=r"\gamma^2", description="squared H∞ level")
+    R, S, H1, H2, H3, P2, P3, g = _synthesis_variables(thm, n, ny, nz,
+                                                       "S = R − ((2,2) block of P̃)⁻¹")
     Pi = thm.structured("Pi", [[S, S], [S, R]], latex=r"\Pi", symmetric=True, description="TᵀP̃T")
     sh = sqrt(h)
     KH = (1 + Delta) * H2 * C
