@@ -177,3 +177,13 @@ def test_picos_refuses_an_asymmetric_diagonal_block():
     thm.example("e", {"A": [[1.0, 2.0], [0.0, 1.0]]})
     with pytest.raises(TheoremDefinitionError, match=r"LMI \(9\)"):
         get_backend("picos")(make_instance(thm, "e"))
+
+
+def test_picos_matches_cvxpy_on_seed001_with_scaling():
+    """Issue 4: li_delay_dropout.thm2 (UPS data, automatic output scaling) on both backends."""
+    from lmidsl.api import solve
+    cvx = solve("li_delay_dropout.thm2", example="paper", certify=False)
+    pic = solve("li_delay_dropout.thm2", example="paper", backend="picos", solver="cvxopt", certify=False)
+    assert pic.status == "optimal" and pic.backend == "picos"
+    assert abs(pic.gamma - cvx.gamma) / cvx.gamma < 1e-4
+    assert abs(cvx.gamma - 0.3813) / 0.3813 < 5e-3
