@@ -26,7 +26,7 @@ FILTER_NAMES = ("Ahat", "Bhat", "Mhat", "Chat", "Dhat")
 
 
 @dataclass
-class ErrorSystem:
+class ImpulsiveErrorSystem:
     """The filtering-error system (12): Ā, B̄, M̄, C̄, D̄."""
 
     Abar: np.ndarray
@@ -48,7 +48,7 @@ class ErrorSystem:
         return self.Cbar.shape[0]
 
 
-def error_system(matrices: dict) -> ErrorSystem:
+def error_system(matrices: dict) -> ImpulsiveErrorSystem:
     """(12) from plant matrices A, B, M, C, D, L1, L2 and filter Ahat, Bhat, Mhat, Chat, Dhat."""
     missing = [k for k in PLANT_NAMES + FILTER_NAMES if k not in matrices]
     if missing:
@@ -60,7 +60,7 @@ def error_system(matrices: dict) -> ErrorSystem:
     Mbar = np.block([[m["M"], np.zeros((n, nf))], [np.zeros((nf, n)), m["Mhat"]]])
     Cbar = np.hstack([m["L1"] - m["Dhat"] @ m["C"], -m["Chat"]])
     Dbar = m["L2"] - m["Dhat"] @ m["D"]
-    return ErrorSystem(Abar, Bbar, Mbar, Cbar, Dbar)
+    return ImpulsiveErrorSystem(Abar, Bbar, Mbar, Cbar, Dbar)
 
 
 def impulse_sequence(kind: str, horizon: int, *, period: int = 5, start: int = 1,
@@ -107,7 +107,7 @@ class Trajectory:
         return float(np.sqrt(np.sum(self.e ** 2) / den)) if den > 0 else float("nan")
 
 
-def simulate(system: ErrorSystem, w, impulses, xi0=None) -> Trajectory:
+def simulate(system: ImpulsiveErrorSystem, w, impulses, xi0=None) -> Trajectory:
     """Run the error system from ξ(0) = ``xi0`` (default 0) under ``w`` (N × m) and ``impulses``."""
     w = np.asarray(w, dtype=float)
     if w.ndim == 1:
@@ -128,7 +128,7 @@ def simulate(system: ErrorSystem, w, impulses, xi0=None) -> Trajectory:
     return Trajectory(xi, e, w, impulses)
 
 
-def lifted_operator(system: ErrorSystem, impulses) -> np.ndarray:
+def lifted_operator(system: ImpulsiveErrorSystem, impulses) -> np.ndarray:
     """The (N p) × (N m) matrix H with e(0..N−1) = H ω(0..N−1) from ξ(0) = 0."""
     impulses = np.asarray(impulses, dtype=bool)
     N, m, p, s = impulses.shape[0], system.ninput, system.noutput, system.nstate
@@ -142,7 +142,7 @@ def lifted_operator(system: ErrorSystem, impulses) -> np.ndarray:
     return H
 
 
-def lifted_gain(system: ErrorSystem, impulses) -> tuple[float, np.ndarray]:
+def lifted_gain(system: ImpulsiveErrorSystem, impulses) -> tuple[float, np.ndarray]:
     """(ℓ2 gain over the horizon for this impulse sequence, the worst disturbance, N × m)."""
     H = lifted_operator(system, impulses)
     if min(H.shape) > 200:
