@@ -16,7 +16,7 @@ import os
 from functools import lru_cache
 from pathlib import Path
 
-from .errors import InputError, LmidslError, TheoremDefinitionError
+from .errors import InputError, LmidslError
 from .theorem import Theorem
 
 
@@ -78,4 +78,4 @@ def get_example(theorem: Theorem, name: str):
     return theorem.examples[name]
 
 
-__all__ = ["all_theorems", "get_theorem", "get_example", "theorem_dirs", "TheoremDefinitionError"]
+__all__ = ["all_theorems", "get_theorem", "get_example", "theorem_dirs"]

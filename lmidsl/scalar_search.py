@@ -276,7 +276,7 @@ def format_result(result: SearchResult, top: int = 8) -> str:
     lines = [f"{result.theorem}" + (f" [{result.example}]" if result.example else "")
              + f": search over {', '.join(result.names)} ({len(result.grid)} grid points, "
              f"objective {value_name})",
-             f"  best grid points:"]
+             "  best grid points:"]
     lines += [f"    {line(p)}" for p in ranked[:top]]
     if result.refined is not None:
         info = result.refinement

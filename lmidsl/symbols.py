@@ -163,24 +163,7 @@ class DerivedParam(_TaggedScalar):
     definition = _meta_property("definition")
 
 
-MATRIX_VARIABLE_TYPES = (Variable, StructuredVariable)
 DECISION_TYPES = (Variable, StructuredVariable, ScalarVariable)
-
-
-def is_decision(symbol) -> bool:
-    """True for decision variables (matrix or scalar)."""
-    return isinstance(symbol, DECISION_TYPES)
-
-
-def scalar_parameters(expr: sp.Basic) -> set:
-    """The :class:`Param` symbols an expression depends on, through derived parameters too."""
-    found = set()
-    for s in expr.free_symbols:
-        if isinstance(s, DerivedParam):
-            found |= scalar_parameters(s.definition)
-        elif isinstance(s, Param):
-            found.add(s)
-    return found
 
 
 def expand_derived(expr: sp.Expr) -> sp.Expr:

@@ -1,6 +1,5 @@
 """The feasp diagnosis (lmidsl.feasibility) on problems whose t* is known in closed form."""
 import pytest
-from sympy import Identity
 
 from lmidsl import Source, Theorem
 from lmidsl.api import solve_instance

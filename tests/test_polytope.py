@@ -8,7 +8,6 @@ from lmidsl.api import make_instance, solve
 from lmidsl.errors import InputError
 from lmidsl.registry import get_theorem
 
-from test_pan_impulsive import PI
 
 
 def _hand_written_theorem1_min(vertices, lam1, lam2, eps, margin=1e-7):
@@ -18,7 +17,7 @@ def _hand_written_theorem1_min(vertices, lam1, lam2, eps, margin=1e-7):
     SB, SC, SD, Psi = cp.Variable((n, r)), cp.Variable((m, n)), cp.Variable((m, r)), cp.Variable((m, m))
     g = cp.Variable()
     He = lambda X: X + X.T  # noqa: E731
-    In, Im = np.eye(n), np.eye(m)
+    Im = np.eye(m)
     cons = []
     for v in vertices:
         A, B, M, C, D, L1, L2 = (np.array(v[k], dtype=float) for k in ("A", "B", "M", "C", "D", "L1", "L2"))

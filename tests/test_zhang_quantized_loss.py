@@ -12,7 +12,6 @@ from lmidsl.bmi import successive_lmi, with_data
 from lmidsl.errors import InputError, NonlinearityError
 from lmidsl.instance import random_point
 from lmidsl.numeric import NumericEvaluator, evaluate_block_matrix, max_eigenvalue
-from lmidsl.registry import get_theorem
 from lmidsl.uncertainty import scenarios, spec_at
 
 warnings.filterwarnings("ignore", message=".*DPP.*")
