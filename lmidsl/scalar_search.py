@@ -90,26 +90,6 @@ class SearchResult:
                 "evaluations": [p.as_dict() for p in self.evaluations]}
 
 
-def parse_axis(text: str) -> tuple[str, list]:
-    """'lambda1=a:b:n' (n points from a to b) or 'lambda1=v1,v2,...' -> (name, values)."""
-    name, sep, spec = text.partition("=")
-    name = name.strip()
-    if not sep or not name or not spec:
-        raise InputError(f"--grid {text!r}: expected NAME=a:b:n or NAME=v1,v2,...")
-    try:
-        if ":" in spec:
-            parts = spec.split(":")
-            if len(parts) != 3:
-                raise ValueError
-            a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
-            if n < 1:
-                raise ValueError
-            return name, [float(v) for v in np.linspace(a, b, n)]
-        return name, [float(v) for v in spec.split(",")]
-    except ValueError:
-        raise InputError(f"--grid {text!r}: expected NAME=a:b:n (n ≥ 1 points) or NAME=v1,v2,...") from None
-
-
 class Evaluator:
     """θ ↦ SearchPoint on one compiled model (built once, scalars updated as parameters)."""
 

@@ -8,7 +8,8 @@ from sympy import Identity, sqrt
 from lmidsl import Source, Theorem
 from lmidsl.errors import InputError
 from lmidsl.instance import bind
-from lmidsl.scalar_search import parse_axis, scalar_search
+from lmidsl.scalar_search import scalar_search
+from lmidsl.sweep import parse_grid
 
 
 def _brl_theorem():
@@ -95,12 +96,12 @@ def test_tmin_objective_finds_the_known_optimum():
     assert result.best.params["lam"] == pytest.approx(0.3, abs=2e-3)
 
 
-def test_parse_axis_and_errors():
-    assert parse_axis("lambda1=0:1:3") == ("lambda1", [0.0, 0.5, 1.0])
-    assert parse_axis("eps=0.1,0.2") == ("eps", [0.1, 0.2])
+def test_parse_grid_and_errors():
+    assert parse_grid("lambda1=0:1:3") == ("lambda1", [0.0, 0.5, 1.0])
+    assert parse_grid("eps=0.1,0.2") == ("eps", [0.1, 0.2])
     for bad in ("lambda1", "lambda1=0:1", "lambda1=a:b:3", "x=0:1:0"):
         with pytest.raises(InputError):
-            parse_axis(bad)
+            parse_grid(bad)
     with pytest.raises(InputError, match="not a scalar parameter"):
         scalar_search(_instance(), {"g1": [0.0]}, progress=False)
 

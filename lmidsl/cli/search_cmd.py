@@ -3,7 +3,8 @@ from __future__ import annotations
 
 from ..api import make_instance
 from ..errors import InputError
-from ..scalar_search import OBJECTIVES, format_result, parse_axis, scalar_search
+from ..scalar_search import OBJECTIVES, format_result, scalar_search
+from ..sweep import parse_grid
 from .common import add_instance_arguments, instance_spec, print_json
 
 ORDER = 25
@@ -30,7 +31,7 @@ def register(sub):
 def run(args):
     if not args.grid:
         raise InputError("search: give at least one --grid NAME=a:b:n")
-    axes = dict(parse_axis(g) for g in args.grid)
+    axes = dict(parse_grid(g) for g in args.grid)
     instance = make_instance(args.theorem, **instance_spec(args))
     if args.workers is not None and args.workers < 1:
         raise InputError("--workers must be at least 1")
