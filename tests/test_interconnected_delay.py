@@ -5,8 +5,6 @@ is compared with the paper's printed 0.037; the tests compare independent comput
 analysis LMI with the recovered filters, the congruence (15) ↔ (18), a frequency sweep, a time
 simulation of the delayed network, and two solvers.
 """
-import importlib.util
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,15 +17,13 @@ from lmidsl.registry import get_theorem
 from lmidsl.solution import lmi_certificate
 from lmidsl.theorem import Source, Theorem
 
+from conftest import load_theorem_module  # noqa: E402
+
 THM2 = "interconnected_delay.thm2"
 
 
 def _theorem_module():
-    path = Path(__file__).resolve().parents[1] / "theorems" / "interconnected_delay.py"
-    spec = importlib.util.spec_from_file_location("interconnected_delay_for_tests", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_theorem_module("interconnected_delay", "interconnected_delay_for_tests")
 
 
 @pytest.fixture(scope="module")

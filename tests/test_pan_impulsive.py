@@ -16,20 +16,12 @@ from lmidsl.impulsive import error_system, impulse_sequence, lifted_gain, simula
 from lmidsl.numeric import NumericEvaluator, evaluate_block_matrix
 from lmidsl.registry import get_theorem
 
+from conftest import load_theorem_module  # noqa: E402
+
 PRINTED_DHAT = 0.9551
 
 
-def _theorem_module():
-    import importlib.util
-    from pathlib import Path
-    path = Path(__file__).resolve().parents[1] / "theorems" / "pan_impulsive.py"
-    spec = importlib.util.spec_from_file_location("pan_impulsive_test_copy", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-PI = _theorem_module()
+PI = load_theorem_module("pan_impulsive", "pan_impulsive_test_copy")
 
 
 @pytest.mark.parametrize("seed", [1, 2])
