@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from .instance import Instance
-from .solution import lmi_certificate
+from .solution import lmi_certificate, with_location
 
 DEFAULT_RADIUS = 1e6
 """Feasibility radius R (bound on the 2-norm of all decision variables stacked)."""
@@ -66,13 +66,9 @@ class LMIMargin:
                 + (f" @ {self.point}" if self.point else ""))
 
     def as_dict(self) -> dict:
-        d = {"label": self.label, "size": self.size, "value": self.value, "alone": self.alone,
-             "without": self.without, "binding": self.binding, "responsible": self.responsible}
-        if self.vertex is not None:
-            d["vertex"] = self.vertex
-        if self.point:
-            d["point"] = self.point
-        return d
+        return with_location({"label": self.label, "size": self.size, "value": self.value,
+                              "alone": self.alone, "without": self.without, "binding": self.binding,
+                              "responsible": self.responsible}, self.vertex, self.point)
 
 
 @dataclass

@@ -15,6 +15,15 @@ from .instance import Instance
 from .numeric import NumericEvaluator, evaluate_block_matrix, max_eigenvalue
 
 
+def with_location(d: dict, vertex: int | None, point: str) -> dict:
+    """Add where an LMI instance is imposed (polytope vertex, uncertainty point) to its dict."""
+    if vertex is not None:
+        d["vertex"] = vertex
+    if point:
+        d["point"] = point
+    return d
+
+
 @dataclass
 class LMIReport:
     label: str
@@ -24,12 +33,8 @@ class LMIReport:
     point: str = ""  # values of uncertain symbols, e.g. "Delta=+1*beta"
 
     def as_dict(self) -> dict:
-        d = {"label": self.label, "max_eig": self.max_eig, "size": self.size}
-        if self.vertex is not None:
-            d["vertex"] = self.vertex
-        if self.point:
-            d["point"] = self.point
-        return d
+        return with_location({"label": self.label, "max_eig": self.max_eig, "size": self.size},
+                             self.vertex, self.point)
 
 
 @dataclass
