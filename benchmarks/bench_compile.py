@@ -28,10 +28,10 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from lmidsl.api import make_instance  # noqa: E402
-from lmidsl.backends.base import DEFAULT_MARGIN  # noqa: E402
-from lmidsl.backends.cvxpy_backend import CvxpyModel  # noqa: E402
-from lmidsl.registry import get_theorem  # noqa: E402
+from lmidsl.pipeline import make_instance  # noqa: E402
+from lmidsl.solver.backends.base import DEFAULT_MARGIN  # noqa: E402
+from lmidsl.solver.backends.cvxpy_backend import CvxpyModel  # noqa: E402
+from lmidsl.theorem.registry import get_theorem  # noqa: E402
 
 M_IN, NY, P_OUT = 2, 2, 1
 RBAR = 0.8

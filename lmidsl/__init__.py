@@ -6,9 +6,9 @@ and names its objective, recovery formulas and analysis counterpart.  :func:`sol
 example or user data, compiles to a backend (cvxpy by default), solves, recovers the filter
 and certifies it.
 """
-from .blocks import I, He, block_matrix, congruence, diag, schur
+from .symbolic.blocks import I, He, block_matrix, congruence, diag, schur
 from .errors import LmidslError
-from .theorem import Example, Source, Theorem
+from .theorem.theorem import Example, Source, Theorem
 
 __version__ = "0.1.0"
 

@@ -12,13 +12,10 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def load_theorem_module(stem: str, alias: str):
-    """A fresh import of ``theorems/<stem>.py`` under ``alias`` (to reach its helper functions)."""
-    import importlib.util
-    spec = importlib.util.spec_from_file_location(alias, ROOT / "theorems" / f"{stem}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+def load_theorem_module(stem: str, alias: str | None = None):
+    """The theorem file of the built-in paper package ``<stem>`` (to reach its helper functions)."""
+    import importlib
+    return importlib.import_module(f"lmidsl.theorems.{stem}.theorems")
 
 
 def run_cli(*argv, env=None, cwd=None):

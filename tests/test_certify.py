@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 from scipy.linalg import solve_discrete_lyapunov
 
-from lmidsl.api import make_instance
+from lmidsl.pipeline import make_instance
 from lmidsl.certify import StochasticSystem, energy_to_peak, h_infinity, lti_hinf_norm
 from lmidsl.certify.figures import equivalent_lti, peak_form, riccati_energy_to_peak
-from lmidsl.certify.verification import verify
+from lmidsl.studies.verify import verify
 from lmidsl.cli import main
 
 PRINTED = {"Af": [[-0.0069, 0.2865], [-0.9725, 0.4557]], "Bf": [[-0.0186], [-0.9235]],
@@ -287,7 +287,7 @@ def test_cli_verify_bad_filter_file(tmp_path, capsys):
 
 
 def test_reproduce_row_has_the_independent_figure():
-    from lmidsl.reproduce import reproduce_one
+    from lmidsl.studies.reproduce import reproduce_one
     row = reproduce_one("wang_l2linf.thm3", "paper-full").as_dict()
     assert row["verdict"] == "reproduced" and row["certified"] is True
     assert row["exact_kind"] == "energy_to_peak" and row["mean_square_stable"] is True
@@ -299,8 +299,8 @@ def _seed001_type(filter_seed=5):
     """UPS data of seed 001, a small fixed filter (not a designed one), error system (7) as
     li_delay_dropout.thm1 declares it, and model (2) + filter (6) simulated literally."""
     from lmidsl.certify.declaration import namespace
-    from lmidsl.certify.verification import analysis_instances_for
-    from lmidsl.sim_delay_dropout import model_2_with_filter_6
+    from lmidsl.studies.verify import analysis_instances_for
+    from lmidsl.theorems.li_delay_dropout.simulation import model_2_with_filter_6
 
     na, r = 5, 1
     rng = np.random.default_rng(filter_seed)

@@ -17,9 +17,9 @@ import warnings
 import numpy as np
 import pytest
 
-from lmidsl.api import make_instance
+from lmidsl.pipeline import make_instance
 from lmidsl.certify.figures import h_infinity, peak_form
-from lmidsl.certify.verification import analysis_instances_for, verify
+from lmidsl.studies.verify import analysis_instances_for, verify
 from lmidsl.cli import main
 
 warnings.filterwarnings("ignore", message="Solution may be inaccurate")
@@ -192,7 +192,7 @@ def test_unstable_filter_is_not_certified(designed):
 
 def test_reproduce_row_shows_the_exact_h_infinity_figure():
     """`reproduce` pairs the recovered filter (original coordinates) with the unscaled data."""
-    from lmidsl.reproduce import reproduce_one
+    from lmidsl.studies.reproduce import reproduce_one
     row = reproduce_one(THM, "paper").as_dict()
     assert row["verdict"].startswith("reproduced") and row["certified"] is True
     assert row["exact_kind"] == "h_infinity" and row["mean_square_stable"] is True

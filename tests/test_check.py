@@ -10,7 +10,7 @@ import pytest
 
 pytest.importorskip("picos")
 
-from lmidsl.check import CheckRow, check, compare, options_for, plan_rows  # noqa: E402
+from lmidsl.studies.cross_check import CheckRow, check, compare, options_for, plan_rows  # noqa: E402
 from lmidsl.cli.check_cmd import parse_solver_options  # noqa: E402
 from lmidsl.errors import InputError  # noqa: E402
 

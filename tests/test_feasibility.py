@@ -2,9 +2,9 @@
 import pytest
 
 from lmidsl import Source, Theorem
-from lmidsl.api import solve_instance
-from lmidsl.feasibility import feasp
-from lmidsl.instance import bind
+from lmidsl.pipeline import solve_instance
+from lmidsl.solver.feasibility import feasp
+from lmidsl.numeric.instance import bind
 
 
 def _interval_theorem():

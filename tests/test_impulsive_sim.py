@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from lmidsl.errors import InputError
-from lmidsl.impulsive import (disturbance, error_system, impulse_sequence, lifted_gain,
+from lmidsl.theorems.pan_impulsive.impulsive import (disturbance, error_system, impulse_sequence, lifted_gain,
                               lifted_operator, parse_impulses, simulate)
 
 from test_pan_impulsive import PI

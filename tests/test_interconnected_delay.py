@@ -9,13 +9,13 @@ simulation of the delayed network, and two solvers.
 import numpy as np
 import pytest
 
-from lmidsl.api import make_instance, solve, solve_instance
+from lmidsl.pipeline import make_instance, solve, solve_instance
 from lmidsl.errors import InputError, TheoremDefinitionError
-from lmidsl.interconnected import (DelayNetwork, Filters, error_system, simulate,
+from lmidsl.theorems.interconnected_delay.network import (DelayNetwork, Filters, error_system, simulate,
                                    uncertain_error_system)
-from lmidsl.registry import get_theorem
-from lmidsl.solution import lmi_certificate
-from lmidsl.theorem import Source, Theorem
+from lmidsl.theorem.registry import get_theorem
+from lmidsl.solver.solution import lmi_certificate
+from lmidsl.theorem.theorem import Source, Theorem
 
 from conftest import load_theorem_module  # noqa: E402
 
@@ -183,7 +183,7 @@ def test_analysis_of_a_fixed_observer():
 
 
 def test_family_declares_indexed_names_and_latex():
-    from lmidsl.family import Family
+    from lmidsl.theorem.family import Family
     thm = Theorem("test_family.names", "t", Source("p", "e"), time="continuous")
     fam = Family(thm, 3)
     n = fam.dims("n")
@@ -205,7 +205,7 @@ def test_cli_reports_a_gap_in_the_subsystems_in_one_line(capsys):
 
 
 def test_verify_runs_the_theorem_checks():
-    from lmidsl.certify import verify
+    from lmidsl.studies.verify import verify
     r = verify(THM2, example="paper")
     assert r.certified
     assert r.checks["frequency_sweep"] and r.checks["simulation"] and r.checks["analysis_values"]

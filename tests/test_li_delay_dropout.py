@@ -7,12 +7,12 @@ from functools import lru_cache
 import numpy as np
 import pytest
 
-from lmidsl.api import make_instance, solve
+from lmidsl.pipeline import make_instance, solve
 from lmidsl.cli import main
-from lmidsl.factorization import balanced_split
-from lmidsl.registry import get_theorem
-from lmidsl.scaling import apply_scaling
-from lmidsl.sweep import parse_grid, sweep
+from lmidsl.numeric.factorization import balanced_split
+from lmidsl.theorem.registry import get_theorem
+from lmidsl.numeric.scaling import apply_scaling
+from lmidsl.studies.sweep import parse_grid, sweep
 
 warnings.filterwarnings("ignore", message="Solution may be inaccurate")
 
@@ -159,7 +159,7 @@ def test_parse_grid_errors():
 
 
 def test_monte_carlo_hinf_beats_kalman_and_respects_gamma():
-    from lmidsl.sim_delay_dropout import LinearFilter, Plant, monte_carlo
+    from lmidsl.theorems.li_delay_dropout.simulation import LinearFilter, Plant, monte_carlo
 
     sol = backoff_solution("CLARABEL")
     plant = Plant.from_data(get_theorem(THM).examples["paper"].data)

@@ -9,12 +9,12 @@ import json
 import numpy as np
 import pytest
 
-from lmidsl.api import make_instance, solve
+from lmidsl.pipeline import make_instance, solve
 from lmidsl.cli import main
 from lmidsl.errors import ShapeMismatchError
-from lmidsl.impulsive import error_system, impulse_sequence, lifted_gain, simulate
-from lmidsl.numeric import NumericEvaluator, evaluate_block_matrix
-from lmidsl.registry import get_theorem
+from lmidsl.theorems.pan_impulsive.impulsive import error_system, impulse_sequence, lifted_gain, simulate
+from lmidsl.numeric.evaluate import NumericEvaluator, evaluate_block_matrix
+from lmidsl.theorem.registry import get_theorem
 
 from conftest import load_theorem_module  # noqa: E402
 
@@ -132,12 +132,12 @@ def test_theorem1_paper_example_is_infeasible_and_json_says_so(capsys):
 def test_theorem1_min_paper_closure_forces_gamma_one():
     """With M11 = 1, (28)'s (e1, ω) block forces D̂ = 1 in the closure, hence γ ≥ |D̂| = 1."""
     inst = make_instance("pan_impulsive.thm1_min", "paper")
-    from lmidsl.backends import get_backend
+    from lmidsl.solver.backends import get_backend
     sol = get_backend("cvxpy")(inst).solve("CLARABEL")
     if sol.gamma is not None:          # the solver's boundary point, when it returns one
         assert sol.gamma >= 1 - 1e-3
         assert not sol.certified
-    from lmidsl.feasibility import feasp
+    from lmidsl.solver.feasibility import feasp
     assert feasp(inst, detail=False).verdict == "infeasible"
 
 
@@ -153,7 +153,7 @@ def test_modified_example_pipeline_certified_and_simulated():
 
 def test_paper_scalars_fail_on_the_modified_plant_too():
     """λ1 ≠ λ2 (the paper's 0.2, −0.3): Theorem 1 cannot reach γ = 0.5 even with a Schur jump map."""
-    from lmidsl.feasibility import feasp
+    from lmidsl.solver.feasibility import feasp
     inst = make_instance("pan_impulsive.thm1", "modified", overrides=dict(PI.SCALARS))
     report = feasp(inst, detail=False)
     assert report.verdict == "infeasible" and report.tmin > 0.1

@@ -14,10 +14,10 @@ import sympy as sp
 pytest.importorskip("picos")
 
 from lmidsl import I, Source, Theorem  # noqa: E402
-from lmidsl.api import make_instance  # noqa: E402
-from lmidsl.backends import get_backend  # noqa: E402
+from lmidsl.pipeline import make_instance  # noqa: E402
+from lmidsl.solver.backends import get_backend  # noqa: E402
 from lmidsl.errors import SolverUnavailableError  # noqa: E402
-from lmidsl.numeric import NumericEvaluator, evaluate_block_matrix  # noqa: E402
+from lmidsl.numeric.evaluate import NumericEvaluator, evaluate_block_matrix  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -128,7 +128,7 @@ def test_picos_update_recompiles_with_new_parameters():
 def test_picos_cvxopt_same_gamma_as_cvxpy(example):
     """Same γ as cvxpy/Clarabel (rel diff < 1e-4), certificate holds, same analysis verdict."""
     instance = make_instance("wang_l2linf.thm3", example)
-    from lmidsl.api import solve_instance
+    from lmidsl.pipeline import solve_instance
     ref = solve_instance(instance, "clarabel", "cvxpy")
     sol = solve_instance(instance, "cvxopt", "picos")
     assert sol.backend == "picos" and sol.solver == "cvxopt" and sol.status == "optimal"
@@ -181,7 +181,7 @@ def test_picos_refuses_an_asymmetric_diagonal_block():
 
 def test_picos_matches_cvxpy_on_seed001_with_scaling():
     """Issue 4: li_delay_dropout.thm2 (UPS data, automatic output scaling) on both backends."""
-    from lmidsl.api import solve
+    from lmidsl.pipeline import solve
     cvx = solve("li_delay_dropout.thm2", example="paper", certify=False)
     pic = solve("li_delay_dropout.thm2", example="paper", backend="picos", solver="cvxopt", certify=False)
     assert pic.status == "optimal" and pic.backend == "picos"

@@ -4,9 +4,9 @@ import cvxpy as cp
 import numpy as np
 import pytest
 
-from lmidsl.api import make_instance, solve
+from lmidsl.pipeline import make_instance, solve
 from lmidsl.errors import InputError
-from lmidsl.registry import get_theorem
+from lmidsl.theorem.registry import get_theorem
 
 
 

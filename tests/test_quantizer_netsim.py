@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from lmidsl.netsim import received, simulate
-from lmidsl.quantizer import LogQuantizer
+from lmidsl.theorems.zhang_quantized_loss.netsim import received, simulate
+from lmidsl.theorems.zhang_quantized_loss.quantizer import LogQuantizer
 
 
 @pytest.mark.parametrize("rho,chi0", [(0.75, 1.3), (0.5, 1.0), (0.9, 0.2)])

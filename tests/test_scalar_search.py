@@ -7,9 +7,9 @@ from sympy import Identity, sqrt
 
 from lmidsl import Source, Theorem
 from lmidsl.errors import InputError
-from lmidsl.instance import bind
-from lmidsl.scalar_search import scalar_search
-from lmidsl.sweep import parse_grid
+from lmidsl.numeric.instance import bind
+from lmidsl.studies.search import scalar_search
+from lmidsl.studies.sweep import parse_grid
 
 
 def _brl_theorem():

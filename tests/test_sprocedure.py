@@ -10,9 +10,9 @@ import pytest
 import sympy as sp
 
 from lmidsl import He, Source, Theorem
-from lmidsl.api import make_instance, solve_instance
+from lmidsl.pipeline import make_instance, solve_instance
 from lmidsl.errors import NonlinearityError
-from lmidsl.uncertainty_nb import (FORMS, NormBounded, contraction_samples, robust_matrix,
+from lmidsl.symbolic.sprocedure import (FORMS, NormBounded, contraction_samples, robust_matrix,
                                    sprocedure)
 
 SRC = Source("test", "-")

@@ -7,9 +7,9 @@ import sympy as sp
 
 from lmidsl import I, He, Source, Theorem, block_matrix, congruence, diag, schur
 from lmidsl.errors import NonlinearityError, ShapeMismatchError, TheoremDefinitionError
-from lmidsl.instance import bind
-from lmidsl.numeric import NumericEvaluator, evaluate_block_matrix
-from lmidsl.backends.cvxpy_backend import CvxpyModel
+from lmidsl.numeric.instance import bind
+from lmidsl.numeric.evaluate import NumericEvaluator, evaluate_block_matrix
+from lmidsl.solver.backends.cvxpy_backend import CvxpyModel
 
 
 def small_theorem(tid="t.small"):
@@ -118,8 +118,8 @@ def test_non_symmetric_diagonal_block_refused_at_bind():
 
 def test_compiled_matrix_equals_numpy_evaluation():
     """The cvxpy expression of every LMI equals the numpy evaluation of the same blocks."""
-    from lmidsl.api import make_instance
-    from lmidsl.instance import random_point
+    from lmidsl.pipeline import make_instance
+    from lmidsl.numeric.instance import random_point
     inst = make_instance("wang_l2linf.thm3", "paper-reduced")
     model = CvxpyModel(inst)
     point = random_point(inst, np.random.default_rng(3))
@@ -135,7 +135,7 @@ def test_compiled_matrix_equals_numpy_evaluation():
 
 
 def test_parameter_change_resolves_without_rebuilding():
-    from lmidsl.api import make_instance
+    from lmidsl.pipeline import make_instance
     inst = make_instance("wang_l2linf.thm3", "paper-full")
     model = CvxpyModel(inst, reuse=True)
     first = model.solve()
@@ -151,7 +151,7 @@ def test_parameter_change_resolves_without_rebuilding():
 def test_structured_and_diagonal_variables_solve():
     """Λ = [[X, Z], [Z, Z]] (seed 001's structure) and a diagonal D compile, solve and keep
     their structure: minimise trace-free γ² with Λ ≻ 0 and AᵀΛA − Λ + D ≺ 0, D ≻ I."""
-    import lmidsl.api as api
+    import lmidsl.pipeline as api
     thm = Theorem("t.struct", "structured", Source("none", "(1)"))
     n = thm.dim("n")
     A = thm.data("A", 2 * n, 2 * n)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import lmidsl
-from lmidsl.registry import get_theorem
+from lmidsl.theorem.registry import get_theorem
 
 PRINTED_FULL = {"Af": [[-0.0069, 0.2865], [-0.9725, 0.4557]], "Bf": [[-0.0186], [-0.9235]],
                 "Cf": [[-0.9963, -1.9624]]}

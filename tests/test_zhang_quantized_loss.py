@@ -7,12 +7,12 @@ import numpy as np
 import pytest
 import scipy.linalg as sl
 
-from lmidsl.api import make_instance, solve_instance
-from lmidsl.bmi import successive_lmi, with_data
+from lmidsl.pipeline import make_instance, solve_instance
+from lmidsl.studies.bmi import successive_lmi, with_data
 from lmidsl.errors import InputError, NonlinearityError
-from lmidsl.instance import random_point
-from lmidsl.numeric import NumericEvaluator, evaluate_block_matrix, max_eigenvalue
-from lmidsl.uncertainty import scenarios, spec_at
+from lmidsl.numeric.instance import random_point
+from lmidsl.numeric.evaluate import NumericEvaluator, evaluate_block_matrix, max_eigenvalue
+from lmidsl.symbolic.uncertainty import scenarios, spec_at
 
 warnings.filterwarnings("ignore", message=".*DPP.*")
 Z = "zhang_quantized_loss"
@@ -73,7 +73,7 @@ def test_vertex_expansion_matches_interior_points(theorem):
         top = max(max_eigenvalue(Mm), max_eigenvalue(Mp))
         assert max_eigenvalue(M) <= top + 1e-12 * abs(M).max()
     # the model imposes the LMI once per vertex, with common variables
-    from lmidsl.backends import get_backend
+    from lmidsl.solver.backends import get_backend
     model = get_backend("cvxpy")(vert)
     assert [key[2] for key, _ in model.constraints if key[0] == vert.theorem.lmis[0].label] == \
         ["Delta=-1*beta", "Delta=+1*beta"]
@@ -178,7 +178,7 @@ def test_exact_route_tight_thm2_and_certificate():
     ex = solve_instance(make_instance(f"{Z}.exact", example="paper-N2-robust"))
     assert ex.certified and 0.2 < ex.gamma < 0.21          # measured 0.20690
     assert ex.analysis.gamma == pytest.approx(ex.gamma, rel=1e-3)
-    from lmidsl.backends import get_backend
+    from lmidsl.solver.backends import get_backend
     inst = with_data(make_instance(f"{Z}.thm2", example="paper-N2-robust"),
                      {"Sbar": np.linalg.inv(ex.values["S"]), "P3bar": np.linalg.inv(ex.values["P3c"])})
     tight = get_backend("cvxpy")(inst).solve()

@@ -13,8 +13,8 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from lmidsl.api import solve  # noqa: E402
-from lmidsl.interconnected import (DelayNetwork, Filters, frequency_sweep, peak_direction,  # noqa: E402
+from lmidsl.pipeline import solve  # noqa: E402
+from lmidsl.theorems.interconnected_delay.network import (DelayNetwork, Filters, frequency_sweep, peak_direction,  # noqa: E402
                                    simulate, standard_scenarios, uncertain_error_system,
                                    uncertainty_vertices)
 

@@ -10,8 +10,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from lmidsl.api import solve  # noqa: E402
-from lmidsl.impulsive import disturbance, error_system, impulse_sequence, lifted_gain, simulate  # noqa: E402
+from lmidsl.pipeline import solve  # noqa: E402
+from lmidsl.theorems.pan_impulsive.impulsive import disturbance, error_system, impulse_sequence, lifted_gain, simulate  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 spec = importlib.util.spec_from_file_location("pan", ROOT / "theorems" / "pan_impulsive.py")

@@ -8,7 +8,6 @@ One concern per module:
   noise and its exact mean-square figures (no LMI);
 * :mod:`.montecarlo`  simulation of the original model with the filter;
 * :mod:`.declaration` how a theorem file declares its error system;
-* :mod:`.verification` all of the above for one theorem and example (``lmidsl verify``).
 """
 from .analysis import AnalysisCertificate, analysis_inputs, certify_by_analysis
 from .declaration import ErrorSystem
@@ -17,11 +16,4 @@ from .system import StochasticSystem
 
 __all__ = ["AnalysisCertificate", "analysis_inputs", "certify_by_analysis", "ErrorSystem",
            "StochasticSystem", "Figure", "energy_to_peak", "h_infinity", "lti_hinf_norm",
-           "ENERGY_TO_PEAK", "H_INFINITY", "verify", "Verification"]
-
-
-def __getattr__(name):
-    if name in ("verify", "Verification"):
-        from . import verification as module
-        return getattr(module, name)
-    raise AttributeError(name)
+           "ENERGY_TO_PEAK", "H_INFINITY"]

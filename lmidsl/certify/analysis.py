@@ -22,9 +22,13 @@ import numpy as np
 import sympy as sp
 
 from ..errors import InputError, LmidslError
-from ..instance import Instance, bind
-from ..scaling import apply_scaling
-from ..solution import evaluate_reported
+from ..numeric.instance import Instance, bind
+from ..numeric.scaling import apply_scaling
+from ..solver.backends import get_backend
+from ..solver.feasibility import feasp
+from ..solver.margin import solve_model
+from ..solver.solution import evaluate_reported
+from ..theorem.registry import get_theorem
 
 
 @dataclass
@@ -107,8 +111,6 @@ a solver's numerical failure is not a verdict on the filter."""
 
 def _attempt(model, solver, synthesis_gamma, tolerance):
     """min γ, then (when its point is not strictly feasible) the level problems."""
-    from ..api import solve_model
-
     sol = solve_model(model, solver)
     minimum = sol.gamma if sol.ok else None
     if sol.ok and sol.certified:
@@ -150,8 +152,6 @@ def _solve_one(make_model, solver, backend, synthesis_gamma, tolerance):
 def analysis_theorem_for(instance: Instance):
     """The analysis counterpart of ``instance.theorem``; for a family (:mod:`lmidsl.family`), the
     member matching the instance (its data names may depend on the family index)."""
-    from ..registry import get_theorem
-
     analysis = get_theorem(instance.theorem.analysis.theorem)
     if hasattr(analysis, "specialise"):
         analysis = analysis.specialise({**instance.data, **instance.params})
@@ -161,9 +161,6 @@ def analysis_theorem_for(instance: Instance):
 def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gamma=None,
                         solver: str | None = None, backend: str = "cvxpy") -> AnalysisCertificate:
     """Solve the analysis counterpart of ``instance.theorem`` with ``filter_matrices`` fixed."""
-    from ..backends import get_backend
-    from ..feasibility import feasp
-
     link = instance.theorem.analysis
     analysis = analysis_theorem_for(instance)
     vertices = range(instance.nvertices) if instance.nvertices > 1 else [None]

@@ -20,7 +20,7 @@ from types import SimpleNamespace
 import numpy as np
 import sympy as sp
 
-from ..numeric import NumericEvaluator
+from ..numeric.evaluate import NumericEvaluator
 from .system import StochasticSystem
 
 

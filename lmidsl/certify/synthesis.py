@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..numeric import NumericEvaluator, evaluate_block_matrix
+from ..numeric.evaluate import NumericEvaluator, evaluate_block_matrix
 
 
 def synthesis_lmis(solution) -> list[dict]:

@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import json
 
-from ..check import DEFAULT_TOLERANCE, check
+from ..studies.cross_check import DEFAULT_TOLERANCE, check
 from ..errors import InputError
-from ..report import format_table
+from ..render.report import format_table
 from .common import add_instance_arguments, instance_spec, print_json
 
 ORDER = 25

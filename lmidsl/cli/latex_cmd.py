@@ -8,7 +8,9 @@ import sys
 from pathlib import Path
 
 from ..errors import InputError, LmidslError
-from ..registry import get_example, get_theorem
+from ..pipeline import solve
+from ..render.latex_document import theorem_latex
+from ..theorem.registry import get_example, get_theorem
 
 ORDER = 40
 
@@ -56,8 +58,6 @@ def compile_pdf(tex_path: Path) -> Path:
 
 
 def run(args):
-    from ..latex import theorem_latex
-
     theorem = get_theorem(args.theorem)
     if args.example is not None:
         get_example(theorem, args.example)
@@ -65,7 +65,10 @@ def run(args):
                 "relation": args.relation}
     if args.pdf and shutil.which("pdflatex") is None and args.output is None:
         raise PdflatexMissing("--pdf: pdflatex is not installed (apt-get install texlive-latex-base)")
-    text = theorem_latex(theorem, example=args.example, solver=args.solver, **settings)
+    solution = None
+    if args.example is not None:
+        solution = solve(theorem, example=args.example, solver=args.solver)
+    text = theorem_latex(theorem, solution, **settings)
     out = args.output
     if out is None and args.pdf:
         out = f"{theorem.id}.tex"

@@ -1,8 +1,8 @@
 """``lmidsl list``: theorems (id, title, source) and their examples."""
 from __future__ import annotations
 
-from ..registry import all_theorems
-from ..report import format_table
+from ..theorem.registry import all_theorems
+from ..render.report import format_table
 from .common import print_json
 
 ORDER = 10

@@ -4,8 +4,8 @@ from __future__ import annotations
 import sys
 from collections import Counter
 
-from ..reproduce import REPRODUCED_TOLERANCE, reproduce_all
-from ..report import format_table
+from ..studies.reproduce import REPRODUCED_TOLERANCE, reproduce_all
+from ..render.report import format_table
 from .common import print_json
 
 ORDER = 30

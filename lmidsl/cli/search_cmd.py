@@ -1,10 +1,10 @@
 """``lmidsl search``: grid (and Nelder–Mead refinement) over a theorem's fixed scalars."""
 from __future__ import annotations
 
-from ..api import make_instance
+from ..pipeline import make_instance
 from ..errors import InputError
-from ..scalar_search import OBJECTIVES, format_result, scalar_search
-from ..sweep import parse_grid
+from ..studies.search import OBJECTIVES, format_result, scalar_search
+from ..studies.sweep import parse_grid
 from .common import add_instance_arguments, instance_spec, print_json
 
 ORDER = 25

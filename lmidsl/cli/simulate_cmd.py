@@ -8,11 +8,11 @@ and the energy ratio ‖e‖/‖ω‖ for the chosen test disturbance.
 """
 from __future__ import annotations
 
-from ..api import make_instance, solve_instance
+from ..pipeline import make_instance, solve_instance
 from ..errors import InputError
-from ..impulsive import (FILTER_NAMES, PLANT_NAMES, disturbance, error_system, lifted_gain,
+from lmidsl.theorems.pan_impulsive.impulsive import (FILTER_NAMES, PLANT_NAMES, disturbance, error_system, lifted_gain,
                          parse_impulses, simulate)
-from ..report import format_table
+from ..render.report import format_table
 from .common import add_instance_arguments, instance_spec, print_json
 
 ORDER = 40

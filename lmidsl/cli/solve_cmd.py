@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import argparse
 
-from ..api import solve
-from ..backends import BACKENDS
-from ..report import format_solution
+from ..pipeline import solve
+from ..solver.backends import BACKENDS
+from ..render.report import format_solution
 from .common import add_instance_arguments, instance_spec, print_json
 
 ORDER = 20

@@ -5,8 +5,8 @@ import sys
 from pathlib import Path
 
 from ..errors import InputError
-from ..report import format_table
-from ..sweep import format_timing, parse_grid, sweep
+from ..render.report import format_table
+from ..studies.sweep import format_timing, parse_grid, sweep
 from .common import add_instance_arguments, instance_spec, print_json
 
 ORDER = 25

@@ -6,6 +6,7 @@ import json
 from ..errors import InputError
 from .common import add_instance_arguments, instance_spec, print_json
 from .solve_cmd import backoff_argument
+from ..studies.verify import verify
 
 ORDER = 25
 
@@ -69,7 +70,6 @@ def load_disturbance(arg: str):
 
 
 def run(args):
-    from ..certify.verification import verify
 
     result = verify(args.theorem, filter=load_filter(args.filter), gamma=args.gamma, runs=args.runs,
                     seed=args.seed, confidence=args.confidence,

@@ -1,0 +1,247 @@
+"""Binding numbers to a theorem: shape-checked data, parameter values, dimensions.
+
+``bind(theorem, inputs)`` turns a dictionary of data matrices (nested lists), dimension
+values and scalar parameters into an :class:`Instance`.  Dimensions are read off the data in
+declaration order; a datum whose shape contradicts them is reported with the LMI block where
+it enters.  Parameters are checked against their declared domains; derived parameters are
+evaluated.  The diagonal blocks of every LMI are checked to be symmetric at random points.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+import sympy as sp
+
+from ..errors import InputError, ShapeMismatchError, TheoremDefinitionError
+from .evaluate import NumericEvaluator, asymmetry
+from ..symbolic.shapes import fmt_shape
+from ..symbolic.symbols import Dim, ScalarVariable, expand_derived
+from ..theorem.theorem import Theorem
+from ..symbolic.uncertainty import bind_points
+from ..symbolic.uncertainty import scenarios
+
+
+@dataclass
+class Instance:
+    """A theorem with numbers: dims, data (per-vertex data as lists), parameter values."""
+
+    theorem: Theorem
+    dims: dict
+    data: dict
+    params: dict
+    nvertices: int = 1
+    example: str | None = None
+    notes: list = field(default_factory=list)
+    uncertain: dict = field(default_factory=dict)  # name -> points (units of the bound)
+
+    def dim_values(self) -> dict:
+        return {str(k): v for k, v in self.dims.items()}
+
+    def with_params(self, **values) -> "Instance":
+        """The same instance with some base parameters changed (derived ones recomputed)."""
+        base = {n: self.params[n] for n in self.theorem.param_decl}
+        for name, value in values.items():
+            if name not in self.theorem.param_decl:
+                raise InputError(f"{self.theorem.id}: unknown parameter {name!r}")
+            base[name] = value
+        return replace(self, params=_evaluate_params(self.theorem, base))
+
+
+def _as_matrix(theorem: Theorem, name: str, value) -> np.ndarray:
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return np.array([[float(value)]])
+    try:
+        arr = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{theorem.id}: data {name} is not a numeric matrix: {value!r}") from None
+    if arr.ndim != 2:
+        raise InputError(
+            f"{theorem.id}: data {name} must be a matrix given as nested lists (got {arr.ndim}-d "
+            f"{list(arr.shape)}); write a column as [[0],[1]]")
+    if not np.all(np.isfinite(arr)):
+        raise InputError(f"{theorem.id}: data {name} has non-finite entries")
+    return arr
+
+
+def _evaluate_params(theorem: Theorem, base: dict) -> dict:
+    values = {}
+    for name, decl in theorem.param_decl.items():
+        value = base.get(name, decl.extra.get("default"))
+        if value is None:
+            raise InputError(f"{theorem.id}: missing parameter {name}")
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise InputError(f"{theorem.id}: parameter {name} must be a number, got {value!r}")
+        domain = decl.extra.get("domain")
+        if domain is not None:
+            is_open = decl.extra.get("open", False)
+            inside = domain[0] < value < domain[1] if is_open else domain[0] <= value <= domain[1]
+            if not inside:
+                interval = f"({domain[0]}, {domain[1]})" if is_open else f"[{domain[0]}, {domain[1]}]"
+                note = decl.extra.get("note")
+                raise InputError(f"{theorem.id}: parameter {name} = {value} is outside its domain "
+                                 f"{interval}" + (f": {note}" if note else ""))
+        values[name] = float(value)
+    subs = {decl.symbol: values[name] for name, decl in theorem.param_decl.items()}
+    for name, decl in theorem.derived_decl.items():
+        value = expand_derived(decl.symbol.definition).xreplace(subs)
+        try:
+            values[name] = float(value)
+        except TypeError:
+            raise InputError(f"{theorem.id}: derived parameter {name} = {value} is not a real number") from None
+        if not np.isfinite(values[name]):
+            raise InputError(f"{theorem.id}: derived parameter {name} is not finite at these parameters")
+    return values
+
+
+def _infer_dims(theorem: Theorem, matrices: dict, given_dims: dict) -> dict:
+    """Assign every dimension symbol from the data shapes, in declaration order."""
+    dims = {theorem.dims[k]: v for k, v in given_dims.items()}
+    origin = {theorem.dims[k]: "given" for k in given_dims}
+    for name, (symbol, arrays) in matrices.items():
+        for axis, expected in enumerate(symbol.shape):
+            if isinstance(expected, Dim) and expected not in dims:
+                dims[expected] = arrays[0].shape[axis]
+                origin[expected] = f"{name} {'rows' if axis == 0 else 'columns'}"
+    for d in theorem.dims.values():
+        if d not in dims:
+            raise InputError(f"{theorem.id}: dimension {d} is not fixed by any datum; give it as {d}=<int>")
+    for name, (symbol, arrays) in matrices.items():
+        for v, arr in enumerate(arrays):
+            expected = tuple(int(sp.sympify(e).xreplace(dims)) for e in symbol.shape)
+            if expected != arr.shape:
+                used = [f"{d} = {dims[d]} from {origin[d]}" for d in
+                        sorted(sp.Tuple(*symbol.shape).free_symbols, key=str)]
+                vtxt = f" (vertex {v + 1})" if len(arrays) > 1 else ""
+                raise ShapeMismatchError(
+                    f"{theorem.id}: data {name}{vtxt} is {fmt_shape(arr.shape)} but must be "
+                    f"{fmt_shape(symbol.shape)} = {fmt_shape(expected)} ({', '.join(used)}); "
+                    f"{name} enters {theorem.first_use(symbol)}")
+    return dims
+
+
+def bind(theorem: Theorem, inputs: dict, example: str | None = None) -> Instance:
+    """Check and bind ``inputs`` (data, dims, parameters, optional 'vertices') to ``theorem``.
+
+    Per-vertex data go under ``vertices`` (a list of objects, one per polytope vertex); a
+    per-vertex datum given once, outside ``vertices``, is common to every vertex, and without
+    ``vertices`` the polytope is the single vertex of the data given.
+    A theorem whose block structure depends on an input (``theorem.specialise``, see
+    :mod:`lmidsl.family`) is first replaced by the member that input selects.  Inputs named
+    after an uncertain symbol choose its points (:mod:`lmidsl.uncertainty`).
+    """
+    if hasattr(theorem, "specialise"):
+        theorem = theorem.specialise(inputs)
+    inputs = dict(inputs)
+    uncertain = bind_points(theorem, inputs)
+    vertices = inputs.pop("vertices", None)
+    per_vertex = theorem.per_vertex_names
+    known = set(theorem.data_decl) | set(theorem.param_decl) | set(theorem.dims)
+    for name in inputs:
+        if name in theorem.derived_decl:
+            defn = theorem.derived_decl[name].symbol.definition
+            raise InputError(f"{theorem.id}: {name} is derived ({name} = {defn}); set the parameters it "
+                             f"depends on instead")
+        if name not in known:
+            raise InputError(
+                f"{theorem.id}: unknown data or parameter {name!r} (known: {', '.join(sorted(known))})")
+    if vertices is not None and not per_vertex:
+        raise InputError(f"{theorem.id}: this theorem has no per-vertex data, but 'vertices' was given")
+    if per_vertex and vertices is None:
+        vertices = [{}]          # one vertex: the per-vertex data are all given once
+    if vertices is not None:
+        if not isinstance(vertices, list) or not vertices or not all(isinstance(v, dict) for v in vertices):
+            raise InputError(f"{theorem.id}: 'vertices' must be a non-empty list of objects")
+        # a per-vertex datum given once, outside 'vertices', is common to every vertex
+        common = per_vertex & set(inputs)
+        for k, v in enumerate(vertices):
+            extra = set(v) - per_vertex
+            twice = set(v) & common
+            missing = per_vertex - set(v) - common
+            if extra:
+                raise InputError(f"{theorem.id}: vertex {k + 1}: {', '.join(sorted(extra))} are not per-vertex data")
+            if twice:
+                raise InputError(f"{theorem.id}: vertex {k + 1}: {', '.join(sorted(twice))} given both in "
+                                 f"the vertex and once for all vertices")
+            if missing:
+                raise InputError(f"{theorem.id}: vertex {k + 1}: missing {', '.join(sorted(missing))}")
+        vertices = [{**{c: inputs[c] for c in common}, **v} for v in vertices]
+        for c in common:
+            inputs.pop(c)
+    nvertices = len(vertices) if vertices else 1
+
+    given_dims = {}
+    for name in theorem.dims:
+        if name in inputs:
+            value = inputs[name]
+            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+                raise InputError(f"{theorem.id}: dimension {name} must be a positive integer, got {value!r}")
+            given_dims[name] = value
+    data, matrices = {}, {}
+    for name, decl in theorem.data_decl.items():
+        if name in per_vertex:
+            arrays = [_as_matrix(theorem, name, v[name]) for v in vertices]
+            data[name] = arrays
+        else:
+            if name not in inputs:
+                raise InputError(f"{theorem.id}: missing data {name}")
+            arrays = [_as_matrix(theorem, name, inputs[name])]
+            data[name] = arrays[0]
+        matrices[name] = (decl.symbol, arrays)
+        if getattr(decl.symbol, "is_symmetric", False):
+            for arr in arrays:
+                if arr.shape[0] == arr.shape[1] and asymmetry(arr) > 1e-12:
+                    raise InputError(f"{theorem.id}: data {name} must be symmetric")
+    dims = _infer_dims(theorem, matrices, given_dims)
+    params = _evaluate_params(theorem, {k: inputs[k] for k in theorem.param_decl if k in inputs})
+    instance = Instance(theorem, dims, data, params, nvertices, example, uncertain=uncertain)
+    check_symmetric_blocks(instance)
+    return instance
+
+
+def random_point(instance: Instance, rng: np.random.Generator) -> dict:
+    """Random values for every decision variable, respecting symmetric/diagonal kinds."""
+    values = dict(instance.data)
+    for name, decl in instance.theorem.var_decl.items():
+        symbol = decl.symbol
+        copies = instance.nvertices if getattr(symbol, "per_vertex", False) else 1
+        draws = []
+        for _ in range(copies):
+            if isinstance(symbol, ScalarVariable):
+                draws.append(float(rng.standard_normal()))
+                continue
+            if not hasattr(symbol, "kind") or symbol.kind == "structured":
+                continue
+            r = int(sp.sympify(symbol.shape[0]).xreplace(instance.dims))
+            c = int(sp.sympify(symbol.shape[1]).xreplace(instance.dims))
+            X = rng.standard_normal((r, c))
+            if symbol.kind == "symmetric":
+                X = X + X.T
+            elif symbol.kind == "diagonal":
+                X = np.diag(np.diag(X))
+            draws.append(X)
+        if draws:
+            values[name] = draws if copies > 1 or getattr(symbol, "per_vertex", False) else draws[0]
+    return values
+
+
+def check_symmetric_blocks(instance: Instance) -> None:
+    """Refuse an LMI whose diagonal block is not symmetric (never symmetrise silently)."""
+    rng = np.random.default_rng(0)
+    values = random_point(instance, rng)
+    theorem = instance.theorem
+    for lmi in theorem.lmis:
+        ev = NumericEvaluator(instance.dims, values, instance.params, vertex=0)
+        scenario = scenarios(instance, lmi)[0]
+        for i, row in enumerate(lmi.spec.lower):
+            blk = scenario.apply(row[i])
+            try:
+                value = ev.visit(blk)
+            except Exception as exc:  # a theorem that cannot be evaluated is a definition error
+                raise TheoremDefinitionError(
+                    f"{theorem.id}: LMI {lmi.label} block ({i + 1},{i + 1}) cannot be evaluated: {exc}") from None
+            value = np.atleast_2d(value)
+            if value.shape[0] != value.shape[1] or asymmetry(value) > 1e-9:
+                raise TheoremDefinitionError(
+                    f"{theorem.id}: LMI {lmi.label} diagonal block ({i + 1},{i + 1}) {blk} is not "
+                    f"symmetric (relative asymmetry {asymmetry(value) if value.shape[0] == value.shape[1] else 'n/a'})")

@@ -1,0 +1,37 @@
+"""Filter recovery: the theorem's change of variables evaluated at the solved point.
+
+A theorem declares its recovery as ordered steps: sympy formulas (``Theorem.recover``, e.g.
+``Af = V2⁻¹ Âf``) and library factorisations producing named intermediate matrices
+(``Theorem.factor``, e.g. R, S with R Sᵀ = I − X Z⁻¹, see :mod:`lmidsl.factorization`),
+which later formulas use.  Every matrix that gets inverted is reported with its 2-norm
+condition number, because an ill-conditioned inverse makes a recovered filter untrustworthy
+even when the LMIs are comfortably feasible.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .instance import Instance
+from .evaluate import NumericEvaluator
+from ..theorem.theorem import FactorStep
+
+
+def recover(instance: Instance, values: dict) -> tuple[dict, list]:
+    """(recovered matrices by name, [{matrix, cond}] for every inverted/factored matrix)."""
+    theorem = instance.theorem
+    point = dict(instance.data)
+    point.update(values)
+    evaluator = NumericEvaluator(instance.dims, point, instance.params)
+    reports: list = []
+    recovered = {}
+    steps = theorem.recovery_steps or [("formula", name) for name in theorem.recovery]
+    for step in steps:
+        if isinstance(step, FactorStep):
+            args = [np.atleast_2d(evaluator.visit(a)) for a in step.args]
+            outputs, report = step.factorization(*args)
+            point.update(dict(zip(step.names, outputs)))
+            reports += report
+        else:
+            name = step[1]
+            recovered[name] = np.atleast_2d(evaluator.visit(theorem.recovery[name]))
+    return recovered, reports + evaluator.inverted

@@ -1,0 +1,165 @@
+"""The Python API: bind, compile, solve, recover and certify in one call.
+
+>>> import lmidsl
+>>> sol = lmidsl.solve("wang_l2linf.thm3", example="paper-full")
+>>> sol.gamma, sol.recovered["Af"], sol.analysis.gamma
+"""
+from __future__ import annotations
+
+import time
+
+from .solver.backends import get_backend
+from .certify import certify_by_analysis
+from .theorem.checks import run_checks
+from .errors import InputError, LmidslError
+from .solver.feasibility import diagnosis_needed, feasp
+from .numeric.instance import Instance, bind
+from .numeric.recovery import recover
+from .solver.margin import solve_model
+from .numeric.scaling import apply_scaling
+from .theorem.registry import get_example, get_theorem
+from .solver.solution import Solution, evaluate_reported
+from .theorem.theorem import Theorem
+from .solver.backoff import DEFAULT_DELTA
+from .solver.backoff import backoff_solution
+
+
+def _theorem(theorem) -> Theorem:
+    return theorem if isinstance(theorem, Theorem) else get_theorem(theorem)
+
+
+def instance_inputs(theorem: Theorem, example: str | None = None, data: dict | None = None,
+                    overrides: dict | None = None) -> dict:
+    """Inputs from an example or a data dictionary, with single names overridden."""
+    if example is not None and data is not None:
+        raise InputError(f"{theorem.id}: give an example or a data file, not both")
+    if data is not None:
+        if not isinstance(data, dict):
+            raise InputError(f"{theorem.id}: the data must be a JSON object of names to values")
+        inputs = dict(data)
+    elif example is not None:
+        inputs = get_example(theorem, example).inputs()
+    else:
+        if not theorem.examples:
+            raise InputError(f"{theorem.id}: no example; give --data")
+        inputs = next(iter(theorem.examples.values())).inputs()
+    for name, value in (overrides or {}).items():
+        inputs[name] = value
+    return inputs
+
+
+def make_instance(theorem, example: str | None = None, data: dict | None = None,
+                  overrides: dict | None = None) -> Instance:
+    """Bind an example (or data) with overrides to a theorem."""
+    thm = _theorem(theorem)
+    if example is None and data is None and thm.examples:
+        example = next(iter(thm.examples))
+    return bind(thm, instance_inputs(thm, example, data, overrides), example=example)
+
+
+def solve_instance(instance: Instance, solver: str | None = None, backend: str = "cvxpy",
+                   margin: float | None = None, certify: bool = True, scaling="auto",
+                   backoff: float | None = None, diagnose: bool = True, **options) -> Solution:
+    """Compile, solve, recover the filter and (optionally) certify it by analysis.
+
+    An uncertified solve gets the feasp diagnosis (``diagnose``, see :func:`finish_solution`).
+    ``scaling``: the theorem's declared signal scalings ('auto', 'none' or {signal: factor});
+    the solver sees the scaled instance, recovered matrices are mapped back
+    (:mod:`lmidsl.scaling`).  ``backoff`` = δ: re-solve at objective ≤ (1 + δ)·optimum for a
+    well-conditioned recovery (:mod:`lmidsl.backoff`); ``"auto"``: only when the filter recovered
+    at the optimum fails its analysis certificate (or its recovery fails), with δ = 10⁻².
+    """
+    applied = apply_scaling(instance, scaling)
+    model = get_backend(backend)(applied.scaled, margin=margin)
+    base_margin = model.margin
+    solution = solve_model(model, solver, **options)
+    solution.scaling = applied
+    reason = None
+    if backoff == "auto":
+        # back off only when the filter recovered at the optimum is not certified
+        finish_solution(solution, solver=solver, backend=backend, certify=certify,
+                        diagnose=diagnose, margin=base_margin)
+        failed = solution.message.startswith("recovery failed")
+        uncertified = solution.analysis is not None and not solution.analysis.passed
+        if not (solution.ok and instance.theorem.conditioned and (failed or uncertified)):
+            return solution
+        reason = (solution.message if failed else
+                  f"{solution.analysis.theorem} did not certify the filter recovered at the optimum "
+                  f"({solution.analysis.status}, gamma {solution.analysis.gamma})")
+        backoff = DEFAULT_DELTA
+    if backoff is not None and solution.ok:
+        optimum = solution
+        t0 = time.perf_counter()
+        solution = backoff_solution(model, optimum, backoff, solver, **options)
+        solution.times["backoff"] = time.perf_counter() - t0
+        if reason and solution.backoff is not None:
+            solution.backoff["reason"] = reason
+        if instance.theorem.recovery:
+            try:
+                solution.backoff["recovery_cond_before"] = recover(applied.scaled, optimum.values)[1]
+            except LmidslError as exc:
+                solution.backoff["recovery_cond_before"] = f"recovery failed: {exc}"
+    finish_solution(solution, solver=solver, backend=backend, certify=certify, diagnose=diagnose,
+                    margin=base_margin)
+    return solution
+
+
+def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=True,
+                    diagnose=True, margin: float | None = None) -> Solution:
+    """Feasibility diagnosis, recovery (mapped back through any scaling) and analysis
+    certificate, in place.
+
+    When the solver returns no certified point, the feasp diagnosis (:mod:`lmidsl.feasibility`)
+    is attached; if it finds no strictly feasible point, ``status`` becomes "infeasible" (or
+    "marginal": feasible by less than the margin); the solver's own word stays in
+    ``solver_status``.  An infeasible problem is a result, not an error.
+    """
+    instance = solution.instance
+    original = solution.scaling.original if solution.scaling is not None else instance
+    solution.analysis = None
+    if diagnose and diagnosis_needed(solution):
+        t0 = time.perf_counter()
+        report = feasp(instance, backend=backend, solver=solver,
+                       margin=solution.margin if margin is None else margin)
+        solution.feasp = report
+        if report.verdict in ("infeasible", "marginal"):
+            solution.solver_status = solution.status
+            solution.status = report.verdict
+        solution.times["feasp"] = time.perf_counter() - t0
+    if solution.ok and instance.theorem.reported:
+        solution.reported = evaluate_reported(instance, {**instance.data, **solution.values})
+    if solution.ok and instance.theorem.recovery:
+        t0 = time.perf_counter()
+        try:
+            recovered, solution.inverted = recover(instance, solution.values)
+        except LmidslError as exc:
+            solution.message = f"recovery failed: {exc}"
+            return solution
+        if solution.scaling is not None:
+            recovered = solution.scaling.undo(recovered)
+        solution.recovered = recovered
+        solution.times["recover"] = time.perf_counter() - t0
+        if certify and instance.theorem.analysis is not None:
+            t0 = time.perf_counter()
+            solution.analysis = certify_by_analysis(original, solution.recovered, solution.gamma,
+                                                    solver=solver, backend=backend)
+            solution.times["analysis"] = time.perf_counter() - t0
+    if certify and solution.ok and instance.theorem.checks:
+        t0 = time.perf_counter()
+        solution.checks = run_checks(solution)
+        solution.times["checks"] = time.perf_counter() - t0
+    return solution
+
+
+def solve(theorem, example: str | None = None, data: dict | None = None,
+          overrides: dict | None = None, solver: str | None = None, backend: str = "cvxpy",
+          margin: float | None = None, certify: bool = True, scaling="auto",
+          backoff: float | None = None, diagnose: bool = True, **options) -> Solution:
+    """Solve a theorem on an example or data; returns a :class:`Solution`."""
+    t0 = time.perf_counter()
+    instance = make_instance(theorem, example, data, overrides)
+    bind_time = time.perf_counter() - t0
+    solution = solve_instance(instance, solver, backend, margin, certify, scaling, backoff,
+                              diagnose=diagnose, **options)
+    solution.times = {"bind": bind_time, **solution.times}
+    return solution

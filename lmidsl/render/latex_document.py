@@ -1,0 +1,286 @@
+"""The LaTeX document of a theorem: the statement and, with an example, the solved numbers.
+
+``theorem_latex(theorem, solution=None)`` writes a complete article (amsmath,
+amssymb, graphicx, geometry; all in Debian's ``texlive-latex-base``): title and source, the
+dimensions, data, scalar parameters and decision variables with their sets, every LMI with the
+paper's equation label and its "where" definitions, the objective, the recovery formulas and
+the analysis theorem that certifies them; with an example, the data, γ (computed, printed,
+certified) as a table, the recovered filter and the decision variables.  Wide LMIs are shrunk
+to the line, and an LMI wider than 1.3 lines gets a landscape page of its own.
+"""
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+
+from .latex import (display_lmi, equation_tag, grouped_display, latex_of,
+                    printer_for, lmi_where, name_to_latex, with_vertex_index)
+from .latex_text import latex_matrix, latex_number, tex_text
+from ..symbolic.symbols import DiagonalVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable
+from ..errors import LmidslError
+from ..theorem.registry import get_theorem
+from ..theorem.theorem import Theorem
+
+PREAMBLE = r"""\documentclass[10pt]{article}
+\usepackage{amsmath,amssymb,graphicx}
+\usepackage[a4paper,margin=2cm]{geometry}
+\setcounter{MaxMatrixCols}{%(maxcols)d}
+\allowdisplaybreaks
+\sloppy
+\newsavebox{\lmibox}
+%% \fitlmi{math}: display-style math, shrunk to the line width (less room for a tag) if wider
+\newcommand{\fitlmi}[1]{\sbox{\lmibox}{$\displaystyle #1$}%%
+  \ifdim\wd\lmibox>\dimexpr\linewidth-5em\relax
+    \resizebox{\dimexpr\linewidth-5em\relax}{!}{\usebox{\lmibox}}%%
+  \else\usebox{\lmibox}\fi}
+%% \lmidisplay{math}{tag}: a displayed LMI; one wider than 1.3 lines gets a page of its own,
+%% turned by 90 degrees (landscape) and shrunk to the page's height if still too wide
+\newcommand{\lmitag}[1]{\if\relax\detokenize{#1}\relax\else\tag*{#1}\fi}
+\newcommand{\lmidisplay}[2]{\sbox{\lmibox}{$\displaystyle #1$}%%
+  \ifdim\wd\lmibox>1.3\linewidth
+    \clearpage\null\vfill
+    \noindent\rotatebox{90}{\begin{minipage}{\dimexpr\textheight-3\baselineskip\relax}
+      \begin{equation*}\fitlmi{#1}\lmitag{#2}\end{equation*}\end{minipage}}
+    \vfill\clearpage
+  \else
+    \begin{equation*}\fitlmi{#1}\lmitag{#2}\end{equation*}
+  \fi}
+\setlength{\parindent}{0pt}
+\setlength{\parskip}{4pt}
+"""
+
+
+def _shape_latex(printer, symbol) -> str:
+    """The set of a symbol: R, R^{n x k}, S^{n} (symmetric), D^{n} (diagonal)."""
+    if isinstance(symbol, sp.Symbol):
+        return r"\mathbb{R}"
+    rows, cols = (printer.doprint(d) for d in symbol.shape)
+    if isinstance(symbol, DiagonalVariable):
+        return rf"\mathbb{{D}}^{{{rows}}}"
+    if isinstance(symbol, (SymmetricVariable, SymmetricDataMatrix)) or (
+            isinstance(symbol, StructuredVariable) and symbol.symmetric):
+        return rf"\mathbb{{S}}^{{{rows}}}"
+    rows, cols = ((f"({t})" if isinstance(d, sp.Add) else t)
+                  for d, t in zip(symbol.shape, (rows, cols)))
+    return rf"\mathbb{{R}}^{{{rows} \times {cols}}}"
+
+
+def _kind_text(symbol) -> str:
+    return {"full": "full", "symmetric": "symmetric", "diagonal": "diagonal",
+            "scalar": "scalar", "structured": "structured"}.get(getattr(symbol, "kind", ""), "")
+
+
+def _table(header: list[str], rows: list[list[str]], spec: str) -> str:
+    lines = [f"\\begin{{tabular}}{{{spec}}}", "\\hline", " & ".join(header) + r" \\", "\\hline"]
+    lines += [" & ".join(r) + r" \\" for r in rows]
+    lines += ["\\hline", "\\end{tabular}"]
+    return "\n".join(lines)
+
+
+def _recovery_name(theorem: Theorem, name: str) -> str:
+    """LaTeX of a recovered matrix: its name in the analysis theorem, else a guess."""
+    if theorem.analysis is not None:
+        try:
+            analysis = get_theorem(theorem.analysis.theorem)
+        except LmidslError:  # the analysis theorem is optional for printing
+            analysis = None
+        decl = analysis.data_decl.get(name) if analysis is not None else None
+        if decl is not None:
+            return latex_of(decl.symbol)
+    return name_to_latex(name)
+
+
+def _condition_latex(theorem: Theorem, settings: dict, defined: set) -> list[str]:
+    out = []
+    positives = []
+    for lmi in theorem.lmis:
+        if lmi.spec.nblocks == 1 and equation_tag(lmi.label) is None:
+            positives.append(lmi)
+            continue
+        printer = printer_for(theorem, lmi, **settings)
+        body = printer.doprint(lmi)
+        where = [(n, d) for n, d in lmi_where(theorem, lmi, **settings) if n not in defined]
+        defined |= {n for n, _ in where}
+        if lmi.description:
+            out.append(tex_text(lmi.description))
+        out.append(display_lmi(theorem, lmi, body, where))
+    if positives:
+        parts = []
+        for lmi in positives:
+            parts.append(printer_for(theorem, lmi, **settings).doprint(lmi)
+                         + (r"\ (i = 1, \dots, N)" if lmi.per_vertex else ""))
+        out.append("and\n\\begin{equation*}\n\\fitlmi{" + r",\quad ".join(parts)
+                   + ".}\n\\end{equation*}")
+    return out
+
+
+def _maxcols(theorem: Theorem) -> int:
+    widest = max((l.spec.nblocks for l in theorem.lmis), default=1)
+    for decl in theorem.notation.values():
+        if isinstance(decl.symbol, sp.BlockMatrix):
+            widest = max(widest, decl.symbol.blocks.cols)
+    return max(20, widest + 2)
+
+
+def theorem_latex(theorem, solution=None, **settings) -> str:
+    """A complete LaTeX document stating ``theorem`` (a Theorem or its id); with a ``solution``
+    of it (:func:`lmidsl.solve`), the solved values too.  Printing never solves."""
+    if isinstance(theorem, str):
+        theorem = get_theorem(theorem)
+    printer = printer_for(theorem, None, **{k: v for k, v in settings.items() if k != "notation"})
+    out = [PREAMBLE % {"maxcols": _maxcols(theorem)}, "\\begin{document}"]
+    out.append(f"\\section*{{{tex_text(theorem.title)}}}")
+    src = theorem.source
+    source = tex_text(src.citation) + (", " if src.citation else "") + \
+        f"\\texttt{{{tex_text(src.paper)}}}, {tex_text(src.equations)}"
+    out.append(f"\\textbf{{Source.}} {source}.\\\\\n\\textbf{{Theorem id.}} "
+               f"\\texttt{{{tex_text(theorem.id)}}} ({tex_text(theorem.time)} time).")
+    if theorem.description:
+        out.append(tex_text(theorem.description))
+
+    if theorem.dims:
+        dims = ", ".join(printer.doprint(d) for d in theorem.dims.values())
+        out.append(f"\\subsection*{{Dimensions}}\n${dims}$: positive integers, read off the data.")
+    if theorem.data_decl:
+        rows = []
+        for decl in theorem.data_decl.values():
+            s = decl.symbol
+            note = tex_text(decl.description)
+            if s.per_vertex:
+                note += (", " if note else "") + f"per vertex (${with_vertex_index(latex_of(s), 'i')}$)"
+            rows.append([f"${printer.doprint(s)}$", f"${_shape_latex(printer, s)}$", note])
+        out.append("\\subsection*{Data}\n" + _table(["symbol", "in", "description"], rows,
+                                                     "lll"))
+    if theorem.param_decl or theorem.derived_decl:
+        rows = []
+        for decl in theorem.param_decl.values():
+            dom = decl.extra.get("domain")
+            dom_txt = "" if dom is None else rf"$[{latex_number(dom[0])}, {latex_number(dom[1])}]$"
+            rows.append([f"${printer.doprint(decl.symbol)}$", dom_txt, tex_text(decl.description)])
+        for decl in theorem.derived_decl.values():
+            s = decl.symbol
+            rows.append([f"${printer.doprint(s)}$", f"$= {printer.doprint(s.definition)}$",
+                         tex_text(decl.description)])
+        out.append("\\subsection*{Scalar parameters}\n"
+                   + _table(["symbol", "domain / definition", "description"], rows, "lll"))
+    if theorem.var_decl:
+        rows = []
+        for decl in theorem.var_decl.values():
+            s = decl.symbol
+            note = tex_text(decl.description)
+            if isinstance(s, StructuredVariable):
+                note = (note + "; " if note else "") + f"${printer.doprint(s)} = " \
+                    f"{printer.doprint(s.expansion)}$"
+            if getattr(s, "per_vertex", False):
+                note += (", " if note else "") + f"per vertex (${with_vertex_index(latex_of(s), 'i')}$)"
+            if decl.extra.get("nonneg"):
+                note += (", " if note else "") + r"$\ge 0$"
+            rows.append([f"${printer.doprint(s)}$", f"${_shape_latex(printer, s)}$",
+                         _kind_text(s), note])
+        out.append("\\subsection*{Decision variables}\n"
+                   + _table(["symbol", "in", "kind", "description"], rows, "llll"))
+
+    out.append("\\subsection*{Conditions}")
+    if any(l.per_vertex for l in theorem.lmis):
+        out.append(r"The subscript $i$ runs over the $N$ vertices of the polytope of data.")
+    defined: set = set()
+    out += _condition_latex(theorem, settings, defined)
+
+    if theorem.objective is not None:
+        obj = printer.doprint(theorem.objective)
+        text = f"\\subsection*{{Objective}}\nMinimise ${obj}$ subject to the conditions above."
+        if theorem.performance is not None:
+            name, expr = theorem.performance
+            text += f" The performance level is ${name_to_latex(name)} = {printer.doprint(expr)}$."
+        out.append(text)
+    if theorem.recovery:
+        lines = [f"{_recovery_name(theorem, n)} = {printer.doprint(e)}"
+                 for n, e in theorem.recovery.items()]
+        out.append("\\subsection*{Filter recovery}\n\\begin{equation*}\n\\fitlmi{"
+                   + r",\quad ".join(lines) + ".}\n\\end{equation*}")
+    if theorem.analysis is not None:
+        out.append(f"The recovered filter is certified by the analysis theorem "
+                   f"\\texttt{{{tex_text(theorem.analysis.theorem)}}}.")
+    if solution is not None:
+        out.append(_solution_latex(theorem, solution, printer, settings))
+    out.append("\\end{document}\n")
+    return "\n\n".join(out)
+
+
+def _label_latex(theorem: Theorem, label: str, settings: dict) -> str:
+    """An LMI's label for running text: '(30)', or the one-block LMI itself ('$P_1 > 0$')."""
+    lmi = next((l for l in theorem.lmis if l.label == label), None)
+    if lmi is None or equation_tag(label) is not None or lmi.spec.nblocks != 1:
+        return tex_text(label)
+    return f"${printer_for(theorem, None, **settings).doprint(lmi)}$"
+
+
+def _solution_latex(theorem: Theorem, sol, printer, settings: dict) -> str:
+    ex = theorem.examples.get(sol.example) if sol.example else None
+    title = f"Example \\texttt{{{tex_text(sol.example)}}}" if sol.example else "Solution"
+    out = [f"\\subsection*{{{title}}}"]
+    if ex is not None and ex.description:
+        out.append(tex_text(ex.description) + ".")
+    inst = sol.instance
+    if inst is not None:
+        data = []
+        for name, decl in theorem.data_decl.items():
+            value = inst.data.get(name)
+            if value is None:
+                continue
+            if isinstance(value, list):
+                data += [f"{with_vertex_index(latex_of(decl.symbol), str(v + 1))} = "
+                         f"{latex_matrix(m, 6)}" for v, m in enumerate(value)]
+            else:
+                data.append(f"{printer.doprint(decl.symbol)} = {latex_matrix(value, 6)}")
+        for name, decl in theorem.param_decl.items():
+            data.append(f"{printer.doprint(decl.symbol)} = {latex_number(inst.params[name], 6)}")
+        for name, decl in theorem.derived_decl.items():
+            data.append(f"{printer.doprint(decl.symbol)} = {latex_number(inst.params[name], 6)}")
+        if data:
+            out.append("Data:\n" + grouped_display(data))
+    rows = [["status", tex_text(f"{sol.status} ({sol.backend}, {sol.solver})")]]
+    perf = theorem.performance[0] if theorem.performance else "gamma"
+    perf_tex = name_to_latex(perf)
+    if sol.gamma is not None:
+        rows.append([f"${perf_tex}$ computed", f"${latex_number(sol.gamma, 6)}$"])
+    printed = ex.printed if ex is not None else {}
+    if "gamma" in printed:
+        rows.append([f"${perf_tex}$ printed in the paper", f"${latex_number(printed['gamma'], 6)}$"])
+    if "gamma_bound" in printed:
+        rows.append([f"${perf_tex}$ claimed by the paper (bound)",
+                     f"${latex_number(printed['gamma_bound'], 6)}$"])
+    analysis = getattr(sol, "analysis", None)
+    if analysis is not None:
+        g = "infeasible" if analysis.gamma is None else f"${latex_number(analysis.gamma, 6)}$"
+        verdict = "certified" if analysis.passed else "not certified"
+        rows.append([f"${perf_tex}$ by analysis \\texttt{{{tex_text(analysis.theorem)}}}",
+                     f"{g} ({verdict})"])
+    for r in sol.lmis:
+        where = f" (vertex {r.vertex})" if r.vertex is not None else ""
+        rows.append([f"$\\lambda_{{\\max}}$ of {_label_latex(theorem, r.label, settings)}{where}",
+                     f"${latex_number(r.max_eig, 3)}$"])
+    out.append("\\begin{center}\n" + _table(["quantity", "value"], rows, "ll") + "\n\\end{center}")
+    if sol.recovered:
+        items = [f"{_recovery_name(theorem, n)} = {latex_matrix(v, 5)}" for n, v in sol.recovered.items()]
+        out.append("Recovered filter:\n" + grouped_display(items))
+        for inv in sol.inverted:
+            decl = theorem.var_decl.get(str(inv["matrix"]))
+            name = (f"${printer.doprint(decl.symbol)}$" if decl is not None
+                    else f"\\texttt{{{tex_text(str(inv['matrix']))}}}")
+            out.append(f"Inverted {name}: condition number ${latex_number(inv['cond'], 3)}$.")
+    variables = []
+    for name, value in sol.values.items():
+        decl = theorem.var_decl.get(name)
+        if decl is None:
+            continue
+        s = decl.symbol
+        if isinstance(value, list):
+            variables += [f"{with_vertex_index(latex_of(s), str(v + 1))} = {latex_matrix(m, 5)}"
+                          for v, m in enumerate(value) if np.size(m) <= 64]
+        elif np.size(value) <= 64:
+            variables.append(f"{printer.doprint(s)} = {latex_matrix(value, 5)}")
+    if variables:
+        out.append("Decision variables at the solution (matrices up to $8 \\times 8$):\n"
+                   + grouped_display(variables))
+    return "\n\n".join(out)

@@ -1,0 +1,290 @@
+"""What every backend shares: the compiling walk, the parameter store, the solve bookkeeping.
+
+A backend subclasses :class:`CompiledModel` and fills in a handful of hooks (make a variable,
+a parameter, a block matrix, an LMI constraint, a problem; solve; read a value).  Everything
+else -- which sub-trees are constants (folded once with numpy), which scalar sub-expressions
+of parameters become one backend parameter each (so that changing r̄ re-solves without
+rebuilding, and products of parameters stay DPP-compliant), per-vertex instantiation (polytope vertices × points of uncertain symbols),
+the strictness margin, and the backend-independent certificate -- lives here.
+
+Strictness policy: a strict LMI ``N ≺ 0`` is imposed as ``N ⪯ −ε I`` and ``X ≻ 0`` as
+``X ⪰ ε I`` with ``ε = margin`` (default :data:`DEFAULT_MARGIN`), an absolute number applied
+after any exact rescaling of the data; non-strict LMIs get ε = 0.  Whatever the solver says,
+the reported certificate is the largest eigenvalue of each N at the returned point.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import sympy as sp
+
+from ...numeric.instance import Instance
+from ...numeric.evaluate import NumericEvaluator
+from ..solution import Solution, evaluate_performance, lmi_certificate
+from ...symbolic.symbols import DECISION_TYPES, DerivedParam, Param, ScalarVariable, expand_derived
+from ...symbolic.uncertainty import scenarios
+from ...symbolic.walker import ExpressionWalker
+
+DEFAULT_MARGIN = 1e-7
+
+
+_CLASSIFIED: dict = {}
+
+
+def _classify(expr) -> tuple[bool, bool]:
+    """(contains a decision variable, contains a parameter).
+
+    Cached by identity (the entry keeps the expression alive, so the id stays valid): theorem
+    trees are immutable and compiled again at every bind, and sympy's deep equality is too slow
+    to pay on every lookup.
+    """
+    hit = _CLASSIFIED.get(id(expr))
+    if hit is not None and hit[0] is expr:
+        return hit[1]
+    atoms = expr.atoms(sp.Symbol, sp.MatrixSymbol)
+    result = (any(isinstance(a, DECISION_TYPES) for a in atoms),
+              any(isinstance(a, (Param, DerivedParam)) for a in atoms))
+    if len(_CLASSIFIED) > 100_000:
+        _CLASSIFIED.clear()
+    _CLASSIFIED[id(expr)] = (expr, result)
+    return result
+
+
+class BackendCompiler(ExpressionWalker):
+    """The compiling walk: constants folded with numpy, parameters and variables from the model."""
+
+    def __init__(self, model: "CompiledModel", vertex: int | None):
+        super().__init__(model.instance.dims, vertex)
+        self.model = model
+        self.constants = NumericEvaluator(model.instance.dims, model.instance.data, {}, vertex)
+
+    def _dispatch(self, expr):
+        has_decision, has_param = _classify(expr)
+        if not has_decision:
+            if not has_param:
+                return self.constants.visit(expr)
+            if not isinstance(expr, sp.MatrixExpr):
+                return self.model.parameter_for(expr)
+        return super()._dispatch(expr)
+
+    def data(self, symbol):
+        return self.constants.data(symbol)
+
+    def variable(self, symbol):
+        return self.model.variable_for(symbol, self.vertex)
+
+    scalar_variable = variable
+
+    def parameter(self, symbol):
+        return self.model.parameter_for(symbol)
+
+    def identity(self, n):
+        return np.eye(n)
+
+    def block(self, rows):
+        return self.model.assemble(rows)
+
+
+class CompiledModel:
+    """A bound theorem compiled once for one backend; parameters can be changed and re-solved.
+
+    Every scalar expression of parameters is one backend parameter, so :meth:`update` changes
+    numbers in place (cvxpy: DPP, compiled once).  The strictness margin is a backend parameter
+    too when ``reuse=True`` (a model re-solved many times, e.g. a sweep); a one-shot model keeps it
+    a number and recompiles in the rare :meth:`set_margin`.  (Folding the parameters of one-shot
+    models into constants canonicalises ~10 % faster in cvxpy, but changes the rounding of the
+    problem data enough to make Clarabel fail on seed 002's successive LMIs: measured, not done.)
+    Backends that cannot change numbers in place (PICOS) recompile on every change.
+    """
+
+    backend = "abstract"
+    compiler_class = BackendCompiler
+
+    def __init__(self, instance: Instance, margin: float | None = None, reuse: bool = False):
+        t0 = time.perf_counter()
+        self.instance = instance
+        self.reuse = reuse  # True: the backend keeps its compiled form for re-solves (sweeps)
+        self.margin = DEFAULT_MARGIN if margin is None else float(margin)
+        self._variables: dict = {}
+        self._parameters: dict = {}
+        self.constraints: list = []
+        self.lmi_matrices: list = []  # ((label, vertex, point), assembled backend expression N)
+        self.current_lmi = None       # (label, vertex, point) being compiled, for error messages
+        theorem = instance.theorem
+        # a model that is re-solved keeps ε as a backend parameter; a one-shot model a number
+        self._margin_parameter = self.new_parameter("margin", self.margin) if reuse else self.margin
+        for lmi in theorem.lmis:
+            negative = lmi.negative_form()
+            for scenario in scenarios(instance, lmi):  # polytope vertices x uncertainty points
+                v = scenario.vertex
+                compiler = self.compiler_class(self, v)
+                lower = [[compiler.visit(scenario.apply(b)) for b in row] for row in negative.lower]
+                rows = [[lower[i][j] if j <= i else compiler.transpose(lower[j][i])
+                         for j in range(negative.nblocks)] for i in range(negative.nblocks)]
+                size = sum(compiler.size(s) for s in negative.sizes)
+                eps = self._margin_parameter if lmi.strict else None
+                key = (lmi.label, v, scenario.label)
+                self.current_lmi = key
+                N = self.assemble(rows)
+                self.lmi_matrices.append((key, N))
+                self.constraints.append((key, self.lmi_constraint(N, size, eps)))
+        self.current_lmi = None
+        objective = None
+        if theorem.objective is not None:
+            objective = self.compiler_class(self, None).visit(theorem.objective)
+        self.objective = objective
+        self.problem = self.make_problem(objective, [c for _, c in self.constraints])
+        self.compile_time = time.perf_counter() - t0
+
+    # -- shared bookkeeping -------------------------------------------------------------
+    def variable_for(self, symbol, vertex):
+        per_vertex = getattr(symbol, "per_vertex", False)
+        key = (symbol.name, vertex if per_vertex else None)
+        if key not in self._variables:
+            if isinstance(symbol, ScalarVariable):
+                decl = self.instance.theorem.var_decl[symbol.name]
+                self._variables[key] = self.new_scalar(symbol.name, decl.extra.get("nonneg", False))
+            else:
+                shape = tuple(int(sp.sympify(d).xreplace(self.instance.dims)) for d in symbol.shape)
+                label = symbol.name if key[1] is None else f"{symbol.name}_{key[1] + 1}"
+                self._variables[key] = self.new_variable(label, shape, symbol.kind)
+        return self._variables[key]
+
+    def _parameter_value(self, expr) -> float:
+        params = self.instance.params
+        if isinstance(expr, (Param, DerivedParam)):
+            return float(params[expr.name])
+        subs = {s: params[s.name] for s in expand_derived(expr).free_symbols if isinstance(s, Param)}
+        return float(expand_derived(expr).xreplace(subs))
+
+    def parameter_for(self, expr):
+        """One backend parameter per distinct scalar expression of parameters."""
+        if expr not in self._parameters:
+            self._parameters[expr] = self.new_parameter(str(expr), self._parameter_value(expr))
+        return self._parameters[expr]
+
+    def set_margin(self, margin: float) -> None:
+        """Change the strictness margin ε (in place when ``reuse``, else by recompiling)."""
+        if not self.reuse:
+            self.__init__(self.instance, margin=margin, reuse=False)
+            return
+        self.margin = float(margin)
+        self.set_parameter(self._margin_parameter, self.margin)
+
+    def update(self, instance: Instance) -> None:
+        """Take new parameter values (same data and dimensions) without recompiling."""
+        self.instance = instance
+        for expr, p in self._parameters.items():
+            self.set_parameter(p, self._parameter_value(expr))
+
+    def values(self) -> dict:
+        """Solved values of every declared decision variable (per-vertex ones as lists)."""
+        out = {}
+        for name, decl in self.instance.theorem.var_decl.items():
+            symbol = decl.symbol
+            if symbol.kind == "structured":
+                continue
+            if getattr(symbol, "per_vertex", False):
+                keys = [(name, v) for v in range(self.instance.nvertices)]
+                if all(k in self._variables for k in keys):
+                    out[name] = [self.value_of(self._variables[k]) for k in keys]
+            elif (name, None) in self._variables:
+                out[name] = self.value_of(self._variables[(name, None)])
+        return out
+
+    def assign(self, values: dict) -> None:
+        """Give the backend variables values (same layout as :meth:`values`), e.g. to compare
+        the assembled LMI matrices of two backends at one point (golden tests)."""
+        for (name, vertex), variable in self._variables.items():
+            value = values[name]
+            if vertex is not None:
+                value = value[vertex]
+            self.set_value(variable, value)
+
+    def lmi_values(self) -> dict:
+        """Numeric value of every assembled LMI matrix N at the current variable values."""
+        return {key: np.asarray(self.expression_value(N), dtype=float) for key, N in self.lmi_matrices}
+
+    def level_problem(self, bound: float):
+        """The feasibility problem 'every LMI, and objective ≤ bound': a point inside the strict
+        set at a prescribed level rather than on its boundary at the optimum."""
+        return self.make_problem(None, [c for _, c in self.constraints] + [self.objective <= bound])
+
+    def solve(self, solver: str | None = None, problem=None, **options) -> Solution:
+        """Solve (``problem``: default the compiled one), then evaluate the certificate at the
+        returned point with numpy."""
+        instance = self.instance
+        t0 = time.perf_counter()
+        status, objective, message, solver_time = self.run_solver(solver, problem, **options)
+        wall = time.perf_counter() - t0
+        solution = Solution(instance.theorem.id, instance.example, self.backend,
+                            self.solver_name(solver), status, objective, margin=self.margin,
+                            message=message, params=dict(instance.params), instance=instance)
+        solution.times = {"compile": self.compile_time, "solve": wall}
+        if solver_time is not None:
+            solution.times["solver"] = solver_time
+        if getattr(self, "last_solver_call", None) is not None:
+            solution.times["solver_call"] = self.last_solver_call  # incl. the solver's interface
+        if status in ("optimal", "optimal_inaccurate"):
+            t1 = time.perf_counter()
+            values = self.values()
+            solution.values = values
+            point = dict(instance.data)
+            point.update(values)
+            solution.lmis = lmi_certificate(instance, point)
+            solution.gamma = evaluate_performance(instance, point)
+            if solution.gamma is None and instance.theorem.performance is not None:
+                solution.notes.append(f"{instance.theorem.performance[0]} is not real at the returned "
+                                      f"point ({instance.theorem.performance[1]} with a negative radicand)")
+            solution.times["certificate"] = time.perf_counter() - t1
+        return solution
+
+    # -- backend hooks ------------------------------------------------------------------
+    def new_variable(self, name: str, shape: tuple, kind: str):
+        raise NotImplementedError
+
+    def new_scalar(self, name: str, nonneg: bool):
+        raise NotImplementedError
+
+    def new_parameter(self, name: str, value: float):
+        raise NotImplementedError
+
+    def set_parameter(self, parameter, value: float) -> None:
+        raise NotImplementedError
+
+    def assemble(self, rows):
+        raise NotImplementedError
+
+    def lmi_constraint(self, N, size: int, eps):
+        """N ⪯ −eps·I (eps a backend parameter) or N ⪯ 0 when eps is None."""
+        raise NotImplementedError
+
+    def make_problem(self, objective, constraints):
+        raise NotImplementedError
+
+    def run_solver(self, solver, problem=None, **options):
+        """Solve ``problem`` (default: the compiled one); return (status, objective value,
+        message, solver time or None); may set ``self.last_solver_call`` to the wall time of the
+        solver call with its interface."""
+        raise NotImplementedError
+
+    def shifted_lmi_constraint(self, N, t, size: int):
+        """``N ⪯ t I`` for a scalar variable ``t`` (auxiliary problems such as feasp)."""
+        return self.lmi_constraint(N - t * np.eye(size), size, None)
+
+    def norm_bound(self, radius: float):
+        """‖(all decision variables stacked)‖₂ ≤ radius: the feasibility radius of LMI Lab's feasp."""
+        raise NotImplementedError
+
+    def solver_name(self, solver) -> str:
+        raise NotImplementedError
+
+    def value_of(self, variable):
+        raise NotImplementedError
+
+    def set_value(self, variable, value) -> None:
+        raise NotImplementedError
+
+    def expression_value(self, expression):
+        raise NotImplementedError

@@ -1,0 +1,142 @@
+"""Back-off: give up a hair of γ for a recovery that is well conditioned.
+
+At the exact optimum of a synthesis LMI the matrices that the recovery inverts can be nearly
+singular (seed 001: Z and X − Z have eigenvalues ~1e-6 next to ~1e-1, because the plant has
+states that influence nothing, so the optimum is approached only on the boundary).  A filter
+recovered there is numerically wild although it is "optimal".  A theorem declares the
+positive definite expressions its recovery inverts (``Theorem.well_conditioned(Z, X − Z)``);
+for a relative back-off δ > 0 and the optimum β* of the objective, this module solves
+
+    min κ   s.t.  the theorem's LMIs,   objective ≤ β* + δ|β*|,   t I ⪯ E_i ⪯ κ I  (all i)
+
+for fixed t > 0, and chooses t by golden-section search on log t to minimise κ(t)/t, which
+bounds cond(E_i) for every i.  κ(t) is convex and nondecreasing in t, so κ(t)/t is
+quasi-convex and the search finds its minimum over t ∈ [10⁻⁶ t_max, t_max], where t_max is the
+largest t feasible at all.  t is a backend parameter: each step re-solves without recompiling.
+For the objective γ² (β), δ on β means about δ/2 on γ.  Default δ = 10⁻² (≈ 0.5 % on γ): with
+10⁻³ the slab objective ≤ (1 + δ)β* is so thin that CVXOPT fails on every conditioning solve
+for seed 001 and Clarabel reports "inaccurate"; if every solve fails, the optimum is returned
+with the failure recorded.
+
+The record reports the condition numbers of every E_i before (at the optimum) and after, and
+the solves it took.  Implemented for the cvxpy backend.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import sympy as sp
+
+from ..errors import InputError, LmidslError, SolverUnavailableError
+from ..numeric.evaluate import NumericEvaluator
+
+GOLDEN = (math.sqrt(5) - 1) / 2
+
+
+def condition_numbers(instance, values: dict) -> dict:
+    """cond(E_i) (2-norm) of the theorem's well-conditioned expressions at a point."""
+    point = dict(instance.data)
+    point.update(values)
+    ev = NumericEvaluator(instance.dims, point, instance.params)
+    out = {}
+    for expr in instance.theorem.conditioned:
+        M = np.atleast_2d(ev.visit(expr))
+        eig = np.linalg.eigvalsh((M + M.T) / 2)
+        out[str(expr)] = {"cond": float(eig[-1] / eig[0]) if eig[0] > 0 else float("inf"),
+                          "min_eig": float(eig[0]), "max_eig": float(eig[-1])}
+    return out
+
+
+DEFAULT_DELTA = 1e-2
+
+
+def backoff_solution(model, solution, delta: float, solver=None, iterations: int = 12,
+                     decades: float = 6.0, **options):
+    """A new :class:`~lmidsl.solution.Solution` at the back-off point (see module docstring)."""
+    import cvxpy as cp
+
+    instance = model.instance
+    theorem = instance.theorem
+    if model.backend != "cvxpy":
+        raise SolverUnavailableError(f"back-off is implemented for the cvxpy backend, not {model.backend}")
+    if not theorem.conditioned:
+        raise InputError(f"{theorem.id}: declares no well_conditioned expressions; back-off has nothing to improve")
+    if theorem.objective is None or solution.objective is None:
+        raise InputError(f"{theorem.id}: back-off needs an optimal objective value")
+    if not delta > 0:
+        raise InputError(f"--backoff must be a positive relative margin, got {delta}")
+    compiler = model.compiler_class(model, None)
+    objective = compiler.visit(theorem.objective)
+    blocks = []
+    for expr in theorem.conditioned:
+        size = int(sp.sympify(expr.shape[0]).xreplace(instance.dims))
+        blocks.append((compiler.visit(expr), np.eye(size)))
+    beta_opt = float(solution.objective)
+    bound = beta_opt + delta * abs(beta_opt)
+    base = list(model.problem.constraints) + [objective <= bound]
+    name = model.solver_name(solver)
+
+    t_var = cp.Variable()
+    cp.Problem(cp.Maximize(t_var), base + [E >> t_var * Id for E, Id in blocks]).solve(solver=name, **options)
+    solves = 1
+    if t_var.value is None or not t_var.value > 0:
+        raise LmidslError(f"{theorem.id}: back-off: no point with objective ≤ {bound:.6g} and positive "
+                          f"definite {', '.join(map(str, theorem.conditioned))}")
+    t_max = float(t_var.value)
+
+    t = cp.Parameter(nonneg=True, value=t_max)
+    kappa = cp.Variable()
+    cons = base + [E >> t * Id for E, Id in blocks] + [E << kappa * Id for E, Id in blocks]
+    problem = cp.Problem(cp.Minimize(kappa), cons)
+
+    def ratio(u):
+        nonlocal solves
+        t.value = math.exp(u)
+        try:
+            problem.solve(solver=name, **options)
+        except cp.error.SolverError:
+            return math.inf
+        solves += 1
+        if problem.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) or kappa.value is None:
+            return math.inf
+        return float(kappa.value) / t.value
+
+    lo, hi = math.log(t_max) - decades * math.log(10), math.log(t_max * (1 - 1e-3))
+    a, b = hi - GOLDEN * (hi - lo), lo + GOLDEN * (hi - lo)
+    fa, fb = ratio(a), ratio(b)
+    for _ in range(iterations):
+        if fa <= fb:
+            hi, b, fb = b, a, fa
+            a = hi - GOLDEN * (hi - lo)
+            fa = ratio(a)
+        else:
+            lo, a, fa = a, b, fb
+            b = lo + GOLDEN * (hi - lo)
+            fb = ratio(b)
+    best = a if fa <= fb else b
+    if not math.isfinite(min(fa, fb)):
+        solution.backoff = {"delta": delta, "failed": f"every conditioning solve failed with {name} "
+                            f"(objective ≤ {bound:.6g}); try a larger δ", "solves": solves}
+        return solution
+    t.value = math.exp(best)
+    saved = model.problem
+    model.problem = problem
+    try:
+        new = model.solve(solver, **options)
+    finally:
+        model.problem = saved
+    solves += 1
+    new.objective = float(objective.value) if objective.value is not None else None
+    new.times["solve"] = new.times.get("solve", 0.0)
+    before = condition_numbers(instance, solution.values)
+    after = condition_numbers(instance, new.values) if new.ok else {}
+    new.backoff = {
+        "delta": delta, "objective_opt": beta_opt, "objective_bound": bound,
+        "objective": new.objective, "gamma_opt": solution.gamma, "gamma": new.gamma,
+        "t": float(t.value), "t_max": t_max, "kappa": float(kappa.value) if kappa.value is not None else None,
+        "cond_before": before, "cond_after": after, "solves": solves,
+        "optimum_lmis": [r.as_dict() for r in solution.lmis],
+    }
+    new.scaling = solution.scaling
+    return new

@@ -1,0 +1,146 @@
+"""BMI by successive LMIs: solve at a linearisation point, move the point, repeat.
+
+A theorem whose LMI holds only at a fixed point X̄ of a bilinear term declares the data that
+form the point and their update from a solved point (``Theorem.linearise(Sbar=S.I)``).  Typical
+case: −S⁻¹ ⪯ −S̄ − S̄ᵀ + S̄ᵀSS̄ for every S̄, with equality at S̄ = S⁻¹.  When, as there, the
+previous solution stays feasible at the updated point, the sequence of optimal γ is
+non-increasing; the driver stops when γ stops improving:
+
+    (γ_{k−1} − γ_k) ≤ rtol · γ_{k−1} + atol,   or k = max_iter,   or the LMI becomes infeasible
+
+and keeps the best certified solution met (every LMI's largest eigenvalue < 0 at the returned
+point), with the history of γ.  ``starts`` runs the iteration from
+several initial points (the paper's "choose several suitable S̄, P̄3") and keeps the best.
+"""
+from __future__ import annotations
+
+import sys
+import time
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ..errors import InputError
+from ..numeric.instance import Instance
+from ..numeric.evaluate import NumericEvaluator
+from ..pipeline import finish_solution
+from ..solver.backends import get_backend
+
+
+@dataclass
+class Step:
+    iteration: int
+    status: str
+    gamma: float | None
+    worst_eig: float | None
+    seconds: float
+    start: int = 0
+
+    def as_dict(self) -> dict:
+        return dict(self.__dict__)
+
+
+@dataclass
+class BMIResult:
+    """Best solution met, the history of every solve, and why the iteration stopped."""
+
+    best: object | None
+    history: list[Step] = field(default_factory=list)
+    stop_reason: str = ""
+    point: dict = field(default_factory=dict)   # the linearisation point of the best solve
+    best_start: int | None = None
+
+    @property
+    def gammas(self) -> list:
+        return [s.gamma for s in self.history]
+
+    @property
+    def gamma(self):
+        return None if self.best is None else self.best.gamma
+
+    def as_dict(self) -> dict:
+        return {"gamma": self.gamma, "stop_reason": self.stop_reason, "best_start": self.best_start,
+                "history": [s.as_dict() for s in self.history]}
+
+
+def with_data(instance: Instance, values: dict) -> Instance:
+    """The instance with some data matrices replaced (same shapes)."""
+    data = dict(instance.data)
+    for name, value in values.items():
+        if name not in data:
+            raise InputError(f"{instance.theorem.id}: unknown data {name}")
+        value = np.atleast_2d(np.asarray(value, dtype=float))
+        if value.shape != np.shape(data[name]):
+            raise InputError(f"{instance.theorem.id}: data {name} must stay {np.shape(data[name])}, got {value.shape}")
+        data[name] = value
+    return replace(instance, data=data)
+
+
+def next_point(instance: Instance, values: dict) -> dict:
+    """The linearisation point given by the theorem's update formulas at a solved point."""
+    point = dict(instance.data)
+    point.update(values)
+    ev = NumericEvaluator(instance.dims, point, instance.params)
+    out = {}
+    for name, expr in instance.theorem.linearisation.items():
+        M = np.atleast_2d(ev.visit(expr))
+        out[name] = (M + M.T) / 2 if getattr(instance.theorem.data_decl[name].symbol, "is_symmetric", False) else M
+    return out
+
+
+def successive_lmi(instance: Instance, *, starts: list[dict] | None = None, max_iter: int = 30,
+                   rtol: float = 1e-4, atol: float = 0.0, solver: str | None = None,
+                   backend: str = "cvxpy", margin: float | None = None, progress: bool = True,
+                   desc: str | None = None, certify: bool = True) -> BMIResult:
+    """Iterate the theorem's LMI over its linearisation point; return the best solution.
+
+    ``starts``: initial points (dicts of the linearisation data); default: the instance's data.
+    The best solution gets the theorem's recovery and analysis certificate (``certify``).
+    """
+
+    theorem = instance.theorem
+    if not theorem.linearisation:
+        raise InputError(f"{theorem.id}: declares no linearisation point (Theorem.linearise)")
+    starts = starts or [{}]
+    result = BMIResult(None)
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        bar = tqdm(total=max_iter * len(starts), desc=desc or theorem.id, file=sys.stderr, leave=False)
+    best_gamma = np.inf
+    try:
+        for s, start in enumerate(starts):
+            current = with_data(instance, start)
+            previous = None
+            reason = f"max_iter = {max_iter}"
+            for k in range(max_iter):
+                t0 = time.perf_counter()
+                sol = get_backend(backend)(current, margin=margin).solve(solver)
+                result.history.append(Step(k, sol.status if sol.certified or not sol.ok else "not certified",
+                                           sol.gamma, sol.worst_eig, time.perf_counter() - t0, s))
+                if bar is not None:
+                    bar.update(1)
+                    bar.set_postfix(start=s, gamma=f"{sol.gamma:.6g}" if sol.gamma else sol.status)
+                if not sol.ok or sol.gamma is None:
+                    reason = f"{sol.status} at iteration {k}"
+                    break
+                # only a point that satisfies every LMI (numpy eigenvalues) may become the best;
+                # an uncertified point still gives a valid next linearisation point
+                if sol.certified and sol.gamma < best_gamma:
+                    best_gamma = sol.gamma
+                    result.best, result.best_start = sol, s
+                    result.point = {n: np.asarray(current.data[n]) for n in theorem.linearisation}
+                if previous is not None and previous - sol.gamma <= rtol * previous + atol:
+                    reason = f"converged at iteration {k} (improvement below rtol = {rtol:g})"
+                    break
+                previous = sol.gamma
+                current = with_data(current, next_point(current, sol.values))
+            result.stop_reason += ("; " if result.stop_reason else "") + f"start {s}: {reason}"
+            if bar is not None:
+                bar.update(max_iter * (s + 1) - bar.n)
+    finally:
+        if bar is not None:
+            bar.close()
+    if result.best is not None:
+        finish_solution(result.best, solver=solver, backend=backend, certify=certify)
+    return result

@@ -1,0 +1,348 @@
+"""Cross-checking: one instance solved on every backend × solver pair, answers compared.
+
+>>> from lmidsl.check import check
+>>> result = check("wang_l2linf.thm3", example="paper-full")
+>>> result.agree, [(r.backend, r.solver, r.gamma, r.trusted) for r in result.rows]
+
+Each row is one backend/solver pair solving the same bound instance.  Two levels of belief:
+
+* **certified** — the returned point satisfies every LMI (largest eigenvalue of each ``N`` in
+  ``N ≺ 0`` negative, evaluated with numpy, see :func:`lmidsl.solution.lmi_certificate`) and,
+  where the theorem has an analysis counterpart, the analysis certifies the recovered filter at
+  the synthesis level.  A certified row's γ is a *valid upper bound*; it need not be the optimum.
+* **trusted** — certified, *and* the solver claims full accuracy: status ``optimal`` (not
+  ``optimal_inaccurate``) from a solver that is not first-order (:data:`FIRST_ORDER_SOLVERS`).
+  A first-order solver (SCS) stops when its scaled residuals are below ~1e-4; on these LMIs its
+  point is typically feasible but γ is off by ~1e-2, so its row is shown with its deviation and
+  counted as a certified bound only.
+
+The answers compared are γ (the theorem's performance figure) or else the objective.  The
+reference is the smallest value among trusted rows (a certified point proves its γ is
+attainable, so the smallest one is the best known answer); a trusted row more than
+``tolerance`` (relative, default :data:`DEFAULT_TOLERANCE`) above it **disagrees**.  Every row,
+trusted or not, shows its relative deviation from the reference, so loose solvers stay visible.
+A solver that fails (not installed, raises, returns no point) is a row carrying its error.
+"""
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import dataclass, field
+
+from ..pipeline import make_instance, solve_instance
+from ..solver.backends import BACKENDS, backend_sdp_solvers, resolve_solver
+from ..errors import InputError, LmidslError
+
+DEFAULT_TOLERANCE = 1e-3
+
+#: Solvers whose "optimal" is a first-order residual test (~1e-4 scaled), not an
+#: interior-point duality gap; their certified rows are bounds, never the reference.
+FIRST_ORDER_SOLVERS = frozenset({"scs", "cosmo"})
+
+
+@dataclass
+class CheckRow:
+    """One backend/solver pair's answer and how far it can be believed."""
+
+    backend: str
+    solver: str
+    options: dict = field(default_factory=dict)
+    status: str = "not run"
+    message: str = ""
+    error: str | None = None
+    objective: float | None = None
+    gamma: float | None = None
+    lmis: list = field(default_factory=list)          # LMIReport.as_dict() per LMI (and vertex)
+    analysis_theorem: str | None = None
+    analysis_gamma: float | None = None
+    analysis_passed: bool | None = None               # None: theorem has no analysis counterpart
+    wall_time: float = 0.0
+    solver_time: float | None = None
+    certified: bool = False
+    trusted: bool = False
+    reason: str = ""                                   # why not certified / not trusted
+    value: float | None = None                         # the compared number (γ or objective)
+    rel_diff: float | None = None                      # (value − reference) / |reference|
+    disagrees: bool = False
+
+    @property
+    def name(self) -> str:
+        return f"{self.backend}/{self.solver}"
+
+    def max_eig_by_label(self) -> dict:
+        """Largest eigenvalue per LMI label (worst over vertices)."""
+        out: dict = {}
+        for r in self.lmis:
+            out[r["label"]] = max(out.get(r["label"], float("-inf")), r["max_eig"])
+        return out
+
+    def as_dict(self) -> dict:
+        return {
+            "backend": self.backend, "solver": self.solver, "options": self.options,
+            "status": self.status, "message": self.message, "error": self.error,
+            "objective": self.objective, "gamma": self.gamma, "lmis": self.lmis,
+            "max_eig": self.max_eig_by_label(),
+            "analysis": None if self.analysis_passed is None and self.analysis_gamma is None else
+            {"theorem": self.analysis_theorem, "gamma": self.analysis_gamma, "passed": self.analysis_passed},
+            "wall_time": self.wall_time, "solver_time": self.solver_time,
+            "certified": self.certified, "trusted": self.trusted, "reason": self.reason,
+            "value": self.value, "rel_diff": self.rel_diff, "disagrees": self.disagrees,
+        }
+
+
+@dataclass
+class CheckResult:
+    """All rows of a cross-check and the verdict."""
+
+    theorem: str
+    example: str | None
+    compared: str                                      # "gamma" (performance name) or "objective"
+    tolerance: float
+    rows: list[CheckRow]
+    reference: CheckRow | None = None
+
+    @property
+    def trusted(self) -> list[CheckRow]:
+        return [r for r in self.rows if r.trusted]
+
+    @property
+    def disagreeing(self) -> list[CheckRow]:
+        return [r for r in self.rows if r.disagrees]
+
+    @property
+    def agree(self) -> bool:
+        """At least one trusted row, and no trusted row beyond the tolerance."""
+        return bool(self.trusted) and not self.disagreeing
+
+    @property
+    def spread(self) -> float | None:
+        """(max − min)/|min| of the compared value over trusted rows."""
+        values = [r.value for r in self.trusted if r.value is not None]
+        if len(values) < 1 or self.reference is None:
+            return None
+        return (max(values) - min(values)) / _scale(min(values))
+
+    @property
+    def exit_code(self) -> int:
+        """0 when the trusted answers agree, 1 when they disagree or no answer is trusted."""
+        return 0 if self.agree else 1
+
+    def verdict(self) -> str:
+        if not self.trusted:
+            counts: dict = {}
+            for r in self.rows:
+                counts[r.status] = counts.get(r.status, 0) + 1
+            seen = ", ".join(f"{k} x{v}" for k, v in counts.items())
+            return ("NO TRUSTED ANSWER: no row certifies its point with a solver claiming full "
+                    f"accuracy (statuses: {seen})")
+        ref = self.reference
+        what = f"{self.compared} = {ref.value:.8g} ({ref.name})" if ref and ref.value is not None else "no value"
+        if self.disagreeing:
+            names = ", ".join(f"{r.name} ({r.value:.8g}, +{r.rel_diff:.2e})" for r in self.disagreeing)
+            return (f"DISAGREEMENT beyond {self.tolerance:g} (relative on {self.compared}): best {what}; "
+                    f"trusted rows above it: {names}")
+        if len(self.trusted) == 1:
+            return f"one trusted row only, nothing to compare: {what}"
+        spread = self.spread
+        return (f"{len(self.trusted)} trusted row(s) agree within {self.tolerance:g} (relative on "
+                f"{self.compared}): best {what}" + (f", spread {spread:.1e}" if spread is not None else ""))
+
+    def as_dict(self) -> dict:
+        return {
+            "theorem": self.theorem, "example": self.example, "compared": self.compared,
+            "tolerance": self.tolerance,
+            "reference": None if self.reference is None else
+            {"backend": self.reference.backend, "solver": self.reference.solver, "value": self.reference.value},
+            "agree": self.agree, "spread": self.spread, "exit_code": self.exit_code,
+            "trusted": [r.name for r in self.trusted],
+            "disagreeing": [r.name for r in self.disagreeing],
+            "verdict": self.verdict(),
+            "rows": [r.as_dict() for r in self.rows],
+        }
+
+
+def _scale(x: float) -> float:
+    return max(abs(x), 1e-12)
+
+
+# -- which rows --------------------------------------------------------------------------
+def _backend_solvers(backend: str) -> tuple[list[str], str | None]:
+    """(installed SDP solvers of a backend, error text if the backend cannot be used)."""
+    try:
+        return backend_sdp_solvers(backend), None
+    except LmidslError as exc:
+        return [], str(exc)
+
+
+def plan_rows(solvers=None) -> list[tuple[str, str, str | None]]:
+    """(backend, solver, error) for each requested row.
+
+    ``solvers`` is None (every backend × every installed SDP solver), or a list / comma-separated
+    string of entries ``backend:solver``, ``backend`` (all its SDP solvers) or ``solver`` (every
+    backend that has it installed).  An entry no backend can run becomes an error row.
+    """
+    if isinstance(solvers, str):
+        solvers = [s for s in solvers.split(",")]
+    entries = [s.strip() for s in (solvers or BACKENDS) if s and s.strip()]
+    if not entries:
+        raise InputError("--solvers: give at least one backend, solver or backend:solver")
+    rows: list[tuple[str, str, str | None]] = []
+
+    def add(backend, solver, error=None):
+        key = (backend, solver.lower())
+        if all((b, s.lower()) != key for b, s, _ in rows):
+            rows.append((backend, solver, error))
+
+    for entry in entries:
+        backend, sep, solver = entry.partition(":")
+        backend, solver = backend.strip().lower(), solver.strip()
+        if sep:
+            if backend not in BACKENDS:
+                raise InputError(f"--solvers {entry}: unknown backend {backend!r}; available: {', '.join(BACKENDS)}")
+            try:
+                add(backend, resolve_solver(backend, solver))
+            except LmidslError as exc:
+                add(backend, solver, str(exc))
+        elif backend in BACKENDS:
+            names, error = _backend_solvers(backend)
+            if error:
+                add(backend, "-", error)
+            for name in names:
+                add(backend, name)
+        else:
+            name = entry.strip()
+            found = False
+            for b in BACKENDS:
+                names, _ = _backend_solvers(b)
+                match = [s for s in names if s.lower() == name.lower()]
+                if match:
+                    add(b, match[0])
+                    found = True
+            if not found:
+                errors = []
+                for b in BACKENDS:
+                    try:
+                        resolve_solver(b, name)
+                    except LmidslError as exc:
+                        errors.append(f"{b}: {exc}")
+                add(BACKENDS[0], name, "; ".join(errors) or f"no backend has solver {name!r}")
+    return rows
+
+
+def options_for(backend: str, solver: str, options: dict | None) -> dict:
+    """Solver options of one row: keys ``solver`` or ``backend:solver`` (case-insensitive)."""
+    out: dict = {}
+    for target, opts in (options or {}).items():
+        b, sep, s = target.partition(":")
+        if sep:
+            hit = b.strip().lower() == backend and s.strip().lower() == solver.lower()
+        else:
+            hit = target.strip().lower() == solver.lower()
+        if hit:
+            out.update(opts)
+    return out
+
+
+# -- running ------------------------------------------------------------------------------
+def run_row(instance, backend: str, solver: str, options: dict, margin=None, certify=True) -> CheckRow:
+    """Solve one row; every failure is recorded in the row, never raised."""
+    row = CheckRow(backend, solver, dict(options))
+    t0 = time.perf_counter()
+    try:
+        with warnings.catch_warnings(record=True) as caught:  # solver warnings go into the row
+            warnings.simplefilter("always")
+            sol = solve_instance(instance, solver, backend, margin, certify, **options)
+    except LmidslError as exc:
+        row.status, row.error = "error", str(exc)
+    except Exception as exc:  # a solver crash is an answer too: a row with its error
+        text = str(exc).splitlines()[0] if str(exc) else ""
+        row.status, row.error = "error", f"{type(exc).__name__}: {text}".rstrip(": ")
+    else:
+        notes = [sol.message] if sol.message else []
+        for w in caught:
+            text = str(w.message).split(".")[0].strip()
+            if text and text not in notes:
+                notes.append(text)
+        row.status, row.message = sol.status, "; ".join(notes)
+        row.objective, row.gamma = sol.objective, sol.gamma
+        row.lmis = [r.as_dict() for r in sol.lmis]
+        row.solver_time = sol.times.get("solver")
+        analysis = getattr(sol, "analysis", None)
+        if analysis is not None:
+            row.analysis_theorem, row.analysis_gamma = analysis.theorem, analysis.gamma
+            row.analysis_passed = analysis.passed
+        _judge(row, sol, instance)
+    row.wall_time = time.perf_counter() - t0
+    if row.error:
+        row.reason = "error"
+    return row
+
+
+def _judge(row: CheckRow, sol, instance) -> None:
+    """Set certified / trusted and the reason for each verdict."""
+    theorem = instance.theorem
+    if not sol.ok:
+        row.reason = f"no point (status {sol.status})"
+        return
+    if not sol.lmis:
+        row.reason = "no certificate evaluated"
+        return
+    worst = max(sol.lmis, key=lambda r: r.max_eig)
+    if worst.max_eig >= 0:
+        where = f" @ vertex {worst.vertex}" if worst.vertex is not None else ""
+        row.reason = f"certificate fails: max eig of {worst.label}{where} = {worst.max_eig:+.2e}"
+        return
+    needs_analysis = theorem.analysis is not None and bool(theorem.recovery)
+    if needs_analysis and row.analysis_passed is False:
+        g = "infeasible" if row.analysis_gamma is None else f"gamma {row.analysis_gamma:.6g}"
+        row.reason = f"analysis does not certify the recovered filter ({g})"
+        return
+    row.certified = True
+    if sol.status != "optimal":
+        row.reason = f"certified bound only: solver status {sol.status}"
+    elif row.solver.lower() in FIRST_ORDER_SOLVERS:
+        row.reason = "certified bound only: first-order solver (low accuracy)"
+    else:
+        row.trusted = True
+        row.reason = "trusted"
+
+
+def compare(rows: list[CheckRow], tolerance: float) -> CheckRow | None:
+    """Reference = smallest compared value among trusted rows; set rel_diff and disagreement."""
+    trusted = [r for r in rows if r.trusted and r.value is not None]
+    reference = min(trusted, key=lambda r: r.value, default=None)
+    if reference is None:
+        return None
+    for r in rows:
+        if r.value is not None:
+            r.rel_diff = (r.value - reference.value) / _scale(reference.value)
+            r.disagrees = r.trusted and r.rel_diff > tolerance
+    return reference
+
+
+def check(theorem, example: str | None = None, data: dict | None = None,
+          overrides: dict | None = None, solvers=None, options: dict | None = None,
+          tolerance: float = DEFAULT_TOLERANCE, margin: float | None = None,
+          certify: bool = True) -> CheckResult:
+    """Solve one instance on every requested backend × solver and compare the answers.
+
+    ``solvers``: see :func:`plan_rows`.  ``options``: ``{"clarabel": {...}}`` or
+    ``{"cvxpy:clarabel": {...}}``, passed to that row's solve (backend-specific names, e.g.
+    cvxpy's ``max_iter`` for Clarabel, PICOS's ``max_iterations``).
+    """
+    if not tolerance > 0:
+        raise InputError(f"--tolerance must be positive, got {tolerance}")
+    instance = make_instance(theorem, example, data, overrides)
+    thm = instance.theorem
+    compared = thm.performance[0] if thm.performance is not None else "objective"
+    rows = []
+    for backend, solver, error in plan_rows(solvers):
+        if error:
+            rows.append(CheckRow(backend, solver, status="error", error=error, reason="error"))
+            continue
+        rows.append(run_row(instance, backend, solver, options_for(backend, solver, options),
+                            margin=margin, certify=certify))
+    for r in rows:
+        r.value = r.gamma if thm.performance is not None else r.objective
+    reference = compare(rows, tolerance)
+    return CheckResult(thm.id, instance.example, compared, tolerance, rows, reference)

@@ -1,0 +1,269 @@
+"""Search over a theorem's fixed scalars (λ1, λ2, ε, ...): a grid, then a local refinement.
+
+Many synthesis theorems are LMIs only once some scalars are fixed (Pan/Sun's λ1, λ2, ε); the
+best level is then
+
+    γ*(θ) = min { γ : the LMIs hold at the scalars θ },      θ* = argmin_θ γ*(θ),
+
+a non-convex problem in θ.  :func:`scalar_search` evaluates γ*(θ) on a grid (in parallel,
+one compiled model per worker process, the scalars changed as backend parameters), then refines
+the best grid point with Nelder–Mead on θ ↦ γ*(θ).  With ``objective="tmin"`` the searched
+value is the feasp t*(θ) of :mod:`lmidsl.feasibility` instead (for feasibility theorems at a
+prescribed γ: θ with t*(θ) < 0 makes the LMIs strictly feasible).
+
+γ*(θ) is the solver's optimum, the infimum over the closure of the strict set; each point also
+records whether the solver's point satisfies the strict LMIs (``certified``), and the result
+keeps the best certified point apart.  Points where the solver returns no value count as +∞.
+"""
+from __future__ import annotations
+
+import itertools
+import math
+import multiprocessing
+import os
+import warnings
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from ..numeric.instance import Instance
+from ..solver.backends import get_backend
+from ..solver.feasibility import DEFAULT_RADIUS, JointFeasp
+
+OBJECTIVES = ("gamma", "tmin")
+
+
+@dataclass
+class SearchPoint:
+    """One evaluation: the scalars, the searched value, and what the solve said."""
+
+    params: dict
+    value: float
+    gamma: float | None = None
+    status: str = ""
+    certified: bool = False
+    worst_eig: float | None = None
+
+    def as_dict(self) -> dict:
+        return {"params": self.params, "value": None if math.isinf(self.value) else self.value,
+                "gamma": self.gamma, "status": self.status, "certified": self.certified,
+                "worst_eig": self.worst_eig}
+
+
+@dataclass
+class SearchResult:
+    theorem: str
+    example: str | None
+    objective: str
+    names: list
+    grid: list = field(default_factory=list)
+    refined: SearchPoint | None = None
+    refinement: dict = field(default_factory=dict)
+    evaluations: list = field(default_factory=list)
+
+    @property
+    def best_grid(self) -> SearchPoint | None:
+        finite = [p for p in self.grid if math.isfinite(p.value)]
+        return min(finite, key=lambda p: p.value, default=None)
+
+    @property
+    def best(self) -> SearchPoint | None:
+        candidates = [p for p in (self.best_grid, self.refined) if p is not None and math.isfinite(p.value)]
+        return min(candidates, key=lambda p: p.value, default=None)
+
+    @property
+    def best_certified(self) -> SearchPoint | None:
+        """The best point whose solver point satisfies the strict LMIs."""
+        if self.objective == "tmin":
+            ok = [p for p in self.grid + self.evaluations if p.value < 0]
+        else:
+            ok = [p for p in self.grid + self.evaluations if p.certified and math.isfinite(p.value)]
+        return min(ok, key=lambda p: p.value, default=None)
+
+    def as_dict(self) -> dict:
+        pick = lambda p: None if p is None else p.as_dict()  # noqa: E731
+        return {"theorem": self.theorem, "example": self.example, "objective": self.objective,
+                "names": self.names, "best": pick(self.best), "best_grid": pick(self.best_grid),
+                "refined": pick(self.refined), "refinement": self.refinement,
+                "best_certified": pick(self.best_certified),
+                "grid": [p.as_dict() for p in self.grid],
+                "evaluations": [p.as_dict() for p in self.evaluations]}
+
+
+class Evaluator:
+    """θ ↦ SearchPoint on one compiled model (built once, scalars updated as parameters)."""
+
+    def __init__(self, instance: Instance, objective: str, backend: str = "cvxpy",
+                 solver: str | None = None, margin: float | None = None, radius: float | None = None):
+
+        self.instance = instance
+        self.objective = objective
+        self.solver = solver
+        self.model = get_backend(backend)(instance, margin=margin, reuse=True)
+        self.feasp = JointFeasp(self.model, radius or DEFAULT_RADIUS) if objective == "tmin" else None
+
+    def __call__(self, params: dict) -> SearchPoint:
+        instance = self.instance.with_params(**params)
+        self.model.update(instance)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            if self.feasp is not None:
+                t, status = self.feasp.solve(self.solver)
+                return SearchPoint(dict(params), math.inf if t is None else t, status=status,
+                                   certified=t is not None and t < 0)
+            sol = self.model.solve(self.solver)
+        value = sol.gamma if sol.ok and sol.gamma is not None else math.inf
+        return SearchPoint(dict(params), value, sol.gamma, sol.status, sol.certified, sol.worst_eig)
+
+
+_WORKER: dict = {}
+
+
+def _init_worker(args):
+    _WORKER["evaluate"] = Evaluator(*args)
+
+
+def _evaluate_in_worker(params):
+    return _WORKER["evaluate"](params)
+
+
+def _check(instance: Instance, names) -> None:
+    theorem = instance.theorem
+    for name in names:
+        if name not in theorem.param_decl:
+            known = ", ".join(theorem.param_decl) or "none"
+            raise InputError(f"{theorem.id}: cannot search over {name!r}: not a scalar parameter "
+                             f"(parameters: {known})")
+
+
+def evaluate_grid(instance: Instance, points: list[dict], evaluator_args: tuple,
+                  workers: int | None = None, progress: bool | None = None) -> list[SearchPoint]:
+    """Evaluate every point, in parallel over ``workers`` processes, with a tqdm progress bar.
+
+    ``progress`` None shows the bar only on a terminal.  ``workers`` 1 evaluates in this process.
+    """
+    from tqdm import tqdm
+
+    if workers is None:
+        workers = min(len(points), os.cpu_count() or 1)
+    bar = tqdm(total=len(points), desc="scalar search", unit="pt", disable=progress is False
+               if progress is not None else None, leave=False)
+    results = [None] * len(points)
+    try:
+        if workers <= 1 or len(points) == 1:
+            evaluate = Evaluator(*evaluator_args)
+            for i, p in enumerate(points):
+                results[i] = evaluate(p)
+                bar.update()
+        else:
+            methods = multiprocessing.get_all_start_methods()
+            context = multiprocessing.get_context("fork" if "fork" in methods else None)
+            with ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker,
+                                     initargs=(evaluator_args,)) as pool:
+                futures = {pool.submit(_evaluate_in_worker, p): i for i, p in enumerate(points)}
+                for future in as_completed(futures):
+                    results[futures[future]] = future.result()
+                    bar.update()
+    finally:
+        bar.close()
+    return results
+
+
+def refine(evaluate: Evaluator, start: SearchPoint, names: list, steps: list,
+           bounds: list | None = None, maxfev: int = 80, xatol: float = 1e-4) -> tuple[SearchPoint, dict, list]:
+    """Nelder–Mead on θ ↦ value from ``start`` (initial simplex from ``steps``)."""
+    from scipy.optimize import minimize
+
+    cache: dict = {}
+    seen: list = []
+
+    def f(x):
+        key = tuple(np.round(x, 12))
+        if key not in cache:
+            point = evaluate(dict(zip(names, map(float, x))))
+            cache[key] = point
+            seen.append(point)
+        return cache[key].value
+
+    x0 = np.array([start.params[n] for n in names], dtype=float)
+    simplex = [x0] + [x0 + np.eye(len(names))[i] * steps[i] for i in range(len(names))]
+    if bounds is not None:
+        lo = np.array([b[0] if b[0] is not None else -np.inf for b in bounds])
+        hi = np.array([b[1] if b[1] is not None else np.inf for b in bounds])
+        simplex = [np.clip(x, lo, hi) for x in simplex]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = minimize(f, x0, method="Nelder-Mead", bounds=bounds,
+                       options={"initial_simplex": np.array(simplex), "xatol": xatol,
+                                "fatol": 1e-7, "maxfev": maxfev})
+    best = min(seen, key=lambda p: p.value) if seen else start
+    info = {"method": "Nelder-Mead", "nfev": len(seen), "converged": bool(res.success),
+            "message": str(res.message)}
+    return best, info, seen
+
+
+def scalar_search(instance: Instance, axes: dict, objective: str | None = None, *,
+                  refine_best: bool = False, workers: int | None = None, progress: bool | None = None,
+                  solver: str | None = None, backend: str = "cvxpy", margin: float | None = None,
+                  radius: float | None = None, maxfev: int = 80) -> SearchResult:
+    """Grid over ``axes`` ({name: [values]}), then (``refine_best``) Nelder–Mead from the best point.
+
+    ``objective``: "gamma" (the theorem's performance at its optimum; default when the theorem
+    minimises) or "tmin" (feasp t*; default for feasibility theorems).
+    """
+    theorem = instance.theorem
+    names = list(axes)
+    _check(instance, names)
+    if objective is None:
+        objective = "gamma" if theorem.objective is not None else "tmin"
+    if objective not in OBJECTIVES:
+        raise InputError(f"unknown search objective {objective!r}; use one of {', '.join(OBJECTIVES)}")
+    if objective == "gamma" and theorem.objective is None:
+        raise InputError(f"{theorem.id} has no objective to minimise; search with objective 'tmin'")
+    points = [dict(zip(names, combo)) for combo in itertools.product(*(axes[n] for n in names))]
+    if not points:
+        raise InputError("the grid is empty")
+    args = (instance, objective, backend, solver, margin, radius)
+    result = SearchResult(theorem.id, instance.example, objective, names)
+    result.grid = evaluate_grid(instance, points, args, workers, progress)
+    start = result.best_grid
+    if refine_best and start is not None:
+        steps = []
+        for n in names:
+            values = sorted(set(axes[n]))
+            gaps = np.diff(values)
+            steps.append(float(gaps.min()) if len(gaps) else max(0.1, 0.1 * abs(values[0])))
+        bounds = [theorem.param_decl[n].extra.get("domain") or (None, None) for n in names]
+        bounds = None if all(b == (None, None) for b in bounds) else bounds
+        result.refined, result.refinement, result.evaluations = refine(
+            Evaluator(*args), start, names, steps, bounds, maxfev)
+    return result
+
+
+def format_result(result: SearchResult, top: int = 8) -> str:
+    """A short text report: the best grid points, the refined point, the best certified one."""
+    value_name = "γ" if result.objective == "gamma" else "t*"
+
+    def line(p: SearchPoint) -> str:
+        params = ", ".join(f"{k} = {v:.6g}" for k, v in p.params.items())
+        val = "none" if math.isinf(p.value) else f"{p.value:.6g}"
+        cert = "" if result.objective == "tmin" else (" certified" if p.certified else " not certified")
+        return f"{value_name} = {val:<12} at {params}  ({p.status}{cert})"
+
+    ranked = sorted(result.grid, key=lambda p: p.value)
+    lines = [f"{result.theorem}" + (f" [{result.example}]" if result.example else "")
+             + f": search over {', '.join(result.names)} ({len(result.grid)} grid points, "
+             f"objective {value_name})",
+             "  best grid points:"]
+    lines += [f"    {line(p)}" for p in ranked[:top]]
+    if result.refined is not None:
+        info = result.refinement
+        lines.append(f"  refined ({info.get('method')}, {info.get('nfev')} evaluations): {line(result.refined)}")
+    best = result.best
+    lines.append(f"  best: {line(best)}" if best is not None else "  best: no point gave a value")
+    cert = result.best_certified
+    what = "certified" if result.objective == "gamma" else "strictly feasible (t* < 0)"
+    lines.append(f"  best {what}: {line(cert)}" if cert is not None else f"  no {what} point")
+    return "\n".join(lines)

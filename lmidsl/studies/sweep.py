@@ -1,0 +1,222 @@
+"""Parameter sweeps: compile once, re-solve per grid point.
+
+The instance is bound and (exactly) rescaled once, the backend model compiled once with every
+scalar parameter expression as a backend parameter (cvxpy Parameters, DPP), and each grid point
+only sets parameter values (``CompiledModel.update(instance.with_params(...))``) and re-solves.
+Per point the sweep records γ, status, the certificate (largest LMI eigenvalue at the returned
+point, computed with numpy), the solver-call time (the solver with its interface, as cvxpy
+measures it), the solver's own time when it reports one, and the total wall time; the overhead
+is the total minus the solver call: parameter update, cvxpy's re-use of its compiled form,
+reading values and the certificate.
+"""
+from __future__ import annotations
+
+import csv
+import itertools
+import json
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..pipeline import make_instance
+from ..solver.margin import solve_model
+from ..solver.backends import get_backend
+from ..errors import InputError
+from ..numeric.scaling import apply_scaling
+
+
+def parse_grid(text: str) -> tuple[str, list[float]]:
+    """'xi1=0.05:0.95:19' (start:stop:count, inclusive) or 'xi1=0.1,0.5,0.9' → (name, values)."""
+    name, sep, spec = text.partition("=")
+    name = name.strip()
+    if not sep or not name or not spec:
+        raise InputError(f"--grid {text!r}: expected NAME=START:STOP:COUNT or NAME=V1,V2,...")
+    try:
+        if ":" in spec:
+            start, stop, count = spec.split(":")
+            count = int(count)
+            if count < 1:
+                raise ValueError
+            values = np.linspace(float(start), float(stop), count).tolist()
+        else:
+            values = [float(v) for v in spec.split(",")]
+    except ValueError:
+        raise InputError(f"--grid {text!r}: expected NAME=START:STOP:COUNT (COUNT ≥ 1) or NAME=V1,V2,...") from None
+    return name, [round(v, 12) for v in values]
+
+
+@dataclass
+class SweepPoint:
+    params: dict
+    status: str
+    gamma: float | None
+    objective: float | None
+    worst_eig: float | None
+    solver_call: float | None
+    solver_internal: float | None
+    total: float
+
+    def as_dict(self) -> dict:
+        return dict(self.__dict__)
+
+
+@dataclass
+class SweepResult:
+    theorem: str
+    example: str | None
+    solver: str
+    grid: dict
+    points: list = field(default_factory=list)
+    compile_time: float = 0.0
+    first_solve: float = 0.0
+    scaling: dict | None = None
+    labels: dict = field(default_factory=dict)   # parameter name → LaTeX name (figure axes)
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "SweepResult":
+        """Read back what :meth:`as_dict` wrote (e.g. to redraw a figure without re-solving)."""
+        t = d.get("timing", {})
+        return cls(d["theorem"], d.get("example"), d["solver"], d["grid"],
+                   [SweepPoint(**p) for p in d["points"]], t.get("compile", 0.0),
+                   t.get("first_point", 0.0), d.get("scaling"), d.get("labels", {}))
+
+    def _label(self, name: str) -> str:
+        tex = self.labels.get(name)
+        return f"${tex}$ ({name})" if tex and tex != name else name
+
+    def timing(self) -> dict:
+        """Mean per-point times, excluding the first point (cvxpy builds its parametrised form then)."""
+        pts = self.points[1:] if len(self.points) > 1 else self.points
+        calls = [p.solver_call for p in pts if p.solver_call is not None]
+        internal = [p.solver_internal for p in pts if p.solver_internal is not None]
+        total = float(np.mean([p.total for p in pts])) if pts else float("nan")
+        call = float(np.mean(calls)) if calls else float("nan")
+        out = {"points_timed": len(pts), "total_per_point": total, "solver_call_per_point": call,
+               "overhead_per_point": total - call, "overhead_ratio": (total - call) / call,
+               "compile": self.compile_time, "first_point": self.first_solve}
+        if internal:
+            own = float(np.mean(internal))
+            out.update(solver_internal_per_point=own, overhead_vs_solver_internal=(total - own) / own)
+        return out
+
+    def as_dict(self) -> dict:
+        return {"theorem": self.theorem, "example": self.example, "solver": self.solver,
+                "grid": self.grid, "labels": self.labels, "scaling": self.scaling,
+                "timing": self.timing(), "certified": self.certified_count(),
+                "points": [p.as_dict() for p in self.points]}
+
+    def certified_count(self) -> int:
+        """Points whose returned point satisfies every strict LMI (largest eigenvalue < 0)."""
+        return sum(1 for p in self.points if p.worst_eig is not None and p.worst_eig < 0)
+
+    def gamma_array(self) -> np.ndarray:
+        """γ on the grid as an array of shape (len(values) for each grid parameter)."""
+        shape = [len(v) for v in self.grid.values()]
+        return np.array([np.nan if p.gamma is None else p.gamma for p in self.points]).reshape(shape)
+
+    def write_csv(self, path) -> None:
+        names = list(self.grid)
+        with open(path, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(names + ["status", "gamma", "objective", "worst_eig", "solver_call_s",
+                                "solver_internal_s", "total_s"])
+            for p in self.points:
+                w.writerow([p.params[n] for n in names] + [p.status, p.gamma, p.objective, p.worst_eig,
+                                                            p.solver_call, p.solver_internal, p.total])
+
+    def write_json(self, path) -> None:
+        Path(path).write_text(json.dumps(self.as_dict(), indent=2, default=float))
+
+    def figure(self, path, title: str | None = None) -> None:
+        """γ over the grid: a line for one parameter, a surface and contour map for two."""
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        names = list(self.grid)
+        gamma = self.gamma_array()
+        title = title or f"γ* of {self.theorem}" + (f" [{self.example}]" if self.example else "")
+        if len(names) == 1:
+            fig, ax = plt.subplots(figsize=(6, 4))
+            ax.plot(self.grid[names[0]], gamma, "o-")
+            ax.set_xlabel(self._label(names[0]))
+            ax.set_ylabel("γ*")
+            ax.grid(True, alpha=0.3)
+        elif len(names) == 2:
+            x, y = np.meshgrid(self.grid[names[0]], self.grid[names[1]], indexing="ij")
+            fig = plt.figure(figsize=(11, 4.6))
+            ax = fig.add_subplot(1, 2, 1, projection="3d")
+            ax.plot_surface(x, y, gamma, cmap="viridis", edgecolor="k", linewidth=0.2)
+            ax.set_xlabel(self._label(names[0]))
+            ax.set_ylabel(self._label(names[1]))
+            ax.set_zlabel("γ*")
+            ax.view_init(elev=28, azim=45)
+            ax2 = fig.add_subplot(1, 2, 2)
+            cs = ax2.contourf(x, y, gamma, levels=20, cmap="viridis")
+            ax2.contour(x, y, gamma, levels=10, colors="k", linewidths=0.4)
+            fig.colorbar(cs, ax=ax2, label="γ*")
+            ax2.set_xlabel(self._label(names[0]))
+            ax2.set_ylabel(self._label(names[1]))
+        else:
+            raise InputError("a figure needs one or two grid parameters")
+        fig.suptitle(title)
+        fig.tight_layout()
+        fig.savefig(path, dpi=120)
+        plt.close(fig)
+
+
+def sweep(theorem, grids: list, example: str | None = None, data: dict | None = None,
+          overrides: dict | None = None, solver: str | None = None, backend: str = "cvxpy",
+          margin: float | None = None, scaling="auto", progress=None, **options) -> SweepResult:
+    """Solve ``theorem`` at every point of the product of ``grids`` = [(name, values), ...]."""
+    instance = make_instance(theorem, example, data, overrides)
+    thm = instance.theorem
+    for name, _ in grids:
+        if name not in thm.param_decl:
+            raise InputError(f"{thm.id}: --grid {name}: not a parameter (parameters: "
+                             f"{', '.join(thm.param_decl) or 'none'})")
+    if len({n for n, _ in grids}) != len(grids):
+        raise InputError(f"{thm.id}: a grid parameter is given twice")
+    for name, values in grids:  # check domains before compiling
+        for v in (min(values), max(values)):
+            instance.with_params(**{name: v})
+    applied = apply_scaling(instance, scaling)
+    base = applied.scaled
+    model_class = get_backend(backend)  # imports the backend: not part of the compile time
+    t0 = time.perf_counter()
+    model = model_class(base, margin=margin, reuse=True)  # parameters stay backend parameters
+    result = SweepResult(thm.id, instance.example, model.solver_name(solver),
+                         {n: list(v) for n, v in grids}, compile_time=time.perf_counter() - t0,
+                         scaling=applied.as_dict(),
+                         labels={n: thm.param_decl[n].latex for n, _ in grids})
+    names = [n for n, _ in grids]
+    combos = list(itertools.product(*[v for _, v in grids]))
+    for k, combo in enumerate(progress(combos) if progress else combos):
+        params = dict(zip(names, combo))
+        t1 = time.perf_counter()
+        model.update(base.with_params(**params))
+        # with margin escalation, as a single solve: a point must satisfy the strict LMIs
+        sol = solve_model(model, solver, restore_margin=True, **options)
+        total = time.perf_counter() - t1
+        if k == 0:
+            result.first_solve = total
+        internal = sol.times.get("solver")
+        call = sol.times["solver_calls"]
+        result.points.append(SweepPoint(params, sol.status, sol.gamma, sol.objective, sol.worst_eig,
+                                        call, internal if internal != call else None, total))
+    return result
+
+
+def format_timing(t: dict) -> str:
+    lines = [f"compile {t['compile'] * 1e3:.1f} ms once; first point {t['first_point'] * 1e3:.1f} ms "
+             "(cvxpy builds its parametrised form)",
+             f"per point (mean of {t['points_timed']}): total {t['total_per_point'] * 1e3:.1f} ms, "
+             f"solver call {t['solver_call_per_point'] * 1e3:.1f} ms, overhead "
+             f"{t['overhead_per_point'] * 1e3:.1f} ms = {100 * t['overhead_ratio']:.1f} % of the solver call"]
+    if "solver_internal_per_point" in t and math.isfinite(t["solver_internal_per_point"]):
+        lines.append(f"(solver's own reported time {t['solver_internal_per_point'] * 1e3:.1f} ms; "
+                     f"everything else {100 * t['overhead_vs_solver_internal']:.1f} % of it)")
+    return "\n".join(lines)

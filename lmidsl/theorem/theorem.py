@@ -1,0 +1,497 @@
+"""The Theorem object: one paper theorem, stated once, in the paper's notation.
+
+A theorem file creates a :class:`Theorem`, declares dimensions, data, decision variables and
+scalar parameters, writes each LMI as a block triangle with the paper's label, states the
+objective, the recovery formulas and (optionally) the analysis theorem that certifies the
+recovered filter, and lists named examples with the values the paper prints.
+
+Every LMI is checked when it is declared: each block's products and sums must conform
+(symbolic dimensions, see :mod:`lmidsl.shapes`) and each block must be affine in the decision
+variables (:mod:`lmidsl.linearity`).  Errors name the theorem, the LMI label and the block.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import sympy as sp
+
+from ..symbolic.blocks import BlockMatrixSpec, block_matrix
+from ..errors import LmidslError, ShapeMismatchError, TheoremDefinitionError
+from ..symbolic.linearity import check_affine
+from ..symbolic.shapes import check_conformance
+from ..symbolic.uncertainty import uncertain_symbol
+from ..symbolic.symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, RecoveredMatrix,
+                      ScalarVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
+                      Variable)
+
+
+TIME_DOMAINS = ("discrete", "continuous")
+
+
+@dataclass(frozen=True)
+class Source:
+    """Where a theorem comes from: the paper file and its equation numbers."""
+
+    paper: str
+    equations: str
+    citation: str = ""
+
+    def __str__(self):
+        text = f"{self.paper} {self.equations}"
+        return f"{self.citation}, {text}" if self.citation else text
+
+
+@dataclass
+class LMI:
+    """A labelled block LMI ``M < 0`` (or ``M > 0``) as the paper writes it."""
+
+    label: str
+    spec: BlockMatrixSpec
+    sense: str = "<"
+    strict: bool = True
+    description: str = ""
+    per_vertex: bool = False
+    _negative: BlockMatrixSpec | None = field(default=None, repr=False, compare=False)
+    _symbols: frozenset | None = field(default=None, repr=False, compare=False)
+
+    def negative_form(self) -> BlockMatrixSpec:
+        """The matrix N with the LMI stated as N ≺ 0 (N = M for '<', N = −M for '>'); built once."""
+        if self.sense in ("<", "<="):
+            return self.spec
+        if self._negative is None:
+            lower = [[-b for b in row] for row in self.spec.lower]
+            self._negative = BlockMatrixSpec(lower, self.spec.sizes, self.spec.given_as)
+        return self._negative
+
+    def symbols(self) -> set:
+        """Every symbol in the LMI's blocks (computed once; an LMI does not change)."""
+        if self._symbols is None:
+            atoms = set()
+            for row in self.spec.lower:
+                for b in row:
+                    atoms |= b.atoms(sp.Symbol, sp.MatrixSymbol)
+            self._symbols = frozenset(atoms)
+        return self._symbols
+
+
+@dataclass
+class Example:
+    """A named numerical instance with the values the paper prints.
+
+    ``data`` maps data names to matrices (nested lists) and dimension names to integers;
+    ``vertices`` lists per-vertex data for polytopic theorems; ``params`` the scalar parameters;
+    ``printed`` the paper's printed results, with ``printed_note`` saying where they are
+    printed: ``gamma`` is an optimum to reproduce, ``gamma_bound`` a level the paper claims
+    for a fixed filter (the analysis must certify a γ at or below it), and matrices by name.
+    """
+
+    name: str
+    data: dict
+    params: dict = field(default_factory=dict)
+    printed: dict = field(default_factory=dict)
+    vertices: list | None = None
+    description: str = ""
+    printed_note: str = ""
+
+    def inputs(self) -> dict:
+        merged = dict(self.data)
+        merged.update(self.params)
+        if self.vertices is not None:
+            merged["vertices"] = self.vertices
+        return merged
+
+
+@dataclass
+class AnalysisLink:
+    """The analysis theorem that certifies a recovered filter.
+
+    The analysis instance takes every datum and parameter of the synthesis instance whose name
+    it declares, plus the recovered matrices (``filter`` names).
+    """
+
+    theorem: str
+    filter: tuple
+    gamma_tolerance: float = 1e-3
+
+
+@dataclass
+class ErrorSystemLink:
+    """The filtering-error system of a theorem whose data include the filter, for certification.
+
+    ``system`` is a :class:`lmidsl.certify.ErrorSystem` in the theorem's symbols, ``figure`` the
+    exact figure that applies ('energy_to_peak' or 'h_infinity'), ``filter`` the names of the
+    filter matrices among the data, ``simulate(d, w, runs, rng)`` the original model with the
+    filter in numpy (for Monte Carlo; optional).
+    """
+
+    system: Any
+    figure: str
+    filter: tuple
+    simulate: Any = None
+
+
+FIGURES = ("energy_to_peak", "h_infinity")
+
+
+@dataclass
+class FactorStep:
+    """A recovery step: ``names`` = ``factorization(*args)`` with ``args`` evaluated numerically."""
+
+    names: tuple
+    factorization: Any
+    args: tuple
+
+
+@dataclass
+class SignalScaling:
+    """An exact change of units of one signal, u = S u' with S = diag(s) > 0.
+
+    Data in ``rows`` produce the signal (M' = S⁻¹M), data in ``cols`` consume it (M' = M S);
+    recovered matrices are mapped back: ``recovered_cols`` (consumers) M = M' S⁻¹,
+    ``recovered_rows`` (producers) M = S M'.  The theorem author asserts that this substitution
+    is a change of coordinates under which the theorem's conditions and γ are invariant.
+    """
+
+    signal: str
+    rows: tuple = ()
+    cols: tuple = ()
+    recovered_rows: tuple = ()
+    recovered_cols: tuple = ()
+    description: str = ""
+
+
+@dataclass
+class Declaration:
+    symbol: Any
+    latex: str
+    description: str
+    extra: dict = field(default_factory=dict)
+
+
+class Theorem:
+    """A theorem: declarations, LMIs, objective, recovery, analysis counterpart, examples."""
+
+    def __init__(self, id: str, title: str, source: Source, *, description: str = "",
+                 time: str = "discrete"):
+        if time not in TIME_DOMAINS:
+            raise TheoremDefinitionError(f"{id}: time must be one of {TIME_DOMAINS}, got {time!r}")
+        self.id = id
+        self.title = title
+        self.source = source
+        self.description = description
+        self.time = time
+        self.dims: dict[str, Dim] = {}
+        self.data_decl: dict[str, Declaration] = {}
+        self.var_decl: dict[str, Declaration] = {}
+        self.param_decl: dict[str, Declaration] = {}
+        self.derived_decl: dict[str, Declaration] = {}
+        self.notation: dict[str, Declaration] = {}
+        self.uncertain_decl: dict[str, Declaration] = {}
+        self.lmis: list[LMI] = []
+        self.objective: sp.Expr | None = None
+        self.performance: tuple[str, sp.Expr] | None = None
+        self.recovery: dict[str, sp.MatrixExpr] = {}
+        self.recovery_steps: list = []          # ("formula", name) or FactorStep, in order
+        self.intermediate_decl: dict[str, Declaration] = {}
+        self.scalings: list[SignalScaling] = []
+        self.conditioned: list[sp.MatrixExpr] = []
+        self.analysis: AnalysisLink | None = None
+        self.certification: ErrorSystemLink | None = None
+        self.linearisation: dict[str, sp.MatrixExpr] = {}
+        self.examples: dict[str, Example] = {}
+        self.reported: dict[str, sp.Expr] = {}
+        self.checks: list = []
+
+    # -- declarations -------------------------------------------------------------------
+    def _check_new(self, name: str):
+        taken = (self.dims.keys() | self.data_decl.keys() | self.var_decl.keys()
+                 | self.param_decl.keys() | self.derived_decl.keys() | self.notation.keys()
+                 | self.uncertain_decl.keys() | self.intermediate_decl.keys())
+        if name in taken:
+            raise TheoremDefinitionError(f"{self.id}: the name {name!r} is declared twice")
+
+    def dim(self, names: str) -> Dim | tuple[Dim, ...]:
+        """Declare dimensions: ``n, k = thm.dim("n k")``."""
+        made = []
+        for name in names.split():
+            self._check_new(name)
+            self.dims[name] = Dim(name)
+            made.append(self.dims[name])
+        return made[0] if len(made) == 1 else tuple(made)
+
+    @staticmethod
+    def _describe(symbol, latex, description):
+        symbol.latex_name = latex or symbol.name
+        symbol.description = description
+        return symbol
+
+    def data(self, name: str, rows, cols, *, latex: str | None = None, description: str = "",
+             symmetric: bool = False, per_vertex: bool = False) -> DataMatrix:
+        """Declare a given matrix of shape rows × cols (dimension symbols or integers)."""
+        self._check_new(name)
+        cls = SymmetricDataMatrix if symmetric else DataMatrix
+        symbol = self._describe(cls(name, rows, cols, self.id), latex, description)
+        symbol.per_vertex = per_vertex
+        self.data_decl[name] = Declaration(symbol, symbol.latex_name, description)
+        return symbol
+
+    def var(self, name: str, rows, cols=None, *, kind: str = "full", latex: str | None = None,
+            description: str = "", per_vertex: bool = False):
+        """Declare a decision matrix; ``kind`` is 'full', 'symmetric' or 'diagonal'."""
+        self._check_new(name)
+        classes = {"full": Variable, "symmetric": SymmetricVariable, "diagonal": DiagonalVariable}
+        if kind not in classes:
+            raise TheoremDefinitionError(f"{self.id}: variable {name}: unknown kind {kind!r}")
+        cols = rows if cols is None else cols
+        if kind != "full" and sp.expand(sp.sympify(rows) - sp.sympify(cols)) != 0:
+            raise TheoremDefinitionError(f"{self.id}: {kind} variable {name} must be square")
+        symbol = self._describe(classes[kind](name, rows, cols, self.id), latex,
+                                 description)
+        symbol.per_vertex = per_vertex
+        self.var_decl[name] = Declaration(symbol, symbol.latex_name, description)
+        return symbol
+
+    def scalar(self, name: str, *, latex: str | None = None, description: str = "",
+               nonneg: bool = False) -> ScalarVariable:
+        """Declare a scalar decision variable (e.g. g = γ², a multiplier ε)."""
+        self._check_new(name)
+        symbol = self._describe(ScalarVariable(name, self.id), latex, description)
+        self.var_decl[name] = Declaration(symbol, symbol.latex_name, description, {"nonneg": nonneg})
+        return symbol
+
+    def structured(self, name: str, rows, *, latex: str | None = None, description: str = "",
+                   symmetric: bool = False) -> StructuredVariable:
+        """Declare a named matrix assembled from other variables, e.g. Λ = [[X, Z], [Z, Z]]."""
+        self._check_new(name)
+        expansion = sp.BlockMatrix(rows)
+        shape = check_conformance(expansion)
+        symbol = self._describe(StructuredVariable(name, *shape, self.id), latex,
+                                 description)
+        symbol.expansion = expansion
+        symbol.symmetric = symmetric
+        symbol.per_vertex = any(getattr(a, "per_vertex", False) for a in expansion.atoms(sp.MatrixSymbol))
+        self.var_decl[name] = Declaration(symbol, symbol.latex_name, description)
+        return symbol
+
+    def param(self, name: str, *, latex: str | None = None, description: str = "",
+              domain: tuple[float, float] | None = None, open_domain: bool = False,
+              domain_note: str = "", default: float | None = None) -> Param:
+        """Declare a scalar parameter.
+
+        ``domain`` = (low, high) is checked at bind time, closed unless ``open_domain``;
+        ``domain_note`` says why (it is printed with the error).
+        """
+        self._check_new(name)
+        symbol = self._describe(Param(name, self.id), latex, description)
+        self.param_decl[name] = Declaration(symbol, symbol.latex_name, description,
+                                            {"domain": domain, "open": open_domain,
+                                             "note": domain_note, "default": default})
+        return symbol
+
+    def derived(self, name: str, definition, *, latex: str | None = None,
+                description: str = "") -> DerivedParam:
+        """Declare a named scalar defined from parameters, e.g. a = (1 − r̄) r̄."""
+        self._check_new(name)
+        symbol = self._describe(DerivedParam(name, self.id), latex, description)
+        symbol.definition = sp.sympify(definition)
+        self.derived_decl[name] = Declaration(symbol, symbol.latex_name, description)
+        return symbol
+
+    def define(self, name: str, expr, *, latex: str | None = None, description: str = ""):
+        """Name a matrix expression as the paper does (A_cl0 = [[A, 0], [r̄ B_f C, A_f]]).
+
+        Returns ``expr`` unchanged: LMIs and the compiler see the expression; the LaTeX
+        printer prints ``latex`` in its place and states the definition below the LMI.
+        """
+        self._check_new(name)
+        self.notation[name] = Declaration(expr, latex or name, description)
+        return expr
+
+    def uncertain(self, name: str, rows=None, cols=None, *, bound, pattern=None, points=None,
+                  latex: str | None = None, description: str = ""):
+        """Declare an uncertain scalar |Δ| ≤ bound (or matrix |Δ_ij| ≤ bound) entering affinely.
+
+        Every LMI that mentions it is imposed at the vertices (or at the ``points`` an instance
+        chooses, in units of the bound) with common variables; see :mod:`lmidsl.uncertainty`.
+        """
+        self._check_new(name)
+        symbol = uncertain_symbol(self.id, name, rows, cols, bound=bound, pattern=pattern,
+                                  latex=latex, description=description)
+        self.uncertain_decl[name] = Declaration(symbol, symbol.latex_name, description,
+                                                {"bound": symbol.bound, "points": points})
+        return symbol
+
+    # -- conditions ---------------------------------------------------------------------
+    def lmi(self, label: str, rows, *, sense: str = "<", triangle: str = "lower", sizes=None,
+            strict: bool = True, description: str = "") -> LMI:
+        """Declare the block LMI ``label``: one triangle of blocks, ``sense`` '<' or '>'."""
+        if sense not in ("<", ">", "<=", ">="):
+            raise TheoremDefinitionError(f"{self.id}: LMI {label}: sense must be '<' or '>'")
+        if any(l.label == label for l in self.lmis):
+            raise TheoremDefinitionError(f"{self.id}: LMI label {label} is used twice")
+        where = f"{self.id}: LMI {label}"
+        spec = block_matrix(rows, triangle=triangle, sizes=sizes, where=where)
+        for i, row in enumerate(spec.lower):
+            for j, blk in enumerate(row):
+                try:
+                    check_conformance(blk)
+                    check_affine(blk)
+                except LmidslError as exc:
+                    raise type(exc)(f"{where} block ({i + 1},{j + 1}): {exc}") from None
+        lmi = LMI(label, spec, sense, strict and sense in ("<", ">"), description)
+        if any(isinstance(a, RecoveredMatrix) for a in lmi.symbols()):
+            raise TheoremDefinitionError(f"{where}: uses a recovery intermediate (declared by factor)")
+        lmi.per_vertex = any(getattr(s, "per_vertex", False) for s in lmi.symbols())
+        self.lmis.append(lmi)
+        return lmi
+
+    def positive(self, *variables, label: str | None = None) -> list[LMI]:
+        """Declare ``X > 0`` for each variable (labelled 'X > 0' unless ``label`` is given)."""
+        return [self.lmi(label or f"{v.name} > 0", [[v]], sense=">") for v in variables]
+
+    def minimize(self, objective, *, performance: tuple[str, Any] | None = None):
+        """Minimise a linear scalar objective; ``performance`` = (name, expr) e.g. ('gamma', √g)."""
+        self.objective = sp.sympify(objective)
+        if performance is not None:
+            self.performance = (performance[0], sp.sympify(performance[1]))
+
+    def feasibility(self, *, performance: tuple[str, Any] | None = None):
+        """A feasibility problem (no objective); ``performance`` = (name, expr) names the level
+        the LMIs are stated at, e.g. ('gamma', γ) for a prescribed γ parameter."""
+        self.objective = None
+        if performance is not None:
+            self.performance = (performance[0], sp.sympify(performance[1]))
+
+    def report(self, **values):
+        """Named scalar values evaluated at the solution, e.g. ``gamma_1=sqrt(rho_1)``.
+
+        They are printed with the solution and, when the analysis theorem declares the same
+        names, compared with the analysis values.
+        """
+        for name, expr in values.items():
+            self.reported[name] = sp.sympify(expr)
+
+    def verify_with(self, *checks):
+        """Extra certificates run after recovery: callables ``check(solution) -> CheckResult``
+        (frequency sweeps, simulations; see :mod:`lmidsl.checks`)."""
+        self.checks.extend(checks)
+
+    def recover(self, **formulas):
+        """Recovery formulas, e.g. ``Af=V2.I * Af_hat``: evaluated after the solve, in order."""
+        for name, expr in formulas.items():
+            try:
+                check_conformance(expr)
+            except ShapeMismatchError as exc:
+                raise ShapeMismatchError(f"{self.id}: recovery of {name}: {exc}") from None
+            self.recovery[name] = expr
+            self.recovery_steps.append(("formula", name))
+
+    def factor(self, names: str, factorization, *args, latex: str | None = None,
+               description: str = ""):
+        """Recovery intermediates computed by a library factorisation, e.g.
+        ``R, S = thm.factor("R S", rs_split, I - X*Z.I)`` for R Sᵀ = I − X Z⁻¹.
+
+        ``factorization`` is a :class:`lmidsl.factorization.Factorization`; its arguments are
+        matrix expressions evaluated at the solved point.  The returned symbols may be used in
+        later recovery formulas (``Af = R.I * Af_hat * ...``).
+        """
+        names = names.split()
+        try:
+            shapes = [check_conformance(a) for a in args]
+        except ShapeMismatchError as exc:
+            raise ShapeMismatchError(f"{self.id}: factor {' '.join(names)}: {exc}") from None
+        out = factorization.shapes(*shapes)
+        if len(out) != len(names):
+            raise TheoremDefinitionError(
+                f"{self.id}: factor {' '.join(names)}: {factorization.name} gives {len(out)} matrices")
+        symbols = []
+        latex = (latex or "").split() or names
+        for name, shape, tex in zip(names, out, latex):
+            self._check_new(name)
+            symbol = self._describe(RecoveredMatrix(name, *shape, self.id), tex, description)
+            self.intermediate_decl[name] = Declaration(symbol, symbol.latex_name, description)
+            symbols.append(symbol)
+        self.recovery_steps.append(FactorStep(tuple(names), factorization, tuple(args)))
+        return symbols[0] if len(symbols) == 1 else tuple(symbols)
+
+    def scale_signal(self, signal: str, *, rows=(), cols=(), recovered_rows=(), recovered_cols=(),
+                     description: str = "") -> SignalScaling:
+        """Declare an exact rescaling of ``signal`` the library may apply and undo (see
+        :class:`SignalScaling` and :mod:`lmidsl.scaling`)."""
+        for name in (*rows, *cols):
+            if name not in self.data_decl:
+                raise TheoremDefinitionError(f"{self.id}: scaling of {signal}: {name} is not declared data")
+        decl = SignalScaling(signal, tuple(rows), tuple(cols), tuple(recovered_rows),
+                             tuple(recovered_cols), description)
+        self.scalings.append(decl)
+        return decl
+
+    def well_conditioned(self, *exprs):
+        """Positive definite expressions the recovery inverts (e.g. Z and X − Z); the back-off
+        (:mod:`lmidsl.backoff`) improves their conditioning at a γ slightly above the optimum."""
+        for expr in exprs:
+            try:
+                check_conformance(expr)
+                check_affine(expr)
+            except LmidslError as exc:
+                raise type(exc)(f"{self.id}: well_conditioned {expr}: {exc}") from None
+            self.conditioned.append(expr)
+
+    def linearise(self, **updates):
+        """Data that are a linearisation point, with their update from a solved point.
+
+        E.g. ``Sbar=S.I``: after a solve, the datum ``Sbar`` is replaced by ``S⁻¹`` and the LMI
+        is solved again (BMI by successive LMIs, :mod:`lmidsl.bmi`).
+        """
+        for name, expr in updates.items():
+            if name not in self.data_decl:
+                raise TheoremDefinitionError(f"{self.id}: linearisation point {name} is not declared data")
+            check_conformance(expr)
+            self.linearisation[name] = expr
+
+    def certified_by(self, theorem: str, filter: tuple, gamma_tolerance: float = 1e-3):
+        """Name the analysis theorem that certifies the recovered ``filter`` matrices."""
+        self.analysis = AnalysisLink(theorem, tuple(filter), gamma_tolerance)
+
+    def error_system(self, system, *, figure: str, filter: tuple, simulate=None):
+        """Declare the error system (data + filter -> stochastic system), its figure and simulation."""
+        if figure not in FIGURES:
+            raise TheoremDefinitionError(f"{self.id}: error_system: figure must be one of {', '.join(FIGURES)}")
+        missing = [f for f in filter if f not in self.data_decl]
+        if missing:
+            raise TheoremDefinitionError(f"{self.id}: error_system: filter {missing} are not declared data")
+        self.certification = ErrorSystemLink(system, figure, tuple(filter), simulate)
+
+    def example(self, name: str, data: dict, *, params: dict | None = None,
+                printed: dict | None = None, vertices: list | None = None,
+                description: str = "", printed_note: str = "") -> Example:
+        """Attach a named example with the values the paper prints."""
+        ex = Example(name, data, params or {}, printed or {}, vertices, description, printed_note)
+        self.examples[name] = ex
+        return ex
+
+    # -- queries ------------------------------------------------------------------------
+    @property
+    def variables(self) -> list:
+        return [d.symbol for d in self.var_decl.values()]
+
+    @property
+    def per_vertex_names(self) -> set:
+        return {n for n, d in self.data_decl.items() if d.symbol.per_vertex}
+
+    def first_use(self, symbol) -> str:
+        """'LMI (30) block (4,3) V1.T*B' for the first block that mentions ``symbol``."""
+        for lmi in self.lmis:
+            for i, row in enumerate(lmi.spec.lower):
+                for j, blk in enumerate(row):
+                    if symbol in blk.atoms(sp.MatrixSymbol, sp.Symbol):
+                        return f"LMI {lmi.label} block ({i + 1},{j + 1}) {blk}"
+        for name, expr in self.recovery.items():
+            if symbol in expr.atoms(sp.MatrixSymbol):
+                return f"the recovery of {name}"
+        return "no LMI"
+
+    def summary(self) -> dict:
+        return {"id": self.id, "title": self.title, "source": str(self.source),
+                "examples": list(self.examples)}
