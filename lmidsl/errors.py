@@ -2,7 +2,9 @@
 
 Every error lmidsl raises on purpose derives from :class:`LmidslError`.  Its message is a
 single line that names the theorem, the LMI and the block (i, j) or the argument at fault;
-the command line prints it as ``error: <message>`` and exits with code 2.
+the command line prints it as ``error: <message>`` and exits with its ``exit_code``: 2 for bad
+input, 1 for a computation that ran but has no result to give (e.g. an infeasible synthesis has
+no design to simulate).
 """
 
 
@@ -33,3 +35,9 @@ class InputError(LmidslError):
 
 class SolverUnavailableError(LmidslError):
     """The requested backend or solver is not installed or not supported."""
+
+
+class NoResultError(LmidslError):
+    """The computation ran, but its verdict leaves nothing to give (infeasible, not solved)."""
+
+    exit_code = 1

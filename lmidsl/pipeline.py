@@ -14,7 +14,7 @@ from .theorem.checks import run_checks
 from .errors import InputError, LmidslError
 from .solver.feasibility import diagnosis_needed, feasp
 from .numeric.instance import Instance, bind
-from .numeric.recovery import recover
+from .numeric.recovery import recover, recover_design
 from .solver.margin import solve_model
 from .numeric.scaling import apply_scaling
 from .theorem.registry import get_example, get_theorem
@@ -130,14 +130,14 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
         solution.reported = evaluate_reported(instance, {**instance.data, **solution.values})
     if solution.ok and instance.theorem.recovery:
         t0 = time.perf_counter()
+        undo = solution.scaling.undo if solution.scaling is not None else None
         try:
-            recovered, solution.inverted = recover(instance, solution.values)
+            solution.design = recover_design(instance, solution.values, undo, solver=solution.solver,
+                                             backend=solution.backend,
+                                             backoff=(solution.backoff or {}).get("delta"))
         except LmidslError as exc:
             solution.message = f"recovery failed: {exc}"
             return solution
-        if solution.scaling is not None:
-            recovered = solution.scaling.undo(recovered)
-        solution.recovered = recovered
         solution.times["recover"] = time.perf_counter() - t0
         if certify and instance.theorem.analysis is not None:
             t0 = time.perf_counter()

@@ -212,16 +212,16 @@ def test_verify_designed_full_order_filter():
 
 
 def test_verify_printed_full_order_filter():
-    r = verify("wang_l2linf.thm3", "paper-full", filter="printed", runs=20000, seed=0, confidence=0.99)
+    r = verify("wang_l2linf.thm3", "paper-full", design="printed", runs=20000, seed=0, confidence=0.99)
     assert r.mode == "printed" and r.claimed_gamma == GAMMA_PRINTED
     assert r.lmis == []
     # the printed filter has 4 digits: Theorem 1 certifies it at 0.33679 <= 0.3373
     _three_kinds(r, GAMMA_PRINTED, rel=5e-3)
-    assert np.allclose(r.filter["Af"], PRINTED["Af"])
+    assert np.allclose(r.design["Af"], PRINTED["Af"])
 
 
 def test_verify_worse_filter_is_not_certified():
-    r = verify("wang_l2linf.thm3", "paper-full", filter=WORSE, gamma=GAMMA_PRINTED, runs=5000, seed=0)
+    r = verify("wang_l2linf.thm3", "paper-full", design=WORSE, gamma=GAMMA_PRINTED, runs=5000, seed=0)
     assert not r.certified
     assert r.checks["analysis"] is False and r.checks["exact_within_gamma"] is False
     assert r.analysis_gamma > GAMMA_PRINTED * 1.5
@@ -232,7 +232,7 @@ def test_verify_worse_filter_is_not_certified():
 
 
 def test_verify_unstable_filter_is_not_certified():
-    r = verify("wang_l2linf.thm3", "paper-full", filter=UNSTABLE, gamma=GAMMA_PRINTED, runs=2000, seed=0)
+    r = verify("wang_l2linf.thm3", "paper-full", design=UNSTABLE, gamma=GAMMA_PRINTED, runs=2000, seed=0)
     assert not r.certified
     assert r.analysis_gamma is None
     assert r.exact.value is None and r.exact.spectral_radius > 1

@@ -35,7 +35,7 @@ def designed():
 
 
 def _filter(result) -> dict:
-    return {k: np.asarray(v, dtype=float).tolist() for k, v in result.filter.items()}
+    return {k: np.asarray(v, dtype=float).tolist() for k, v in result.design.items()}
 
 
 def _system(filter_matrices, **overrides):
@@ -67,7 +67,7 @@ def test_designed_filter_three_kinds_of_evidence(designed):
     assert mc.ci_high - mc.ci_low < 0.02 * mc.expected
     assert mc.ci_high < r.synthesis_gamma ** 2
     # the filter is reported in the original coordinates (the solver saw y = 32 y')
-    assert set(r.filter) == {"Af", "Bf", "Cf", "Df"}
+    assert set(r.design) == {"Af", "Bf", "Cf", "Df"}
 
 
 def _enumerate_model_2(plant, f, xi1, xi2, w):
@@ -135,7 +135,7 @@ def test_theorem1_becomes_exact_as_the_noise_vanishes(designed):
     is lossless: the gap between the analysis γ and the exact figure closes (4.8 % at ξ̄1 = 0.7)."""
     gaps = {0.7: designed.analysis_gamma / designed.exact.value - 1}
     for xi1 in (0.9, 0.999):
-        r = verify(THM, "paper", filter=_filter(designed), overrides={"xi1": xi1}, runs=0)
+        r = verify(THM, "paper", design=_filter(designed), overrides={"xi1": xi1}, runs=0)
         assert r.exact.value <= r.analysis_gamma * (1 + 1e-6)
         gaps[xi1] = r.analysis_gamma / r.exact.value - 1
     assert gaps[0.7] > 0.03
@@ -158,7 +158,7 @@ def test_cli_verify_filter_file_round_trip(designed, tmp_path, capsys):
     assert out["exact"]["value"] == pytest.approx(designed.exact.value, rel=1e-9)
     mc = out["monte_carlo"]
     assert mc["runs"] == 4000 and mc["ci_low"] <= mc["expected"] <= mc["ci_high"]
-    assert np.allclose(out["filter"]["Bf"], designed.filter["Bf"])
+    assert np.allclose(out["design"]["Bf"], designed.design["Bf"])
 
 
 def test_wrong_feedthrough_is_not_certified(designed):
@@ -166,7 +166,7 @@ def test_wrong_feedthrough_is_not_certified(designed):
     wrong = _filter(designed)
     wrong["Df"][0][0] *= 10
     g = designed.synthesis_gamma
-    r = verify(THM, "paper", filter=wrong, gamma=g, runs=4000, seed=0)
+    r = verify(THM, "paper", design=wrong, gamma=g, runs=4000, seed=0)
     assert not r.certified
     assert r.checks["analysis"] is False and r.checks["exact_within_gamma"] is False
     assert r.checks["monte_carlo"] is False
@@ -181,7 +181,7 @@ def test_unstable_filter_is_not_certified(designed):
     """3·A_f has eigenvalues of modulus 1.38: not mean-square stable, analysis infeasible."""
     wrong = _filter(designed)
     wrong["Af"] = (3 * np.asarray(wrong["Af"])).tolist()
-    r = verify(THM, "paper", filter=wrong, gamma=designed.synthesis_gamma, runs=1000, seed=0)
+    r = verify(THM, "paper", design=wrong, gamma=designed.synthesis_gamma, runs=1000, seed=0)
     assert not r.certified
     assert r.analysis_gamma is None
     assert r.exact.value is None and r.exact.spectral_radius > 1

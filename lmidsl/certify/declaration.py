@@ -4,7 +4,7 @@ A theorem whose data include the filter (the analysis theorem) states the error 
 
     thm1.error_system(
         ErrorSystem(A=A_cl0, B=B_cl, C=C_cl, noise=[{"A": A_cl1}], covariance=[a]),
-        figure="energy_to_peak", filter=("Af", "Bf", "Cf"), simulate=model_with_filter)
+        figure="energy_to_peak", design=("Af", "Bf", "Cf"), simulate=model_with_filter)
 
 ``A, B, C, D`` are the mean matrices; each ``noise`` entry holds the matrices multiplying one
 zero-mean random scalar ν_i (keys A, B, C, D, missing = 0); ``covariance`` is Σ = E ννᵀ (a list

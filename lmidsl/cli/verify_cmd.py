@@ -14,7 +14,7 @@ ORDER = 25
 def register(sub):
     p = sub.add_parser("verify", help="certify a filter: synthesis LMIs, analysis, exact figure, Monte Carlo")
     add_instance_arguments(p)
-    p.add_argument("--filter", metavar="FILE.json|printed",
+    p.add_argument("--design", "--filter", dest="design", metavar="FILE.json|printed",
                    help="certify these matrices instead of a fresh design: a JSON object of name -> "
                         "matrix (or the JSON of `solve`/`verify`), or 'printed' for the example's printed filter")
     p.add_argument("--gamma", type=float, help="the level γ claimed for the filter (default: synthesis or printed γ)")
@@ -45,17 +45,20 @@ def _load_json(path: str, option: str):
         raise InputError(f"{option} {path}: not valid JSON ({exc.msg} at line {exc.lineno})") from None
 
 
-def load_filter(arg: str | None):
+def load_design(arg: str | None):
     """None, 'printed', or a dict of matrices (also accepts the JSON of `solve` / `verify`)."""
     if arg is None or arg == "printed":
         return arg
-    data = _load_json(arg, "--filter")
+    data = _load_json(arg, "--design")
     if isinstance(data, dict):
-        for key in ("filter", "recovered"):
+        design = data.get("design")
+        if isinstance(design, dict) and isinstance(design.get("matrices"), dict):
+            return design["matrices"]            # the JSON of `solve`
+        for key in ("design", "filter", "recovered"):   # of `verify`, and of older versions
             if isinstance(data.get(key), dict) and data[key]:
                 return data[key]
         return data
-    raise InputError(f"--filter {arg}: expected a JSON object of filter matrices by name")
+    raise InputError(f"--design {arg}: expected a JSON object of the design's matrices by name")
 
 
 def load_disturbance(arg: str):
@@ -71,7 +74,7 @@ def load_disturbance(arg: str):
 
 def run(args):
 
-    result = verify(args.theorem, filter=load_filter(args.filter), gamma=args.gamma, runs=args.runs,
+    result = verify(args.theorem, design=load_design(args.design), gamma=args.gamma, runs=args.runs,
                     seed=args.seed, confidence=args.confidence,
                     disturbance=load_disturbance(args.disturbance), horizon=args.horizon,
                     solver=args.solver, backend=args.backend, backoff=args.backoff, **instance_spec(args))

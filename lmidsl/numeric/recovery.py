@@ -1,19 +1,20 @@
-"""Filter recovery: the theorem's change of variables evaluated at the solved point.
+"""Recovery of the design: the theorem's change of variables evaluated at the solved point.
 
 A theorem declares its recovery as ordered steps: sympy formulas (``Theorem.recover``, e.g.
 ``Af = V2⁻¹ Âf``) and library factorisations producing named intermediate matrices
 (``Theorem.factor``, e.g. R, S with R Sᵀ = I − X Z⁻¹, see :mod:`lmidsl.factorization`),
 which later formulas use.  Every matrix that gets inverted is reported with its 2-norm
-condition number, because an ill-conditioned inverse makes a recovered filter untrustworthy
+condition number, because an ill-conditioned inverse makes a recovered design untrustworthy
 even when the LMIs are comfortably feasible.
 """
 from __future__ import annotations
 
 import numpy as np
 
+from .design import Design
 from .instance import Instance
 from .evaluate import NumericEvaluator
-from ..theorem.theorem import FactorStep
+from ..theorem.values import FactorStep
 
 
 def recover(instance: Instance, values: dict) -> tuple[dict, list]:
@@ -35,3 +36,14 @@ def recover(instance: Instance, values: dict) -> tuple[dict, list]:
             name = step[1]
             recovered[name] = np.atleast_2d(evaluator.visit(theorem.recovery[name]))
     return recovered, reports + evaluator.inverted
+
+
+def recover_design(instance: Instance, values: dict, undo=None, **obtained) -> Design:
+    """The :class:`Design` recovered at ``values``; ``undo`` maps the matrices of a scaled
+    instance back to the original coordinates (:meth:`lmidsl.numeric.scaling.AppliedScaling.undo`)."""
+    matrices, inverted = recover(instance, values)
+    if undo is not None:
+        matrices = undo(matrices)
+    theorem = instance.theorem
+    return Design(theorem.designs or "unspecified", matrices, theorem.time, theorem.sample_time,
+                  tuple(inverted), {"theorem": theorem.id, "example": instance.example, **obtained})

@@ -40,7 +40,8 @@ from ..errors import InputError
 from .latex_text import _GREEK, latex_matrix, latex_number, tex_text
 from ..symbolic.symbols import (DerivedParam, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
                       _Described)
-from ..theorem.theorem import LMI, Theorem
+from ..theorem.theorem import Theorem
+from ..theorem.values import LMI
 
 __all__ = ["LMILatexPrinter", "lmi_latex", "lmi_where", "name_to_latex",
            "with_vertex_index", "tex_text", "latex_number", "latex_matrix"]

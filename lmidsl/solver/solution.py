@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..numeric.design import Design
 from ..numeric.instance import Instance
 from ..numeric.evaluate import NumericEvaluator, evaluate_block_matrix, max_eigenvalue
 from ..symbolic.uncertainty import scenarios, spec_at
@@ -51,8 +52,7 @@ class Solution:
     gamma: float | None = None
     lmis: list[LMIReport] = field(default_factory=list)
     values: dict = field(default_factory=dict)
-    recovered: dict = field(default_factory=dict)
-    inverted: list = field(default_factory=list)
+    design: Design | None = None    # the recovered filter/controller (original coordinates)
     times: dict = field(default_factory=dict)
     margin: float = 0.0
     message: str = ""
@@ -65,6 +65,16 @@ class Solution:
     backoff: dict | None = None     # lmidsl.backoff record when the point is a back-off point
     reported: dict = field(default_factory=dict)
     checks: list = field(default_factory=list)
+
+    @property
+    def recovered(self):
+        """The recovered matrices by name (the :class:`Design`; empty when nothing was recovered)."""
+        return self.design if self.design is not None else {}
+
+    @property
+    def inverted(self) -> list:
+        """Condition numbers of the matrices the recovery inverted."""
+        return list(self.design.inverted) if self.design is not None else []
 
     @property
     def ok(self) -> bool:
@@ -101,6 +111,7 @@ class Solution:
             "lmis": [r.as_dict() for r in self.lmis],
             "recovered": {k: listify(v) for k, v in self.recovered.items()},
             "inverted": self.inverted,
+            "design": self.design.as_dict() if self.design is not None else None,
             "values": {k: listify(v) for k, v in self.values.items()},
             "times": self.times,
             "feasp": self.feasp.as_dict() if self.feasp is not None else None,

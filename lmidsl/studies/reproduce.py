@@ -14,7 +14,8 @@ from dataclasses import asdict, dataclass
 
 from ..pipeline import solve
 from ..errors import LmidslError
-from ..theorem.registry import all_theorems
+from ..theorem.registry import all_theorems, get_theorem
+from ..theorem.values import PROVENANCE
 from .verify import figures_for_solution, worst_index
 
 REPRODUCED_TOLERANCE = 5e-3
@@ -39,6 +40,7 @@ class ReproductionRow:
     mean_square_stable: bool | None = None
     spectral_radius: float | None = None
     exact_ok: bool | None = None
+    provenance: str = "paper"
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -57,8 +59,17 @@ def _verdict(kind, printed, computed, rel, certified, status):
     return verdict + ("" if certified else ", NOT certified")
 
 
+def row_provenance(theorem, example: str) -> str:
+    """'paper' when both the theorem and the example are the paper's own, else the theorem's
+    provenance if it is not the paper's, else the example's."""
+    if theorem.provenance != "paper":
+        return theorem.provenance
+    return theorem.examples[example].provenance
+
+
 def reproduce_one(theorem_id: str, example: str, solver: str | None = None) -> ReproductionRow:
-    theorem = all_theorems()[theorem_id]
+    theorem = get_theorem(theorem_id)
+    provenance = row_provenance(theorem, example)
     printed_values = theorem.examples[example].printed
     kind = "gamma_bound" if "gamma_bound" in printed_values else "gamma"
     printed = printed_values.get(kind)
@@ -66,7 +77,7 @@ def reproduce_one(theorem_id: str, example: str, solver: str | None = None) -> R
         sol = solve(theorem, example=example, solver=solver, backoff="auto")
     except LmidslError as exc:
         return ReproductionRow(theorem_id, example, kind, printed, None, None, f"error: {exc}", None,
-                               None, False, "error")
+                               None, False, "error", provenance=provenance)
     # after an automatic back-off the optimum is what compares with the printed value
     computed = (sol.backoff or {}).get("gamma_opt", sol.gamma) if sol.backoff else sol.gamma
     rel = None
@@ -88,7 +99,7 @@ def reproduce_one(theorem_id: str, example: str, solver: str | None = None) -> R
         verdict += f" (filter from the back-off at γ {sol.backoff['gamma']:.6g})"
     row = ReproductionRow(theorem_id, example, kind, printed, computed, rel, sol.status,
                           sol.worst_eig, analysis.gamma if analysis is not None else None, certified,
-                          verdict)
+                          verdict, provenance=provenance)
     if figure is not None:
         row.exact_kind, row.exact_gamma = figure.kind, figure.value
         row.mean_square_stable, row.spectral_radius = figure.mean_square_stable, figure.spectral_radius
@@ -106,9 +117,12 @@ def _exact(sol):
 
 
 def reproduce_all(solver: str | None = None, theorems: list[str] | None = None, progress=None):
-    """Rows for every theorem × example (optionally only the listed theorem ids)."""
+    """Rows for every theorem × example (optionally only the listed theorem ids), the papers'
+    own first, then corrected and guessed readings, then illustrations (:data:`PROVENANCE`)."""
+    order = list(PROVENANCE)
     jobs = [(tid, ex) for tid, thm in sorted(all_theorems().items())
             if theorems is None or tid in theorems for ex in thm.examples]
+    jobs.sort(key=lambda job: order.index(row_provenance(get_theorem(job[0]), job[1])))
     rows = []
     for tid, ex in (progress(jobs) if progress else jobs):
         rows.append(reproduce_one(tid, ex, solver))

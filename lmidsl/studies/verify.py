@@ -47,7 +47,7 @@ class Verification:
     theorem: str
     example: str | None
     mode: str
-    filter: dict
+    design: dict
     claimed_gamma: float | None
     tolerance: float
     synthesis_gamma: float | None = None
@@ -88,7 +88,7 @@ class Verification:
             "analysis_per_vertex": self.analysis_per_vertex,
             "exact": exact,
             "monte_carlo": None if self.monte_carlo is None else self.monte_carlo.as_dict(),
-            "filter": {k: np.asarray(v, dtype=float).tolist() for k, v in self.filter.items()},
+            "design": {k: np.asarray(v, dtype=float).tolist() for k, v in self.design.items()},
             "backoff": _backoff_summary(self.backoff),
             "notes": self.notes,
         }
@@ -98,7 +98,7 @@ class Verification:
         def g(x):
             return "—" if x is None else f"{x:.6g}"
         lines = [f"{self.theorem}" + (f" [{self.example}]" if self.example else "") + f"  ({self.mode} filter)"]
-        for name, M in self.filter.items():
+        for name, M in self.design.items():
             rows = np.atleast_2d(np.asarray(M, dtype=float))
             lines.append(f"  {name} = " + "; ".join(" ".join(f"{x:.6g}" for x in r) for r in rows))
         if self.claimed_gamma is not None:
@@ -183,7 +183,7 @@ def figures_for_solution(solution) -> list | None:
         return None
     if get_theorem(thm.analysis.theorem).certification is None:
         return None
-    fil = {n: solution.recovered[n] for n in thm.analysis.filter}
+    fil = {n: solution.recovered[n] for n in thm.analysis.design}
     return exact_figures(analysis_instances_for(instance, fil))
 
 
@@ -204,15 +204,15 @@ def _set_analysis(result: Verification, status: str, gamma, lmis: list) -> None:
         result.analysis_status, result.analysis_gamma = status, gamma
 
 
-def _as_filter(names: tuple, given: dict, where: str) -> dict:
+def _as_design(names: tuple, given: dict, where: str) -> dict:
     missing = [n for n in names if n not in given]
     if missing:
-        raise InputError(f"{where}: the filter needs {', '.join(names)}; missing {', '.join(missing)}")
+        raise InputError(f"{where}: the design needs {', '.join(names)}; missing {', '.join(missing)}")
     out = {}
     for n in names:
         arr = np.atleast_2d(np.asarray(given[n], dtype=float))
         if not np.all(np.isfinite(arr)):
-            raise InputError(f"{where}: filter matrix {n} has non-finite entries")
+            raise InputError(f"{where}: design matrix {n} has non-finite entries")
         out[n] = arr
     return out
 
@@ -235,10 +235,11 @@ def _disturbance(choice, figure, horizon: int, m: int):
 
 
 def verify(theorem, example: str | None = None, data: dict | None = None, overrides: dict | None = None,
-           filter=None, gamma: float | None = None, runs: int = 10000, seed: int | None = 0,
+           design=None, gamma: float | None = None, runs: int = 10000, seed: int | None = 0,
            confidence: float = 0.95, disturbance="worst", horizon: int = 50,
            solver: str | None = None, backend: str = "cvxpy", backoff=None) -> Verification:
-    """Certify a designed, printed (``filter='printed'``) or given (``filter={name: matrix}``) filter.
+    """Certify a designed, printed (``design='printed'``) or given (``design={name: matrix}``) design
+    (a filter, controller, ...).
 
     ``backoff`` (designed filters only) is passed to :func:`lmidsl.api.solve_instance`: δ, or
     ``"auto"`` (back off only when the optimum's filter fails its analysis certificate).
@@ -257,17 +258,17 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
     if thm.certification is not None:          # an analysis theorem: the filter is data
         link, analysis_thm = thm.certification, thm
         tol = thm.analysis.gamma_tolerance if thm.analysis else 1e-3
-        if filter is None or filter == "printed":
+        if design is None or design == "printed":
             mode = "printed" if ex is not None and "gamma_bound" in printed else "data"
-            if filter == "printed" and all(n in printed for n in link.filter):
+            if design == "printed" and all(n in printed for n in link.design):
                 instance = make_instance(thm, example, data, {**(overrides or {}),
-                                                              **{n: printed[n] for n in link.filter}})
+                                                              **{n: printed[n] for n in link.design}})
         else:
             mode = "given"
-            fil = _as_filter(link.filter, filter, thm.id)
+            fil = _as_design(link.design, design, thm.id)
             instance = make_instance(thm, example, data, {**(overrides or {}),
                                                           **{k: v.tolist() for k, v in fil.items()}})
-        fil = {n: np.asarray(instance.data[n]) for n in link.filter}
+        fil = {n: np.asarray(instance.data[n]) for n in link.design}
         claimed = gamma
         if claimed is None and mode != "given":   # the printed bound belongs to the printed filter
             claimed = printed.get("gamma_bound", printed.get("gamma"))
@@ -280,10 +281,10 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
         analysis_thm = get_theorem(thm.analysis.theorem)
         link = analysis_thm.certification
         tol = thm.analysis.gamma_tolerance
-        names = thm.analysis.filter
+        names = thm.analysis.design
         result = Verification(thm.id, instance.example, "designed", {}, gamma, tol,
                               analysis_theorem=analysis_thm.id)
-        if filter is None:
+        if design is None:
             sol = solve_instance(instance, solver, backend, certify=backoff == "auto", backoff=backoff)
             result.synthesis_status = sol.status
             if sol.backoff is not None:
@@ -303,22 +304,22 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
             fil = {n: np.atleast_2d(sol.recovered[n]) for n in names}
             if result.claimed_gamma is None:
                 result.claimed_gamma = sol.gamma
-        elif filter == "printed":
+        elif design == "printed":
             if not all(n in printed for n in names):
                 raise InputError(f"{thm.id}: example {instance.example!r} prints no filter ({', '.join(names)})")
             result.mode = "printed"
-            fil = _as_filter(names, printed, f"{thm.id} example {instance.example}")
+            fil = _as_design(names, printed, f"{thm.id} example {instance.example}")
             if result.claimed_gamma is None:
                 result.claimed_gamma = printed.get("gamma", printed.get("gamma_bound"))
         else:
             result.mode = "given"
-            fil = _as_filter(names, filter, thm.id)
-        result.filter = fil
+            fil = _as_design(names, design, thm.id)
+        result.design = fil
         cert = certify_by_analysis(instance, fil, result.claimed_gamma, solver=solver, backend=backend)
         _set_analysis(result, cert.status, cert.gamma, cert.lmis)
         result.analysis_per_vertex = cert.per_vertex
         analysis_instances = analysis_instances_for(instance, fil)
-        extra = _theorem_checks(thm, instance, fil, cert, sol if filter is None else None)
+        extra = _theorem_checks(thm, instance, fil, cert, sol if design is None else None)
     else:
         raise InputError(f"{thm.id} declares neither an analysis counterpart (certified_by) "
                          "nor an error system (error_system): nothing to verify against")

@@ -37,8 +37,11 @@ class TheoremFamily(Theorem):
 
     def __init__(self, id: str, title: str, source: Source, build: Callable[[Theorem, int], None], *,
                  index: str = "N", default: int = 1, domain: tuple[int, int] = (1, 64),
-                 description: str = "", time: str = "discrete"):
-        super().__init__(id, title, source, description=description, time=time)
+                 **options):
+        """``options``: the keyword arguments of :class:`Theorem` (description, time, designs,
+        provenance, ...), shared by every member."""
+        super().__init__(id, title, source, **options)
+        self.options = options
         self.build = build
         self.index = index
         self.domain = domain
@@ -57,7 +60,7 @@ class TheoremFamily(Theorem):
         if not lo <= value <= hi:
             raise InputError(f"{self.id}: {self.index} = {value} is outside [{lo}, {hi}]")
         if value not in self._members:
-            thm = Theorem(self.id, self.title, self.source, description=self.description, time=self.time)
+            thm = Theorem(self.id, self.title, self.source, **self.options)
             self.build(thm, value)
             thm.examples = self.examples
             thm.family = self

@@ -3,20 +3,19 @@
 A theorem file creates a :class:`Theorem`, declares dimensions, data, decision variables and
 scalar parameters, writes each LMI as a block triangle with the paper's label, states the
 objective, the recovery formulas and (optionally) the analysis theorem that certifies the
-recovered filter, and lists named examples with the values the paper prints.
+recovered design, and lists named examples with the values the paper prints.
 
 Every LMI is checked when it is declared: each block's products and sums must conform
-(symbolic dimensions, see :mod:`lmidsl.shapes`) and each block must be affine in the decision
-variables (:mod:`lmidsl.linearity`).  Errors name the theorem, the LMI label and the block.
+(symbolic dimensions, see :mod:`lmidsl.symbolic.shapes`) and each block must be affine in the decision
+variables (:mod:`lmidsl.symbolic.linearity`).  Errors name the theorem, the LMI label and the block.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from typing import Any
 
 import sympy as sp
 
-from ..symbolic.blocks import BlockMatrixSpec, block_matrix
+from ..symbolic.blocks import block_matrix
 from ..errors import LmidslError, ShapeMismatchError, TheoremDefinitionError
 from ..symbolic.linearity import check_affine
 from ..symbolic.shapes import check_conformance
@@ -24,163 +23,32 @@ from ..symbolic.uncertainty import uncertain_symbol
 from ..symbolic.symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, RecoveredMatrix,
                       ScalarVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
                       Variable)
-
-
-TIME_DOMAINS = ("discrete", "continuous")
-
-
-@dataclass(frozen=True)
-class Source:
-    """Where a theorem comes from: the paper file and its equation numbers."""
-
-    paper: str
-    equations: str
-    citation: str = ""
-
-    def __str__(self):
-        text = f"{self.paper} {self.equations}"
-        return f"{self.citation}, {text}" if self.citation else text
-
-
-@dataclass
-class LMI:
-    """A labelled block LMI ``M < 0`` (or ``M > 0``) as the paper writes it."""
-
-    label: str
-    spec: BlockMatrixSpec
-    sense: str = "<"
-    strict: bool = True
-    description: str = ""
-    per_vertex: bool = False
-    _negative: BlockMatrixSpec | None = field(default=None, repr=False, compare=False)
-    _symbols: frozenset | None = field(default=None, repr=False, compare=False)
-
-    def negative_form(self) -> BlockMatrixSpec:
-        """The matrix N with the LMI stated as N ≺ 0 (N = M for '<', N = −M for '>'); built once."""
-        if self.sense in ("<", "<="):
-            return self.spec
-        if self._negative is None:
-            lower = [[-b for b in row] for row in self.spec.lower]
-            self._negative = BlockMatrixSpec(lower, self.spec.sizes, self.spec.given_as)
-        return self._negative
-
-    def symbols(self) -> set:
-        """Every symbol in the LMI's blocks (computed once; an LMI does not change)."""
-        if self._symbols is None:
-            atoms = set()
-            for row in self.spec.lower:
-                for b in row:
-                    atoms |= b.atoms(sp.Symbol, sp.MatrixSymbol)
-            self._symbols = frozenset(atoms)
-        return self._symbols
-
-
-@dataclass
-class Example:
-    """A named numerical instance with the values the paper prints.
-
-    ``data`` maps data names to matrices (nested lists) and dimension names to integers;
-    ``vertices`` lists per-vertex data for polytopic theorems; ``params`` the scalar parameters;
-    ``printed`` the paper's printed results, with ``printed_note`` saying where they are
-    printed: ``gamma`` is an optimum to reproduce, ``gamma_bound`` a level the paper claims
-    for a fixed filter (the analysis must certify a γ at or below it), and matrices by name.
-    """
-
-    name: str
-    data: dict
-    params: dict = field(default_factory=dict)
-    printed: dict = field(default_factory=dict)
-    vertices: list | None = None
-    description: str = ""
-    printed_note: str = ""
-
-    def inputs(self) -> dict:
-        merged = dict(self.data)
-        merged.update(self.params)
-        if self.vertices is not None:
-            merged["vertices"] = self.vertices
-        return merged
-
-
-@dataclass
-class AnalysisLink:
-    """The analysis theorem that certifies a recovered filter.
-
-    The analysis instance takes every datum and parameter of the synthesis instance whose name
-    it declares, plus the recovered matrices (``filter`` names).
-    """
-
-    theorem: str
-    filter: tuple
-    gamma_tolerance: float = 1e-3
-
-
-@dataclass
-class ErrorSystemLink:
-    """The filtering-error system of a theorem whose data include the filter, for certification.
-
-    ``system`` is a :class:`lmidsl.certify.ErrorSystem` in the theorem's symbols, ``figure`` the
-    exact figure that applies ('energy_to_peak' or 'h_infinity'), ``filter`` the names of the
-    filter matrices among the data, ``simulate(d, w, runs, rng)`` the original model with the
-    filter in numpy (for Monte Carlo; optional).
-    """
-
-    system: Any
-    figure: str
-    filter: tuple
-    simulate: Any = None
-
-
-FIGURES = ("energy_to_peak", "h_infinity")
-
-
-@dataclass
-class FactorStep:
-    """A recovery step: ``names`` = ``factorization(*args)`` with ``args`` evaluated numerically."""
-
-    names: tuple
-    factorization: Any
-    args: tuple
-
-
-@dataclass
-class SignalScaling:
-    """An exact change of units of one signal, u = S u' with S = diag(s) > 0.
-
-    Data in ``rows`` produce the signal (M' = S⁻¹M), data in ``cols`` consume it (M' = M S);
-    recovered matrices are mapped back: ``recovered_cols`` (consumers) M = M' S⁻¹,
-    ``recovered_rows`` (producers) M = S M'.  The theorem author asserts that this substitution
-    is a change of coordinates under which the theorem's conditions and γ are invariant.
-    """
-
-    signal: str
-    rows: tuple = ()
-    cols: tuple = ()
-    recovered_rows: tuple = ()
-    recovered_cols: tuple = ()
-    description: str = ""
-
-
-@dataclass
-class Declaration:
-    symbol: Any
-    latex: str
-    description: str
-    extra: dict = field(default_factory=dict)
+from .values import (DESIGN_KINDS, FIGURES, LMI, TIME_DOMAINS, AnalysisLink,
+                     Declaration, ErrorSystemLink, Example, FactorStep, SignalScaling, Source,
+                     check_provenance)
 
 
 class Theorem:
     """A theorem: declarations, LMIs, objective, recovery, analysis counterpart, examples."""
 
     def __init__(self, id: str, title: str, source: Source, *, description: str = "",
-                 time: str = "discrete"):
+                 time: str = "discrete", designs: str | None = None,
+                 sample_time: float | None = None, provenance: str = "paper",
+                 provenance_note: str = ""):
         if time not in TIME_DOMAINS:
             raise TheoremDefinitionError(f"{id}: time must be one of {TIME_DOMAINS}, got {time!r}")
+        if designs is not None and designs not in DESIGN_KINDS:
+            raise TheoremDefinitionError(f"{id}: designs must be one of {DESIGN_KINDS}, got {designs!r}")
+        check_provenance(id, provenance, provenance_note)
         self.id = id
         self.title = title
         self.source = source
         self.description = description
         self.time = time
+        self.designs = designs              # what the recovery produces: filter, controller, ...
+        self.sample_time = sample_time      # of a discrete-time design (None: unspecified)
+        self.provenance = provenance
+        self.provenance_note = provenance_note
         self.dims: dict[str, Dim] = {}
         self.data_decl: dict[str, Declaration] = {}
         self.var_decl: dict[str, Declaration] = {}
@@ -198,6 +66,7 @@ class Theorem:
         self.conditioned: list[sp.MatrixExpr] = []
         self.analysis: AnalysisLink | None = None
         self.certification: ErrorSystemLink | None = None
+        self.simulator = None                  # Theorem.simulated_by
         self.linearisation: dict[str, sp.MatrixExpr] = {}
         self.examples: dict[str, Example] = {}
         self.reported: dict[str, sp.Expr] = {}
@@ -450,24 +319,39 @@ class Theorem:
             check_conformance(expr)
             self.linearisation[name] = expr
 
-    def certified_by(self, theorem: str, filter: tuple, gamma_tolerance: float = 1e-3):
-        """Name the analysis theorem that certifies the recovered ``filter`` matrices."""
-        self.analysis = AnalysisLink(theorem, tuple(filter), gamma_tolerance)
+    def certified_by(self, theorem, design: tuple, gamma_tolerance: float = 1e-3):
+        """Name the analysis theorem (a :class:`Theorem`, or the id of one in another file) that
+        certifies the recovered ``design`` matrices, which it takes as data."""
+        if isinstance(theorem, Theorem):
+            self.analysis = AnalysisLink(theorem.id, tuple(design), gamma_tolerance, theorem)
+        else:
+            self.analysis = AnalysisLink(str(theorem), tuple(design), gamma_tolerance)
 
-    def error_system(self, system, *, figure: str, filter: tuple, simulate=None):
-        """Declare the error system (data + filter -> stochastic system), its figure and simulation."""
+    def error_system(self, system, *, figure: str, design: tuple, simulate=None):
+        """Declare the error system (data + design -> stochastic system), its figure and simulation."""
         if figure not in FIGURES:
             raise TheoremDefinitionError(f"{self.id}: error_system: figure must be one of {', '.join(FIGURES)}")
-        missing = [f for f in filter if f not in self.data_decl]
+        missing = [f for f in design if f not in self.data_decl]
         if missing:
-            raise TheoremDefinitionError(f"{self.id}: error_system: filter {missing} are not declared data")
-        self.certification = ErrorSystemLink(system, figure, tuple(filter), simulate)
+            raise TheoremDefinitionError(f"{self.id}: error_system: design matrices {missing} are not declared data")
+        self.certification = ErrorSystemLink(system, figure, tuple(design), simulate)
+
+    def simulated_by(self, simulator):
+        """Declare the paper's own simulation of its original model with a design, used by
+        ``lmidsl simulate``: ``simulator(instance, design, *, scenarios, horizon, disturbance,
+        seed) -> SimulationTable``, where ``design`` is the recovered design (None for an
+        analysis theorem: the design is in the instance's data) and ``scenarios`` the runs asked
+        for (None: the simulator's defaults)."""
+        self.simulator = simulator
 
     def example(self, name: str, data: dict, *, params: dict | None = None,
                 printed: dict | None = None, vertices: list | None = None,
-                description: str = "", printed_note: str = "") -> Example:
-        """Attach a named example with the values the paper prints."""
-        ex = Example(name, data, params or {}, printed or {}, vertices, description, printed_note)
+                description: str = "", printed_note: str = "", provenance: str = "paper",
+                provenance_note: str = "") -> Example:
+        """Attach a named example with the values the paper prints (``provenance``: see
+        :data:`~lmidsl.theorem.values.PROVENANCE`; an example not from the paper says so)."""
+        ex = Example(name, data, params or {}, printed or {}, vertices, description, printed_note,
+                     provenance, provenance_note)
         self.examples[name] = ex
         return ex
 
@@ -494,4 +378,6 @@ class Theorem:
 
     def summary(self) -> dict:
         return {"id": self.id, "title": self.title, "source": str(self.source),
-                "examples": list(self.examples)}
+                "time": self.time, "designs": self.designs, "provenance": self.provenance,
+                "provenance_note": self.provenance_note, "examples": list(self.examples),
+                "example_provenance": {n: e.provenance for n, e in self.examples.items()}}

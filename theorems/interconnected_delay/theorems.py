@@ -45,11 +45,8 @@ from operator import add
 
 from sympy import BlockMatrix, Identity, ZeroMatrix, sqrt
 
-from lmidsl import He, I, Source, Theorem
-from lmidsl.theorem.checks import reported_agree
-from lmidsl.theorem.family import Family, SubsystemFamily, member_label
+from lmidsl import Family, He, I, NormBounded, Source, SubsystemFamily, Theorem, member_label, reported_agree, sprocedure
 from .network import FrequencySweepCheck, SimulationCheck
-from lmidsl.symbolic.sprocedure import NormBounded, sprocedure
 
 PAPER = "004_09af37a26237b4a3.txt"
 CITATION = "Robust H-infinity filtering for uncertain interconnected time-delay systems (SJTU / Yanshan)"
@@ -286,7 +283,7 @@ def build_thm2(thm: Theorem, N: int, variant: str = "A", condition19: str | None
         (f"Bf_{i}", (X[i] - Y[i]).I * Bh[i]),
         (f"Lf_{i}", Lh[i]))})
     filt = tuple(f"{b}_{i}" for i in fam for b in ("Af", "Bf", "Lf"))
-    thm.certified_by(f"interconnected_delay.thm1{suffix}", filter=filt)
+    thm.certified_by(f"interconnected_delay.thm1{suffix}", design=filt)
     _checks(thm, N, variant)
     thm.verify_with(reported_agree())
 
@@ -307,6 +304,15 @@ def _observer() -> dict:
 
 
 VARIANTS = {"": ("A", None), "b": ("B", None), "_r19": ("A", "rhoR")}
+PROVENANCE = {
+    "": {},
+    "b": {"provenance": "illustration",
+          "provenance_note": "Variant B: independent ΔF_ij with one multiplier ε_ij per coupling, "
+                             "instead of the paper's single ε_i1 column (Variant A)"},
+    "_r19": {"provenance": "guessed",
+             "provenance_note": "Variant A plus the guessed reading Y_i ≤ ρ_i R_i of the OCR-damaged "
+                                "condition (19); the paper's own theorems omit (19) (zero initial conditions)"},
+}
 
 
 def _thm1_family(suffix: str) -> SubsystemFamily:
@@ -317,10 +323,12 @@ def _thm1_family(suffix: str) -> SubsystemFamily:
                variant, condition19),
         Source(PAPER, "Theorem 1, (8), (15)", CITATION),
         lambda t, N: build_thm1(t, N, variant, condition19), key="A", default=2, time="continuous",
+        **PROVENANCE[suffix],
         description="min Σρ_i over P_i > 0, Q_ij > 0, ε such that (15) holds for every i "
                     f"(variant {variant}; filters A_fi, B_fi, L_fi fixed).")
     data = {**PAPER_DATA, **(R_READ if condition19 else {}), **_observer()}
-    thm.example("observer", data, params=dict(TAU_GUESSED),
+    thm.example("observer", data, params=dict(TAU_GUESSED), provenance="illustration",
+                provenance_note="the paper prints no filter for Theorem 1's analysis",
                 description="not from the paper: decentralised observers A_fi = A_i - K_i C_i, "
                             "B_fi = K_i, L_fi = L_i (K_1 = [0; 1], K_2 = [1; 0]) on the Section 4 "
                             "data.  " + DESCRIPTION)
@@ -335,7 +343,7 @@ def _thm2_family(suffix: str) -> SubsystemFamily:
                variant, condition19),
         Source(PAPER, "Theorem 2, (17), (18), (25), (26)", CITATION),
         lambda t, N: build_thm2(t, N, variant, condition19, suffix), key="A", default=2,
-        time="continuous",
+        time="continuous", designs="filter", **PROVENANCE[suffix],
         description="min Σρ_i subject to (18) and (17) for every i, jointly (the Q_ij are shared); "
                     f"recovery (25) (variant {variant}).  N = number of subsystems (default: the "
                     "number of A_<i> given).")

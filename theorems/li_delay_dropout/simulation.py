@@ -28,8 +28,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from lmidsl.pipeline import solve
-from lmidsl.theorem.registry import get_theorem
+
+from lmidsl import get_theorem, solve
 
 
 @dataclass

@@ -24,9 +24,7 @@ bar-means.  The measurement y may be rescaled exactly (y = s y'): C1 and C2 prod
 filter's Bf and Df consume it; the augmentation then changes by the similarity diag(I, I/s, I/s),
 so feasibility and γ are unchanged.
 """
-from lmidsl import I, Source, Theorem
-from lmidsl.certify import ErrorSystem
-from lmidsl.numeric.factorization import rs_split
+from lmidsl import ErrorSystem, I, Source, Theorem, rs_split
 from .simulation import model_2_with_filter_6
 from sympy import BlockMatrix, Identity, ZeroMatrix, sqrt
 
@@ -146,13 +144,13 @@ _t1, _t2 = _w["th1"], _w["th2"]
 thm1.error_system(ErrorSystem(A=Abar, B=Bbar, C=Gbar, D=Fbar,
                               noise=[{"A": A1, "B": B1, "C": G1, "D": F1}, {"A": A2, "B": B2}],
                               covariance=[[_t1 * (1 - _t1), -_t1 * _t2], [-_t1 * _t2, _t2 * (1 - _t2)]]),
-                  figure="h_infinity", filter=("Af", "Bf", "Cf", "Df"), simulate=model_2_with_filter_6)
+                  figure="h_infinity", design=("Af", "Bf", "Cf", "Df"), simulate=model_2_with_filter_6)
 
 # -- Theorem 2: synthesis (15), problem (20) --------------------------------------------------
 thm2 = Theorem("li_delay_dropout.thm2", "H∞ filter synthesis with random delays and dropouts (Theorem 2)",
                Source(PAPER, "Theorem 2, (15), (20)", CITATION),
                description="min β = γ² subject to (15); filter from Af = R⁻¹ÂfZ⁻¹S⁻ᵀ, Bf = R⁻¹B̂f, "
-                           "Cf = ĈfZ⁻¹S⁻ᵀ, Df = D̂f with R Sᵀ = I − XZ⁻¹.")
+                           "Cf = ĈfZ⁻¹S⁻ᵀ, Df = D̂f with R Sᵀ = I − XZ⁻¹.", designs="filter")
 d, pl, w, aug = _model(thm2)
 na, r, m = d["na"], d["r"], d["m"]
 X = thm2.var("X", na, kind="symmetric", latex="X")
@@ -209,7 +207,7 @@ thm2.minimize(beta, performance=("gamma", sqrt(beta)))
 R, S = thm2.factor("R S", rs_split, Identity(na) - X * Z.I,
                    description="R Sᵀ = I − XZ⁻¹ (balanced split, lmidsl.factorization)")
 thm2.recover(Af=R.I * Af_hat * Z.I * S.I.T, Bf=R.I * Bf_hat, Cf=Cf_hat * Z.I * S.I.T, Df=Df_hat)
-thm2.certified_by("li_delay_dropout.thm1", filter=("Af", "Bf", "Cf", "Df"), gamma_tolerance=1e-2)
+thm2.certified_by("li_delay_dropout.thm1", design=("Af", "Bf", "Cf", "Df"), gamma_tolerance=1e-2)
 thm2.scale_signal("y", rows=("C1", "C2"), recovered_cols=("Bf", "Df"),
                   description="received measurement y = s·y' (exact: similarity of the augmentation)")
 thm2.well_conditioned(Z, X - Z)

@@ -24,6 +24,8 @@ congruence image of (24)/(25) under (26) derived in NOTES.md (checked numericall
 (data with p ≠ m are refused with the shape error naming L1 or L2).
 """
 from lmidsl import He, Source, Theorem
+
+from .impulsive import simulate_design
 from sympy import BlockMatrix, Identity, ZeroMatrix, sqrt
 
 PAPER = "003_e819f6d564045660.txt"
@@ -105,6 +107,7 @@ lemma1.example("paper-printed", {**PLANT, **PRINTED_FILTER}, printed={"gamma_bou
                printed_note=PRINTED_AT,
                description="the filter the paper prints for γ = 0.5, analysed by Lemma 1")
 lemma1.example("modified-printed", {**MODIFIED_PLANT, **PRINTED_FILTER},
+               provenance="illustration", provenance_note="not from the paper: the printed filter on the plant with M11 = 0.9",
                description="not from the paper: the printed filter on the plant with M11 = 0.9")
 
 
@@ -164,34 +167,44 @@ def _theorem1(thm: Theorem, *, minimise: bool):
         thm.feasibility(performance=("gamma", gamma))
     thm.recover(Ahat=T.I * S_A, Bhat=T.I * S_B, Mhat=T.I * S_M,
                 Chat=Psi.T.I * S_C, Dhat=Psi.T.I * S_D)
-    thm.certified_by("pan_impulsive.lemma1", filter=FILTER)
+    thm.certified_by("pan_impulsive.lemma1", design=FILTER)
 
 
 thm1 = Theorem("pan_impulsive.thm1", "Robust impulsive H∞ filter at a prescribed γ (Theorem 1)",
                Source(PAPER, "Theorem 1, (26)-(28)", CITATION),
-               description="feasibility of (27), (28), P̂⁽ⁱ⁾ > 0 at every vertex for given γ, λ1, λ2, ε.")
+               description="feasibility of (27), (28), P̂⁽ⁱ⁾ > 0 at every vertex for given γ, λ1, λ2, ε.",
+               designs="filter")
 _theorem1(thm1, minimise=False)
 thm1.example("paper", dict(PLANT), params={**SCALARS, "gamma": 0.5},
              printed=dict(PRINTED_FILTER), printed_note=PRINTED_AT,
              description="the paper's example: one vertex, γ = 0.5, λ1 = 0.2, λ2 = −0.3, ε = 0.1")
 thm1.example("modified", dict(MODIFIED_PLANT), params={**MODIFIED_SCALARS, "gamma": 0.5},
+             provenance="illustration", provenance_note="not from the paper: M11 = 0.9 (Schur jump map), γ = 0.5, scalars from the scalar search",
              description="not from the paper: M11 = 0.9 (Schur jump map), γ = 0.5, scalars "
                          "from the scalar search (docs/reproductions/003.md)")
 thm1.example("modified-two-vertex", MODIFIED_COMMON, params={**MODIFIED_SCALARS, "gamma": 1.0},
              vertices=TWO_VERTICES,
+             provenance="illustration", provenance_note="not from the paper: M11 = 0.9 and A11 ∈ {1, 0.95}, γ = 1 (γ = 0.5 is infeasible)",
              description="not from the paper: M11 = 0.9 and A11 ∈ {1, 0.95}, γ = 1 (γ = 0.5 is infeasible)")
 
 thm1_min = Theorem("pan_impulsive.thm1_min", "Robust impulsive H∞ filter, min γ (Theorem 1)",
                    Source(PAPER, "Theorem 1, (26)-(28)", CITATION),
-                   description="min γ² subject to (27), (28), P̂⁽ⁱ⁾ > 0 at every vertex for given λ1, λ2, ε.")
+                   description="min γ² subject to (27), (28), P̂⁽ⁱ⁾ > 0 at every vertex for given λ1, λ2, ε.",
+                   designs="filter", provenance="illustration",
+                   provenance_note="Theorem 1's LMIs with γ² minimised; the paper prescribes γ")
 _theorem1(thm1_min, minimise=True)
 thm1_min.example("paper", dict(PLANT), params=dict(SCALARS),
                  printed_note="the paper prescribes γ = 0.5 and prints no optimum",
                  description="the paper's example at its scalars, γ minimised")
 thm1_min.example("modified", dict(MODIFIED_PLANT), params=dict(MODIFIED_MIN_SCALARS),
+                 provenance="illustration", provenance_note="not from the paper: M11 = 0.9 (Schur jump map), searched scalars",
                  description="not from the paper: M11 = 0.9 (Schur jump map), searched scalars")
 thm1_min.example("modified-two-vertex", MODIFIED_COMMON, params=dict(MODIFIED_SCALARS),
                  vertices=TWO_VERTICES,
+                 provenance="illustration", provenance_note="not from the paper: M11 = 0.9 and A11 ∈ {1, 0.95}",
                  description="not from the paper: M11 = 0.9 and A11 ∈ {1, 0.95}")
+
+for _thm in (lemma1, thm1, thm1_min):
+    _thm.simulated_by(simulate_design)
 
 THEOREMS = [lemma1, thm1, thm1_min]

@@ -17,8 +17,7 @@ Reading taken (NOTES.md §1.7 item 2): the factor ``a`` appears both off the dia
 complement then weighs A_cl1ᵀPA_cl1 by a²/a = a, as the variance computation requires.
 """
 import numpy as np
-from lmidsl import I, Source, Theorem
-from lmidsl.certify import ErrorSystem
+from lmidsl import ErrorSystem, I, Source, Theorem
 from sympy import BlockMatrix, ZeroMatrix, sqrt
 
 PAPER = "000_33978a18bf0584d4.txt"
@@ -86,7 +85,7 @@ def _synthesis(thm: Theorem, per_vertex: bool, labels: tuple[str, str]):
     thm.positive(P1, P3)
     thm.minimize(g, performance=("gamma", sqrt(g)))
     thm.recover(Af=V2.I * Af_hat, Bf=V2.I * Bf_hat, Cf=Cf_hat)
-    thm.certified_by("wang_l2linf.thm1", filter=("Af", "Bf", "Cf"))
+    thm.certified_by("wang_l2linf.thm1", design=("Af", "Bf", "Cf"))
 
 
 # -- Theorem 1: analysis ------------------------------------------------------------------
@@ -138,7 +137,7 @@ def plant_1_with_filter_4(d, w, runs, rng):
 
 # error system (5): A_cl = A_cl0 + (r − r̄) A_cl1 with var(r) = a; index (6): energy to peak
 thm1.error_system(ErrorSystem(A=A_cl0, B=B_cl, C=C_cl, noise=[{"A": A_cl1}], covariance=[_a]),
-                  figure="energy_to_peak", filter=("Af", "Bf", "Cf"), simulate=plant_1_with_filter_4)
+                  figure="energy_to_peak", design=("Af", "Bf", "Cf"), simulate=plant_1_with_filter_4)
 thm1.example("paper-full-printed", {**PLANT, **FULL_FILTER}, params={"rbar": 0.8},
              printed={"gamma_bound": 0.3373}, printed_note=PRINTED_AT,
              description="the full-order filter the paper prints, analysed by Theorem 1")
@@ -149,7 +148,8 @@ thm1.example("paper-reduced-printed", {**PLANT, **REDUCED_FILTER}, params={"rbar
 # -- Theorem 3: synthesis -----------------------------------------------------------------
 thm3 = Theorem("wang_l2linf.thm3", "Full- and reduced-order l2-l∞ filter synthesis (Theorem 3)",
                Source(PAPER, "Theorem 3, (30)-(32)", CITATION),
-               description="min γ² subject to (30), (31), P1 > 0, P3 > 0; filter order k = columns of E.")
+               description="min γ² subject to (30), (31), P1 > 0, P3 > 0; filter order k = columns of E.",
+               designs="filter")
 _synthesis(thm3, per_vertex=False, labels=("(30)", "(31)"))
 thm3.example("paper-full", {**PLANT, "E": [[1.0, 0.0], [0.0, 1.0]]}, params={"rbar": 0.8},
              printed={"gamma": 0.3373, **FULL_FILTER}, printed_note=PRINTED_AT,
@@ -162,7 +162,7 @@ thm3.example("paper-reduced", {**PLANT, "E": [[1.0], [0.0]]}, params={"rbar": 0.
 cor1 = Theorem("wang_l2linf.cor1", "Polytopic l2-l∞ filter synthesis (Corollary 1)",
                Source(PAPER, "Corollary 1, (36)-(38)", CITATION),
                description="(30)-(31) at every vertex with vertex-dependent P1i, P2i, P3i and common "
-                           "V1, V2, V3, Âf, B̂f, Ĉf, γ.")
+                           "V1, V2, V3, Âf, B̂f, Ĉf, γ.", designs="filter")
 _synthesis(cor1, per_vertex=True, labels=("(37)", "(38)"))
 cor1.example("paper-one-vertex", {"E": [[1.0, 0.0], [0.0, 1.0]]}, params={"rbar": 0.8},
              vertices=[dict(PLANT)],
@@ -171,6 +171,7 @@ cor1.example("paper-one-vertex", {"E": [[1.0, 0.0], [0.0, 1.0]]}, params={"rbar"
 cor1.example("two-vertex", {"E": [[1.0, 0.0], [0.0, 1.0]]}, params={"rbar": 0.8},
              vertices=[{**PLANT, "A": [[0.0, 0.3], [-0.25, 0.35]]},
                        {**PLANT, "A": [[0.0, 0.3], [-0.15, 0.45]]}],
+             provenance="illustration", provenance_note="not from the paper: A's second row varied by ±0.05 around the paper's plant",
              description="not from the paper: A's second row varied by ±0.05 around the paper's plant")
 
 THEOREMS = [thm1, thm3, cor1]

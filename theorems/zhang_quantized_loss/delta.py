@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from lmidsl.errors import InputError
+from lmidsl import InputError
 
 READINGS = ("delta", "shift")
 

@@ -33,9 +33,8 @@ Each is a family in N (N delay blocks built in a loop); Δ is an uncertain scala
 imposed at the points the instance chooses (``Delta=[1]``: the paper's Δ = +β; ``[-1, 1]``:
 the whole sector; ``[0]``: nominal).
 """
-from lmidsl import I, He, Source, Theorem
+from lmidsl import He, I, Source, Theorem, TheoremFamily
 from .delta import filter_reading
-from lmidsl.theorem.family import TheoremFamily
 from sympy import BlockMatrix, Rational, ZeroMatrix, sqrt
 
 PAPER = "002_3b780ca4000d1f3f.txt"
@@ -180,7 +179,7 @@ def build_thm2_literal(thm: Theorem, N: int):
     thm.minimize(g, performance=("gamma", sqrt(g)))
     thm.recover(Af=H1 * (S - R).I / h, Bf=H2 / h, Cf=h * H3 * (S - R).I)
     thm.linearise(Sbar=S.I, P3bar=P3.I)
-    thm.certified_by("zhang_quantized_loss.thm1", filter=("Af", "Bf", "Cf"))
+    thm.certified_by("zhang_quantized_loss.thm1", design=("Af", "Bf", "Cf"))
 
 
 def _synthesis_variables(thm: Theorem, n, ny, nz, s_meaning: str):
@@ -227,7 +226,7 @@ def build_thm2(thm: Theorem, N: int):
     thm.minimize(g, performance=("gamma", sqrt(g)))
     thm.recover(Af=H1 * (S - R).I, Bf=H2, Cf=H3 * (S - R).I)
     thm.linearise(Sbar=S.I, P3bar=P3.I)
-    thm.certified_by("zhang_quantized_loss.thm1", filter=("Af", "Bf", "Cf"))
+    thm.certified_by("zhang_quantized_loss.thm1", design=("Af", "Bf", "Cf"))
 
 
 # -- exact change of variables (NOTES §3.5) -----------------------------------------------
@@ -254,7 +253,7 @@ def build_exact(thm: Theorem, N: int):
     thm.positive(Pi, P2, P3)
     thm.minimize(g, performance=("gamma", sqrt(g)))
     thm.recover(Af=H1 * (S - R).I, Bf=H2, Cf=H3 * (S - R).I)
-    thm.certified_by("zhang_quantized_loss.thm1", filter=("Af", "Bf", "Cf"))
+    thm.certified_by("zhang_quantized_loss.thm1", design=("Af", "Bf", "Cf"))
 
 
 def _synthesis_examples(thm: Theorem, start: dict | None = None):
@@ -265,12 +264,13 @@ def _synthesis_examples(thm: Theorem, start: dict | None = None):
                     printed=printed, printed_note=PRINTED_AT,
                     description=f"case {N - 1} of Section 3: N = {N}, ᾱ = {row['alpha_bar']}, Δ = +β as in the paper")
         thm.example(f"paper-N{N}-robust", {**PLANT, **(start or {}), "Delta": [-1, 1]}, params=params,
+                    provenance="illustration", provenance_note="the paper imposes Δ = +β only",
                     description=f"not printed: as paper-N{N} but with the LMI imposed on the whole sector |Δ| ≤ β")
 
 
 thm2 = TheoremFamily("zhang_quantized_loss.thm2", "Delta-domain H∞ filter synthesis with fixed S̄, P̄3 (Theorem 2)",
                      Source(PAPER, "Theorem 2, (17)-(18), on the form of NOTES §3.3", CITATION), build_thm2,
-                     index="N", default=2,
+                     index="N", default=2, designs="filter",
                      description="min γ² subject to (17)'s bounded LMI at a fixed point (S̄, P̌̄3), written on the "
                                  "cancellation-free form of (10); iterate with lmidsl.bmi (S̄, P̌̄3) ← (S⁻¹, P̌3⁻¹).")
 _synthesis_examples(thm2, start={"Sbar": [[1.0, 0.0], [0.0, 1.0]], "P3bar": [[1e4, 0.0], [0.0, 1e4]]})
@@ -278,12 +278,18 @@ _synthesis_examples(thm2, start={"Sbar": [[1.0, 0.0], [0.0, 1.0]], "P3bar": [[1e
 thm2_literal = TheoremFamily(
     "zhang_quantized_loss.thm2_literal", "Theorem 2, LMI (17) as printed (corrected, exactly rescaled)",
     Source(PAPER, "Theorem 2, (17)-(18)", CITATION), build_thm2_literal, index="N", default=2,
+    designs="filter", provenance="corrected",
+    provenance_note="LMI (17) as printed with its OCR-damaged blocks corrected and exactly rescaled; "
+                    "numerically fragile at h = 1e-4 (thm2 is the same method on the cancellation-free form)",
     description="(17) with its b1/b3 blocks as printed: (hA+I) terms cancel to O(h) inside O(1) entries, "
                 "so at h = 1e-4 the LMI's margin at the tight point is ~1e-15 relative (see docs/reproductions/002.md).")
 _synthesis_examples(thm2_literal, start={"Sbar": [[1.0, 0.0], [0.0, 1.0]], "P3bar": [[1e4, 0.0], [0.0, 1e4]]})
 
 exact = TheoremFamily("zhang_quantized_loss.exact", "Delta-domain H∞ filter synthesis, exact change of variables",
-                      Source(PAPER, "Theorem 1 (10), NOTES.md §3.5", CITATION), build_exact, index="N", default=2,
+                      Source(PAPER, "Theorem 1 (10), exact change of variables", CITATION), build_exact,
+                      index="N", default=2, designs="filter", provenance="illustration",
+                      provenance_note="not in the paper: an exact change of variables for Theorem 1 "
+                                      "(no fixed S̄, P̄3), the best γ Theorem 1 certifies over full-order filters",
                       description="min γ² over Π = [S S; S R] > 0, H1, H2, H3, P2, P3: the best γ of Theorem 1 "
                                   "over full-order filters.")
 _synthesis_examples(exact)

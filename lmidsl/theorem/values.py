@@ -1,0 +1,198 @@
+"""The value types of a theorem statement: its source, LMIs, examples, links and provenance.
+
+Plain data, no behaviour beyond small checks; :class:`~lmidsl.theorem.theorem.Theorem` builds
+them from a theorem file's declarations.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import sympy as sp
+
+from ..errors import TheoremDefinitionError
+from ..symbolic.blocks import BlockMatrixSpec
+
+TIME_DOMAINS = ("discrete", "continuous")
+
+DESIGN_KINDS = ("filter", "controller", "observer", "gain", "unspecified")
+"""What a synthesis theorem's recovery produces (``Theorem(..., designs=...)``)."""
+
+PROVENANCE = {
+    "paper": "the paper's own statement",
+    "corrected": "a corrected reading of the paper (a typo or an inconsistency repaired)",
+    "guessed": "a guessed reading where the paper is ambiguous or incomplete",
+    "illustration": "not from the paper: an illustration or a variant for comparison",
+}
+"""Where a theorem or an example stands relative to its paper; anything but "paper" needs a note."""
+
+
+def check_provenance(owner: str, provenance: str, note: str) -> None:
+    if provenance not in PROVENANCE:
+        raise TheoremDefinitionError(f"{owner}: provenance must be one of {', '.join(PROVENANCE)}, "
+                                     f"got {provenance!r}")
+    if provenance != "paper" and not note:
+        raise TheoremDefinitionError(f"{owner}: provenance {provenance!r} needs a provenance_note "
+                                     "saying what differs from the paper")
+
+
+@dataclass(frozen=True)
+class Source:
+    """Where a theorem comes from: the paper file and its equation numbers."""
+
+    paper: str
+    equations: str
+    citation: str = ""
+
+    def __str__(self):
+        text = f"{self.paper} {self.equations}"
+        return f"{self.citation}, {text}" if self.citation else text
+
+
+@dataclass
+class LMI:
+    """A labelled block LMI ``M < 0`` (or ``M > 0``) as the paper writes it."""
+
+    label: str
+    spec: BlockMatrixSpec
+    sense: str = "<"
+    strict: bool = True
+    description: str = ""
+    per_vertex: bool = False
+    _negative: BlockMatrixSpec | None = field(default=None, repr=False, compare=False)
+    _symbols: frozenset | None = field(default=None, repr=False, compare=False)
+
+    def negative_form(self) -> BlockMatrixSpec:
+        """The matrix N with the LMI stated as N ≺ 0 (N = M for '<', N = −M for '>'); built once."""
+        if self.sense in ("<", "<="):
+            return self.spec
+        if self._negative is None:
+            lower = [[-b for b in row] for row in self.spec.lower]
+            self._negative = BlockMatrixSpec(lower, self.spec.sizes, self.spec.given_as)
+        return self._negative
+
+    def symbols(self) -> set:
+        """Every symbol in the LMI's blocks (computed once; an LMI does not change)."""
+        if self._symbols is None:
+            atoms = set()
+            for row in self.spec.lower:
+                for b in row:
+                    atoms |= b.atoms(sp.Symbol, sp.MatrixSymbol)
+            self._symbols = frozenset(atoms)
+        return self._symbols
+
+
+@dataclass
+class Example:
+    """A named numerical instance with the values the paper prints.
+
+    ``data`` maps data names to matrices (nested lists) and dimension names to integers;
+    ``vertices`` lists per-vertex data for polytopic theorems; ``params`` the scalar parameters;
+    ``printed`` the paper's printed results, with ``printed_note`` saying where they are
+    printed: ``gamma`` is an optimum to reproduce, ``gamma_bound`` a level the paper claims
+    for a fixed filter (the analysis must certify a γ at or below it), and matrices by name.
+    """
+
+    name: str
+    data: dict
+    params: dict = field(default_factory=dict)
+    printed: dict = field(default_factory=dict)
+    vertices: list | None = None
+    description: str = ""
+    printed_note: str = ""
+    provenance: str = "paper"
+    provenance_note: str = ""
+
+    def __post_init__(self):
+        check_provenance(f"example {self.name}", self.provenance, self.provenance_note)
+
+    def inputs(self) -> dict:
+        merged = dict(self.data)
+        merged.update(self.params)
+        if self.vertices is not None:
+            merged["vertices"] = self.vertices
+        return merged
+
+
+@dataclass
+class AnalysisLink:
+    """The analysis theorem that certifies a recovered design.
+
+    The analysis instance takes every datum and parameter of the synthesis instance whose name
+    it declares, plus the recovered matrices named in ``design``.  ``target`` is the analysis
+    :class:`Theorem` itself when the theorem file passed the object (an id is looked up).
+    """
+
+    theorem: str
+    design: tuple
+    gamma_tolerance: float = 1e-3
+    target: Any = None
+
+
+@dataclass
+class ErrorSystemLink:
+    """The error (or closed-loop) system of a theorem whose data include the design.
+
+    ``system`` is a :class:`lmidsl.certify.ErrorSystem` in the theorem's symbols, ``figure`` the
+    exact figure that applies ('energy_to_peak' or 'h_infinity'), ``design`` the names of the
+    design's matrices among the data, ``simulate(d, w, runs, rng)`` the original model with the
+    design in numpy (for Monte Carlo; optional).
+    """
+
+    system: Any
+    figure: str
+    design: tuple
+    simulate: Any = None
+
+
+FIGURES = ("energy_to_peak", "h_infinity")
+
+
+@dataclass
+class FactorStep:
+    """A recovery step: ``names`` = ``factorization(*args)`` with ``args`` evaluated numerically."""
+
+    names: tuple
+    factorization: Any
+    args: tuple
+
+
+@dataclass
+class SignalScaling:
+    """An exact change of units of one signal, u = S u' with S = diag(s) > 0.
+
+    Data in ``rows`` produce the signal (M' = S⁻¹M), data in ``cols`` consume it (M' = M S);
+    recovered matrices are mapped back: ``recovered_cols`` (consumers) M = M' S⁻¹,
+    ``recovered_rows`` (producers) M = S M'.  The theorem author asserts that this substitution
+    is a change of coordinates under which the theorem's conditions and γ are invariant.
+    """
+
+    signal: str
+    rows: tuple = ()
+    cols: tuple = ()
+    recovered_rows: tuple = ()
+    recovered_cols: tuple = ()
+    description: str = ""
+
+
+@dataclass
+class Declaration:
+    symbol: Any
+    latex: str
+    description: str
+    extra: dict = field(default_factory=dict)
+
+
+@dataclass
+class SimulationTable:
+    """What a theorem's own simulator returns (``lmidsl simulate``): one row per run.
+
+    ``columns`` maps each row key to its column heading; ``notes`` explain the columns.
+    """
+
+    columns: dict
+    rows: list
+    notes: list = field(default_factory=list)
+
+    def as_dict(self) -> dict:
+        return {"columns": self.columns, "rows": self.rows, "notes": self.notes}
