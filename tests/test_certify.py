@@ -257,7 +257,7 @@ def test_cli_verify_json(capsys):
     code = main(["verify", "wang_l2linf.thm3", "--example", "paper-full", "--runs", "4000", "--json"])
     out = json.loads(capsys.readouterr().out)
     assert code == 0 and out["certified"] is True
-    for key in ("synthesis_gamma", "lmis", "analysis_gamma", "analysis_status", "exact", "monte_carlo", "filter"):
+    for key in ("synthesis_gamma", "lmis", "analysis_gamma", "analysis_status", "exact", "monte_carlo", "design"):
         assert key in out
     assert out["exact"]["kind"] == "energy_to_peak"
     assert out["exact"]["value"] < out["synthesis_gamma"]
