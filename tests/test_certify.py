@@ -263,7 +263,7 @@ def test_cli_verify_json(capsys):
     assert out["exact"]["value"] < out["synthesis_gamma"]
     assert set(out["monte_carlo"]) >= {"ratio", "ci_low", "ci_high", "runs"}
     assert out["monte_carlo"]["runs"] == 4000
-    assert set(out["filter"]) == {"Af", "Bf", "Cf"}
+    assert set(out["design"]) == {"Af", "Bf", "Cf"}
 
 
 def test_cli_verify_filter_file(tmp_path, capsys):
@@ -273,7 +273,7 @@ def test_cli_verify_filter_file(tmp_path, capsys):
                  "--gamma", "0.3373", "--runs", "2000", "--json"])
     out = json.loads(capsys.readouterr().out)
     assert code == 1 and out["certified"] is False
-    assert out["filter"]["Af"][1][1] == 0.9557
+    assert out["design"]["Af"][1][1] == 0.9557
 
 
 def test_cli_verify_bad_filter_file(tmp_path, capsys):

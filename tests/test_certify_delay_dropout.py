@@ -151,7 +151,7 @@ def test_cli_verify_filter_file_round_trip(designed, tmp_path, capsys):
                  "--gamma", repr(designed.synthesis_gamma), "--runs", "4000", "--json"])
     out = json.loads(capsys.readouterr().out)
     assert code == 0 and out["certified"] is True and out["mode"] == "given"
-    for key in ("synthesis_gamma", "lmis", "analysis_gamma", "analysis_status", "exact", "monte_carlo", "filter"):
+    for key in ("synthesis_gamma", "lmis", "analysis_gamma", "analysis_status", "exact", "monte_carlo", "design"):
         assert key in out
     assert out["analysis_gamma"] == pytest.approx(designed.analysis_gamma, rel=1e-5)
     assert out["exact"]["kind"] == "h_infinity"
