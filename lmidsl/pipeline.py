@@ -24,7 +24,8 @@ from .solver.backoff import DEFAULT_DELTA
 from .solver.backoff import backoff_solution
 
 
-def _theorem(theorem) -> Theorem:
+def as_theorem(theorem) -> Theorem:
+    """A Theorem, given itself or its id."""
     return theorem if isinstance(theorem, Theorem) else get_theorem(theorem)
 
 
@@ -51,7 +52,7 @@ def instance_inputs(theorem: Theorem, example: str | None = None, data: dict | N
 def make_instance(theorem, example: str | None = None, data: dict | None = None,
                   overrides: dict | None = None) -> Instance:
     """Bind an example (or data) with overrides to a theorem."""
-    thm = _theorem(theorem)
+    thm = as_theorem(theorem)
     if example is None and data is None and thm.examples:
         example = next(iter(thm.examples))
     return bind(thm, instance_inputs(thm, example, data, overrides), example=example)

@@ -10,7 +10,7 @@ The minimum sits on the boundary of the strict set, where a solver's point may m
 LMIs by its tolerance.  When it does, the analysis is solved again as a feasibility problem at a
 level (the synthesis γ, else the minimum plus the tolerance): a point inside the strict set at
 that level is the certificate (``method`` "level").  When the default solver fails numerically,
-:data:`FALLBACK_SOLVERS` are tried (the certificate is numpy's, whichever solver found the
+the backend's fallback solvers (:func:`lmidsl.solver.backends.fallback_solvers`) are tried (the certificate is numpy's, whichever solver found the
 point).  An analysis without a certified point carries the feasp diagnosis
 (:mod:`lmidsl.feasibility`).
 """
@@ -24,10 +24,12 @@ import sympy as sp
 from ..errors import InputError, LmidslError
 from ..numeric.instance import Instance, bind
 from ..numeric.scaling import apply_scaling
-from ..solver.backends import get_backend
+from ..solver.backends import fallback_solvers, get_backend
 from ..solver.feasibility import feasp
 from ..solver.margin import solve_model
 from ..solver.solution import evaluate_reported
+from ..solver.status import solved
+from ..solver.status import worst as worst_status
 from ..theorem.registry import get_theorem
 
 
@@ -52,7 +54,7 @@ class AnalysisCertificate:
     @property
     def passed(self) -> bool:
         """The analysis certifies the filter at the synthesis γ (within the relative tolerance)."""
-        if self.gamma is None or self.status not in ("optimal", "optimal_inaccurate"):
+        if self.gamma is None or not solved(self.status):
             return False
         if any(r["max_eig"] >= 0 for r in self.lmis):
             return False
@@ -104,11 +106,6 @@ def objective_level(theorem, gamma: float) -> float | None:
     return float(roots[0]) if roots else None
 
 
-FALLBACK_SOLVERS = {"cvxpy": ("CVXOPT", "SCS"), "picos": ()}
-"""Solvers tried, in order, when the default solver fails (solver_error) on an analysis problem:
-a solver's numerical failure is not a verdict on the filter."""
-
-
 def _attempt(model, solver, synthesis_gamma, tolerance):
     """min γ, then (when its point is not strictly feasible) the level problems."""
     sol = solve_model(model, solver)
@@ -135,7 +132,7 @@ def _attempt(model, solver, synthesis_gamma, tolerance):
 
 def _solve_one(make_model, solver, backend, synthesis_gamma, tolerance):
     """(solution, method, min γ, solver used): the requested solver, else the fallbacks."""
-    candidates = [solver] if solver is not None else [None, *FALLBACK_SOLVERS.get(backend, ())]
+    candidates = [solver] if solver is not None else [None, *fallback_solvers(backend)]
     result = None
     for name in candidates:
         try:
@@ -185,12 +182,8 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
         lmis += [dict(r.as_dict(), vertex=None if v is None else v + 1) for r in sol.lmis]
         if sol.ok and analysis.reported:
             reported.append(evaluate_reported(scaled.scaled, {**scaled.scaled.data, **sol.values}))
-    ok = all(s in ("optimal", "optimal_inaccurate") for s in statuses)
-    worst = max(gammas) if ok and all(g is not None for g in gammas) else None
-    if ok:
-        status = "optimal" if all(s == "optimal" for s in statuses) else "optimal_inaccurate"
-    else:
-        status = next(s for s in statuses if s not in ("optimal", "optimal_inaccurate"))
+    status = worst_status(statuses)
+    worst = max(gammas) if solved(status) and all(g is not None for g in gammas) else None
     minimum = max(minima) if all(m is not None for m in minima) else None
     return AnalysisCertificate(analysis.id, status, worst,
                                per_vertex=gammas if len(gammas) > 1 else [],

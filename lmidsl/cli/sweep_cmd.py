@@ -6,6 +6,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..render.report import format_table
+from ..solver.status import solved
 from ..studies.sweep import format_timing, parse_grid, sweep
 from .common import add_instance_arguments, instance_spec, print_json
 
@@ -62,5 +63,5 @@ def run(args):
         print(format_timing(result.timing()))
         if args.out:
             print(f"wrote {Path(args.out) / 'sweep.csv'}, sweep.json, sweep.png")
-    bad = [p for p in result.points if p.status not in ("optimal", "optimal_inaccurate")]
+    bad = [p for p in result.points if not solved(p.status)]
     return 1 if bad else 0

@@ -59,10 +59,15 @@ class NumericEvaluator(ExpressionWalker):
         return c * np.asarray(a)
 
 
-def max_eigenvalue(M: np.ndarray) -> float:
-    """Largest eigenvalue of the symmetric part of ``M`` (M is symmetric by construction)."""
+def eigenvalues(M: np.ndarray) -> np.ndarray:
+    """Eigenvalues (ascending) of the symmetric part of ``M`` (M is symmetric by construction)."""
     M = np.atleast_2d(np.asarray(M, dtype=float))
-    return float(np.linalg.eigvalsh((M + M.T) / 2)[-1])
+    return np.linalg.eigvalsh((M + M.T) / 2)
+
+
+def max_eigenvalue(M: np.ndarray) -> float:
+    """Largest eigenvalue of the symmetric part of ``M``."""
+    return float(eigenvalues(M)[-1])
 
 
 def asymmetry(M: np.ndarray) -> float:

@@ -35,6 +35,7 @@ import sympy as sp
 from ..numeric.instance import Instance
 from .solution import lmi_certificate, with_location
 from .backends import get_backend
+from .status import solved
 
 DEFAULT_RADIUS = 1e6
 """Feasibility radius R (bound on the 2-norm of all decision variables stacked)."""
@@ -152,7 +153,7 @@ class JointFeasp:
         if self.model.lmi_matrices is not self._source:   # the backend recompiled on update
             self._build()
         status, value, _, _ = self.model.run_solver(solver, self.problem, **options)
-        ok = status in ("optimal", "optimal_inaccurate") and value is not None
+        ok = solved(status) and value is not None
         return (float(value) if ok else None), status
 
 
@@ -199,7 +200,7 @@ def _tmin(model, chosen, radius, solver, options):
     constraints.append(model.norm_bound(radius))
     problem = model.make_problem(t, constraints)
     status, value, _, _ = model.run_solver(solver, problem, **options)
-    ok = status in ("optimal", "optimal_inaccurate") and value is not None
+    ok = solved(status) and value is not None
     return (float(value) if ok else None), status
 
 

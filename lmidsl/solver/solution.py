@@ -13,8 +13,9 @@ import numpy as np
 
 from ..numeric.design import Design
 from ..numeric.instance import Instance
-from ..numeric.evaluate import NumericEvaluator, evaluate_block_matrix, max_eigenvalue
+from ..numeric.evaluate import NumericEvaluator, eigenvalues, evaluate_block_matrix
 from ..symbolic.uncertainty import scenarios, spec_at
+from .status import solved
 
 
 def with_location(d: dict, vertex: int | None, point: str) -> dict:
@@ -33,9 +34,16 @@ class LMIReport:
     size: int
     vertex: int | None = None
     point: str = ""  # values of uncertain symbols, e.g. "Delta=+1*beta"
+    scale: float = 1.0  # ‖N‖₂ (largest |eigenvalue|), for the relative margin
+
+    @property
+    def relative(self) -> float:
+        """λ_max(N) / max(1, ‖N‖₂): the margin relative to the size of the LMI."""
+        return self.max_eig / max(1.0, self.scale)
 
     def as_dict(self) -> dict:
-        return with_location({"label": self.label, "max_eig": self.max_eig, "size": self.size},
+        return with_location({"label": self.label, "max_eig": self.max_eig,
+                              "relative": self.relative, "size": self.size},
                              self.vertex, self.point)
 
 
@@ -78,7 +86,7 @@ class Solution:
 
     @property
     def ok(self) -> bool:
-        return self.status in ("optimal", "optimal_inaccurate")
+        return solved(self.status)
 
     @property
     def certified(self) -> bool:
@@ -132,8 +140,10 @@ def lmi_certificate(instance: Instance, values: dict) -> list[LMIReport]:
             v = sc.vertex
             ev = NumericEvaluator(instance.dims, values, instance.params, vertex=v)
             M = evaluate_block_matrix(ev, spec_at(negative, sc))
-            reports.append(LMIReport(lmi.label, max_eigenvalue(M), M.shape[0],
-                                     None if v is None else v + 1, sc.label))
+            eigs = eigenvalues(M)
+            reports.append(LMIReport(lmi.label, float(eigs[-1]), M.shape[0],
+                                     None if v is None else v + 1, sc.label,
+                                     float(np.max(np.abs(eigs)))))
     return reports
 
 

@@ -11,7 +11,7 @@ Each row is one backend/solver pair solving the same bound instance.  Two levels
   where the theorem has an analysis counterpart, the analysis certifies the recovered filter at
   the synthesis level.  A certified row's γ is a *valid upper bound*; it need not be the optimum.
 * **trusted** — certified, *and* the solver claims full accuracy: status ``optimal`` (not
-  ``optimal_inaccurate``) from a solver that is not first-order (:data:`FIRST_ORDER_SOLVERS`).
+  ``optimal_inaccurate``) from a solver that is not first-order (:func:`lmidsl.solver.backends.is_first_order`).
   A first-order solver (SCS) stops when its scaled residuals are below ~1e-4; on these LMIs its
   point is typically feasible but γ is off by ~1e-2, so its row is shown with its deviation and
   counted as a certified bound only.
@@ -30,14 +30,13 @@ import warnings
 from dataclasses import dataclass, field
 
 from ..pipeline import make_instance, solve_instance
-from ..solver.backends import BACKENDS, backend_sdp_solvers, resolve_solver
+from ..solver.backends import BACKENDS, backend_sdp_solvers, is_first_order, resolve_solver
 from ..errors import InputError, LmidslError
 
 DEFAULT_TOLERANCE = 1e-3
 
 #: Solvers whose "optimal" is a first-order residual test (~1e-4 scaled), not an
 #: interior-point duality gap; their certified rows are bounds, never the reference.
-FIRST_ORDER_SOLVERS = frozenset({"scs", "cosmo"})
 
 
 @dataclass
@@ -300,7 +299,7 @@ def _judge(row: CheckRow, sol, instance) -> None:
     row.certified = True
     if sol.status != "optimal":
         row.reason = f"certified bound only: solver status {sol.status}"
-    elif row.solver.lower() in FIRST_ORDER_SOLVERS:
+    elif is_first_order(row.solver):
         row.reason = "certified bound only: first-order solver (low accuracy)"
     else:
         row.trusted = True

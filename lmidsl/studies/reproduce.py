@@ -14,6 +14,7 @@ from dataclasses import asdict, dataclass
 
 from ..pipeline import solve
 from ..errors import LmidslError
+from ..solver.status import solved
 from ..theorem.registry import all_theorems, get_theorem
 from ..theorem.values import PROVENANCE
 from .verify import figures_for_solution, worst_index
@@ -47,7 +48,7 @@ class ReproductionRow:
 
 
 def _verdict(kind, printed, computed, rel, certified, status):
-    if status not in ("optimal", "optimal_inaccurate"):
+    if not solved(status):
         return status
     if printed is None:
         verdict = "computed (no printed value)"

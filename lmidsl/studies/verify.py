@@ -34,12 +34,13 @@ from ..certify.figures import FIGURES, exact_figure
 from ..certify.montecarlo import monte_carlo
 from ..certify.synthesis import synthesis_lmis
 from ..theorem.registry import get_theorem
-from ..pipeline import _theorem, make_instance, solve_instance
+from ..pipeline import as_theorem, make_instance, solve_instance
 from ..solver.backends import get_backend
+from ..solver.status import SOLVED
 from types import SimpleNamespace
 from ..theorem.checks import run_checks
 
-OK_STATUS = ("optimal", "optimal_inaccurate")
+OK_STATUS = SOLVED
 
 
 @dataclass
@@ -106,7 +107,8 @@ class Verification:
         if self.synthesis_status is not None:
             lines.append(f"  synthesis            {self.synthesis_status}, γ = {g(self.synthesis_gamma)}")
             for r in self.lmis:
-                where = f" @ vertex {r['vertex']}" if "vertex" in r else ""
+                where = (f" @ vertex {r['vertex']}" if "vertex" in r else "") + \
+                        (f" @ {r['point']}" if r.get("point") else "")
                 lines.append(f"    {r['label'] + where:<20} λmax = {r['max_eig']: .3e}"
                              f"  ({'holds' if r['max_eig'] < 0 else 'VIOLATED'})")
             for inv in self.inverted:
@@ -245,7 +247,7 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
     ``"auto"`` (back off only when the optimum's filter fails its analysis certificate).
     """
 
-    thm = _theorem(theorem)
+    thm = as_theorem(theorem)
     instance = make_instance(thm, example, data, overrides)
     ex = thm.examples.get(instance.example) if instance.example else None
     printed = ex.printed if ex is not None else {}

@@ -1,51 +1,108 @@
-"""Backends compile a bound theorem for one modelling layer and solve it.
+"""The one registry of backends and solvers.
 
-``get_backend(name)`` returns the model class for ``"cvxpy"`` (default) or ``"picos"``;
-``backend_sdp_solvers(name)`` lists the installed solvers of a backend that accept LMIs.
+A *backend* compiles a bound theorem for one modelling layer (:class:`BackendInfo`: where its
+model class lives, the package it needs, the solvers tried in order when the default one fails
+numerically); a *solver* has properties the rest of the library asks about (:class:`SolverInfo`:
+first-order methods are less accurate and their 'optimal' is not trusted in a cross-check; how
+to install it).  Adding a backend or a solver is one entry here (plus, for a backend, its
+module with a ``CompiledModel`` subclass, ``sdp_solvers()`` and ``resolve_solver(name)``).
+
+The backend modules import cvxpy / PICOS, which are heavy: they are imported when first used.
 """
 from __future__ import annotations
 
+import importlib
+from dataclasses import dataclass
+
 from ...errors import SolverUnavailableError
 
-BACKENDS = ("cvxpy", "picos")
+
+@dataclass(frozen=True)
+class BackendInfo:
+    name: str
+    module: str                  # relative module holding the model class
+    model_class: str
+    package: str                 # the pip package it needs
+    fallbacks: tuple = ()        # solvers tried, in order, when the default fails numerically
+
+
+@dataclass(frozen=True)
+class SolverInfo:
+    name: str
+    first_order: bool = False    # ADMM-type: tolerances ~1e-4, 'optimal' is not trustworthy alone
+    pip: str | None = None       # how to install it
+
+
+BACKEND_INFO = {
+    "cvxpy": BackendInfo("cvxpy", ".cvxpy_backend", "CvxpyModel", "cvxpy", fallbacks=("CVXOPT", "SCS")),
+    "picos": BackendInfo("picos", ".picos_backend", "PicosModel", "picos"),
+}
+BACKENDS = tuple(BACKEND_INFO)
+
+SOLVER_INFO = {s.name: s for s in (
+    SolverInfo("clarabel", pip="clarabel"),
+    SolverInfo("cvxopt", pip="cvxopt"),
+    SolverInfo("scs", first_order=True, pip="scs"),
+    SolverInfo("cosmo", first_order=True),
+    SolverInfo("mosek", pip="mosek (and a licence)"),
+    SolverInfo("copt", pip="coptpy (and a licence)"),
+    SolverInfo("sdpa", pip="sdpa-python"),
+    SolverInfo("scip"),
+)}
+
+
+def backend_info(name: str | None) -> BackendInfo:
+    key = (name or "cvxpy").lower()
+    if key not in BACKEND_INFO:
+        raise SolverUnavailableError(f"unknown backend {name!r}; available: {', '.join(BACKENDS)}")
+    return BACKEND_INFO[key]
+
+
+def _module(name: str | None):
+    info = backend_info(name)
+    try:
+        return importlib.import_module(info.module, __name__)
+    except ImportError:
+        raise SolverUnavailableError(
+            f"backend {info.name!r} needs the {info.package} package (pip install {info.package})") from None
 
 
 def get_backend(name: str = "cvxpy"):
-    """The :class:`~lmidsl.backends.base.CompiledModel` subclass of a backend."""
-    key = (name or "cvxpy").lower()
-    if key == "cvxpy":
-        from .cvxpy_backend import CvxpyModel
-        return CvxpyModel
-    if key == "picos":
-        try:
-            from .picos_backend import PicosModel
-        except ImportError:
-            raise SolverUnavailableError("backend 'picos' needs the picos package (pip install picos)") from None
-        return PicosModel
-    raise SolverUnavailableError(f"unknown backend {name!r}; available: {', '.join(BACKENDS)}")
+    """The :class:`~lmidsl.solver.backends.base.CompiledModel` subclass of a backend."""
+    return getattr(_module(name), backend_info(name).model_class)
 
 
 def backend_sdp_solvers(name: str) -> list[str]:
     """Installed SDP-capable solvers of a backend, in that backend's spelling."""
-    key = name.lower()
-    if key == "cvxpy":
-        from .cvxpy_backend import sdp_solvers
-        return list(sdp_solvers())
-    if key == "picos":
-        get_backend("picos")
-        from .picos_backend import sdp_solvers
-        return list(sdp_solvers())
-    raise SolverUnavailableError(f"unknown backend {name!r}; available: {', '.join(BACKENDS)}")
+    return list(_module(name).sdp_solvers())
 
 
 def resolve_solver(backend: str, solver: str | None) -> str:
-    """A backend's own name for an installed SDP solver, or a one-line error."""
-    key = backend.lower()
-    if key == "cvxpy":
-        from .cvxpy_backend import resolve_solver as resolve
-    elif key == "picos":
-        get_backend("picos")
-        from .picos_backend import resolve_solver as resolve
-    else:
-        raise SolverUnavailableError(f"unknown backend {backend!r}; available: {', '.join(BACKENDS)}")
-    return resolve(solver)
+    """A backend's own name for an installed SDP solver, or a one-line error (saying how to
+    install a solver that lmidsl knows but this machine lacks)."""
+    module = _module(backend)
+    try:
+        return module.resolve_solver(solver)
+    except SolverUnavailableError as exc:
+        info = SOLVER_INFO.get((solver or "").lower())
+        if info is None or info.pip is None or not any(
+                phrase in str(exc) for phrase in ("unknown solver", "not installed")):
+            raise
+        listed = ", ".join(module.sdp_solvers()) or "none"
+        raise SolverUnavailableError(
+            f"solver {solver!r} is not installed (pip install {info.pip}); SDP solvers installed "
+            f"for backend {backend_info(backend).name}: {listed}") from None
+
+
+def fallback_solvers(backend: str) -> tuple:
+    """Solvers to try, in order, after the default one failed numerically."""
+    return backend_info(backend).fallbacks
+
+
+def is_first_order(solver: str) -> bool:
+    info = SOLVER_INFO.get((solver or "").lower())
+    return bool(info and info.first_order)
+
+
+__all__ = ["BACKENDS", "BACKEND_INFO", "SOLVER_INFO", "BackendInfo", "SolverInfo", "get_backend",
+           "backend_sdp_solvers", "resolve_solver", "fallback_solvers", "is_first_order", "backend_info"]

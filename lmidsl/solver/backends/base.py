@@ -22,6 +22,7 @@ import sympy as sp
 from ...numeric.instance import Instance
 from ...numeric.evaluate import NumericEvaluator
 from ..solution import Solution, evaluate_performance, lmi_certificate
+from ..status import solved
 from ...symbolic.symbols import DECISION_TYPES, DerivedParam, Param, ScalarVariable, expand_derived
 from ...symbolic.uncertainty import scenarios
 from ...symbolic.walker import ExpressionWalker
@@ -226,7 +227,7 @@ class CompiledModel:
             solution.times["solver"] = solver_time
         if getattr(self, "last_solver_call", None) is not None:
             solution.times["solver_call"] = self.last_solver_call  # incl. the solver's interface
-        if status in ("optimal", "optimal_inaccurate"):
+        if solved(status):
             t1 = time.perf_counter()
             values = self.values()
             solution.values = values

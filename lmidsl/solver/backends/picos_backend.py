@@ -25,6 +25,7 @@ import picos
 
 from ...errors import InputError, SolverUnavailableError, TheoremDefinitionError
 from .base import BackendCompiler, CompiledModel
+from ..status import solved
 
 DEFAULT_SOLVER = "cvxopt"
 
@@ -179,7 +180,7 @@ class PicosModel(CompiledModel):
             status = "solver_error"
             message = message or f"{name}: {solution.claimedStatus}"
         objective = None
-        if status in ("optimal", "optimal_inaccurate"):
+        if solved(status):
             try:
                 value = problem.value
                 objective = float(value) if value is not None and np.isfinite(value) else None

@@ -1,0 +1,39 @@
+"""What a solve can end in: one name per outcome (the pattern of ``cvxpy/settings.py``).
+
+A backend maps its solver's own status to one of these.  :data:`SOLVED` are the statuses that
+return a point; whether the point is trusted is decided by numpy's certificate
+(:func:`lmidsl.solver.solution.lmi_certificate`), never by the status alone.  ``infeasible``
+and ``marginal`` as a *verdict* come from the feasp diagnosis (:mod:`lmidsl.solver.feasibility`),
+not from a solver's word.
+"""
+from __future__ import annotations
+
+OPTIMAL = "optimal"
+OPTIMAL_INACCURATE = "optimal_inaccurate"
+INFEASIBLE = "infeasible"
+INFEASIBLE_INACCURATE = "infeasible_inaccurate"
+UNBOUNDED = "unbounded"
+UNBOUNDED_INACCURATE = "unbounded_inaccurate"
+MARGINAL = "marginal"          # feasible, but by less than the strictness margin
+SOLVER_ERROR = "solver_error"
+
+SOLVED = frozenset({OPTIMAL, OPTIMAL_INACCURATE})
+
+
+def solved(status: str) -> bool:
+    """The solver returned a point (optimal, or optimal to reduced accuracy)."""
+    return status in SOLVED
+
+
+def worst(statuses) -> str:
+    """The status of a set of solves (e.g. one per polytope vertex): the first unsolved one,
+    else optimal_inaccurate if any is, else optimal."""
+    statuses = list(statuses)
+    unsolved = [s for s in statuses if not solved(s)]
+    if unsolved:
+        return unsolved[0]
+    return OPTIMAL if all(s == OPTIMAL for s in statuses) else OPTIMAL_INACCURATE
+
+
+__all__ = ["OPTIMAL", "OPTIMAL_INACCURATE", "INFEASIBLE", "INFEASIBLE_INACCURATE", "UNBOUNDED",
+           "UNBOUNDED_INACCURATE", "MARGINAL", "SOLVER_ERROR", "SOLVED", "solved", "worst"]
