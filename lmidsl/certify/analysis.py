@@ -30,7 +30,7 @@ from ..solver.margin import solve_model
 from ..solver.solution import evaluate_reported
 from ..solver.status import solved
 from ..solver.status import worst as worst_status
-from ..theorem.registry import get_theorem
+from ..theorem.registry import linked_analysis
 
 
 @dataclass
@@ -149,7 +149,7 @@ def _solve_one(make_model, solver, backend, synthesis_gamma, tolerance):
 def analysis_theorem_for(instance: Instance):
     """The analysis counterpart of ``instance.theorem``; for a family (:mod:`lmidsl.family`), the
     member matching the instance (its data names may depend on the family index)."""
-    analysis = get_theorem(instance.theorem.analysis.theorem)
+    analysis = linked_analysis(instance.theorem)
     if hasattr(analysis, "specialise"):
         analysis = analysis.specialise({**instance.data, **instance.params})
     return analysis

@@ -18,7 +18,7 @@ from .latex import (display_lmi, equation_tag, grouped_display, latex_of,
 from .latex_text import latex_matrix, latex_number, tex_text
 from ..symbolic.symbols import DiagonalVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable
 from ..errors import LmidslError
-from ..theorem.registry import get_theorem
+from ..theorem.registry import get_theorem, linked_analysis
 from ..theorem.theorem import Theorem
 
 PREAMBLE = r"""\documentclass[10pt]{article}
@@ -81,7 +81,7 @@ def _recovery_name(theorem: Theorem, name: str) -> str:
     """LaTeX of a recovered matrix: its name in the analysis theorem, else a guess."""
     if theorem.analysis is not None:
         try:
-            analysis = get_theorem(theorem.analysis.theorem)
+            analysis = linked_analysis(theorem)
         except LmidslError:  # the analysis theorem is optional for printing
             analysis = None
         decl = analysis.data_decl.get(name) if analysis is not None else None

@@ -33,7 +33,7 @@ from ..certify.declaration import namespace
 from ..certify.figures import FIGURES, exact_figure
 from ..certify.montecarlo import monte_carlo
 from ..certify.synthesis import synthesis_lmis
-from ..theorem.registry import get_theorem
+from ..theorem.registry import linked_analysis
 from ..pipeline import as_theorem, make_instance, solve_instance
 from ..solver.backends import get_backend
 from ..solver.status import SOLVED
@@ -183,7 +183,7 @@ def figures_for_solution(solution) -> list | None:
         return exact_figures([instance])
     if thm.analysis is None or not solution.recovered:
         return None
-    if get_theorem(thm.analysis.theorem).certification is None:
+    if linked_analysis(thm).certification is None:
         return None
     fil = {n: solution.recovered[n] for n in thm.analysis.design}
     return exact_figures(analysis_instances_for(instance, fil))
@@ -280,7 +280,7 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
                       [r.as_dict() for r in sol.lmis])
         analysis_instances = [instance]
     elif thm.analysis is not None:             # a synthesis theorem with an analysis counterpart
-        analysis_thm = get_theorem(thm.analysis.theorem)
+        analysis_thm = linked_analysis(thm)
         link = analysis_thm.certification
         tol = thm.analysis.gamma_tolerance
         names = thm.analysis.design

@@ -121,6 +121,13 @@ def get_theorem(theorem_id: str) -> Theorem:
     return theorems[theorem_id]
 
 
+def linked_analysis(theorem: Theorem) -> Theorem:
+    """The analysis counterpart a theorem names in ``certified_by``: the Theorem object it was
+    given, else the theorem with that id."""
+    link = theorem.analysis
+    return link.target if link.target is not None else get_theorem(link.theorem)
+
+
 def get_example(theorem: Theorem, name: str):
     if name not in theorem.examples:
         known = ", ".join(theorem.examples) or "none"
@@ -128,4 +135,4 @@ def get_example(theorem: Theorem, name: str):
     return theorem.examples[name]
 
 
-__all__ = ["all_theorems", "get_theorem", "get_example", "theorem_dirs"]
+__all__ = ["all_theorems", "get_theorem", "get_example", "linked_analysis", "theorem_dirs"]

@@ -85,7 +85,7 @@ def _synthesis(thm: Theorem, per_vertex: bool, labels: tuple[str, str]):
     thm.positive(P1, P3)
     thm.minimize(g, performance=("gamma", sqrt(g)))
     thm.recover(Af=V2.I * Af_hat, Bf=V2.I * Bf_hat, Cf=Cf_hat)
-    thm.certified_by("wang_l2linf.thm1", design=("Af", "Bf", "Cf"))
+    thm.certified_by(thm1, design=("Af", "Bf", "Cf"))
 
 
 # -- Theorem 1: analysis ------------------------------------------------------------------
