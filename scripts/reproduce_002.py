@@ -20,11 +20,9 @@ warnings.filterwarnings("ignore")
 
 from lmidsl.pipeline import make_instance, solve_instance  # noqa: E402
 from lmidsl.studies.bmi import successive_lmi  # noqa: E402
-from lmidsl.certify import certify_by_analysis  # noqa: E402
 from lmidsl.theorems.zhang_quantized_loss.delta import balanced_realisation, filter_reading  # noqa: E402
 from lmidsl.theorems.zhang_quantized_loss.netsim import empirical_gain, simulate  # noqa: E402
 from lmidsl.theorems.zhang_quantized_loss.quantizer import LogQuantizer  # noqa: E402
-from lmidsl.theorem.registry import all_theorems  # noqa: E402
 
 Z = "zhang_quantized_loss"
 H, RHO, CHI0 = 1e-4, 0.75, 1.3
