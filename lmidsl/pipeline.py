@@ -18,7 +18,7 @@ from .numeric.recovery import recover, recover_design
 from .solver.margin import solve_model
 from .numeric.scaling import apply_scaling
 from .theorem.registry import get_example, get_theorem
-from .solver.solution import Solution, evaluate_reported
+from .solver.solution import Solution, evaluate_reported, lmi_certificate
 from .theorem.theorem import Theorem
 from .solver.backoff import DEFAULT_DELTA
 from .solver.backoff import backoff_solution
@@ -127,6 +127,9 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
             solution.solver_status = solution.status
             solution.status = report.verdict
         solution.times["feasp"] = time.perf_counter() - t0
+    if solution.ok:
+        # THE certificate again, now proved in ball arithmetic (lmidsl.numeric.proof)
+        solution.lmis = lmi_certificate(instance, {**instance.data, **solution.values}, prove=True)
     if solution.ok and instance.theorem.reported:
         solution.reported = evaluate_reported(instance, {**instance.data, **solution.values})
     if solution.ok and instance.theorem.recovery:

@@ -27,7 +27,8 @@ from ..numeric.scaling import apply_scaling
 from ..solver.backends import fallback_solvers, get_backend
 from ..solver.feasibility import feasp
 from ..solver.margin import solve_model
-from ..solver.solution import evaluate_reported
+from ..numeric.proof import PROVED
+from ..solver.solution import evaluate_reported, lmi_certificate
 from ..solver.status import solved
 from ..solver.status import worst as worst_status
 from ..theorem.registry import linked_analysis
@@ -53,10 +54,11 @@ class AnalysisCertificate:
 
     @property
     def passed(self) -> bool:
-        """The analysis certifies the filter at the synthesis γ (within the relative tolerance)."""
+        """The analysis certifies the design at the synthesis γ (within the relative tolerance):
+        solved, and every analysis LMI proved at its point (:mod:`lmidsl.numeric.proof`)."""
         if self.gamma is None or not solved(self.status):
             return False
-        if any(r["max_eig"] >= 0 for r in self.lmis):
+        if any(r["max_eig"] >= 0 or r.get("proof") != PROVED for r in self.lmis):
             return False
         if self.synthesis_gamma is None:
             return True
@@ -179,6 +181,8 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
         gammas.append(sol.gamma)
         methods.append(method)
         minima.append(minimum)
+        if sol.ok:
+            sol.lmis = lmi_certificate(scaled.scaled, {**scaled.scaled.data, **sol.values}, prove=True)
         lmis += [dict(r.as_dict(), vertex=None if v is None else v + 1) for r in sol.lmis]
         if sol.ok and analysis.reported:
             reported.append(evaluate_reported(scaled.scaled, {**scaled.scaled.data, **sol.values}))

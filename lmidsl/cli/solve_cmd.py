@@ -53,4 +53,4 @@ def run(args):
         print_json(out)
     else:
         print(format_solution(sol))
-    return 0 if sol.ok else 1
+    return 0 if sol.verdict()[0] else 1

@@ -64,6 +64,8 @@ def format_solution(sol) -> str:
             where = f" @ vertex {r.vertex}" if r.vertex is not None else ""
             where += f" @ {r.point}" if getattr(r, "point", "") else ""
             mark = "holds" if r.max_eig < 0 else "VIOLATED"
+            if r.proof is not None:
+                mark += f", {r.proof}"
             lines.append(f"    {r.label + where:<30} {r.max_eig: .3e}  ({r.size}x{r.size}, {mark})")
     if getattr(sol, "solver_status", None):
         lines.append(f"  (solver status {sol.solver_status}; status from the feasp diagnosis below)")
@@ -90,6 +92,8 @@ def format_solution(sol) -> str:
         lines.append(f"  note: {note}")
     for check in getattr(sol, "checks", []):
         lines.append(f"  check {check.name}: {'passed' if check.passed else 'FAILED'}: {check.summary}")
+    certified, reasons = sol.verdict()
+    lines.append("  verdict: " + ("CERTIFIED" if certified else "NOT CERTIFIED: " + "; ".join(reasons)))
     if sol.times:
         lines.append("  times: " + ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in sol.times.items()))
     return "\n".join(lines)

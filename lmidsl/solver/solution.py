@@ -13,6 +13,7 @@ import numpy as np
 
 from ..numeric.design import Design
 from ..numeric.instance import Instance
+from ..numeric.proof import PROVED, prove_block_matrix
 from ..numeric.evaluate import NumericEvaluator, eigenvalues, evaluate_block_matrix
 from ..symbolic.uncertainty import scenarios, spec_at
 from .status import solved
@@ -35,6 +36,8 @@ class LMIReport:
     vertex: int | None = None
     point: str = ""  # values of uncertain symbols, e.g. "Delta=+1*beta"
     scale: float = 1.0  # ‖N‖₂ (largest |eigenvalue|), for the relative margin
+    proof: str | None = None  # proved / numerical only / violated (lmidsl.numeric.proof); None: not tried
+    proof_note: str = ""
 
     @property
     def relative(self) -> float:
@@ -42,9 +45,11 @@ class LMIReport:
         return self.max_eig / max(1.0, self.scale)
 
     def as_dict(self) -> dict:
-        return with_location({"label": self.label, "max_eig": self.max_eig,
-                              "relative": self.relative, "size": self.size},
-                             self.vertex, self.point)
+        out = {"label": self.label, "max_eig": self.max_eig, "relative": self.relative,
+               "size": self.size}
+        if self.proof is not None:
+            out["proof"], out["proof_note"] = self.proof, self.proof_note
+        return with_location(out, self.vertex, self.point)
 
 
 @dataclass
@@ -94,6 +99,35 @@ class Solution:
         return bool(self.lmis) and all(r.max_eig < 0 for r in self.lmis)
 
     @property
+    def proved(self) -> bool:
+        """Every LMI was proved to hold at the returned point (:mod:`lmidsl.numeric.proof`)."""
+        return bool(self.lmis) and all(r.proof == PROVED for r in self.lmis)
+
+    def verdict(self) -> tuple[bool, list]:
+        """(certified, reasons it is not): solved; every LMI proved at the returned point; the
+        design recovered; the analysis counterpart certifies it; the theorem's checks pass."""
+        if not self.ok:
+            return False, [f"status {self.status}"]
+        reasons = []
+        unproved = [r for r in self.lmis if r.proof != PROVED]
+        for r in unproved[:3]:
+            where = f" @ vertex {r.vertex}" if r.vertex is not None else ""
+            reasons.append(f"LMI {r.label}{where} {r.proof or 'not proved'}"
+                           + (f" ({r.proof_note})" if r.proof_note else ""))
+        if len(unproved) > 3:
+            reasons.append(f"{len(unproved) - 3} more LMIs not proved")
+        if not self.lmis:
+            reasons.append("no LMI certificate")
+        if self.message.startswith("recovery failed"):
+            reasons.append(self.message)
+        analysis = getattr(self, "analysis", None)
+        if analysis is not None and not analysis.passed:
+            reasons.append(f"the analysis {analysis.theorem} does not certify the design "
+                           f"({analysis.status}, gamma {analysis.gamma})")
+        reasons += [f"check {c.name} failed" for c in self.checks if not c.passed]
+        return not reasons, reasons
+
+    @property
     def worst_eig(self) -> float | None:
         return max((r.max_eig for r in self.lmis), default=None)
 
@@ -116,6 +150,8 @@ class Solution:
             "params": self.params,
             "margin": self.margin,
             "certified": self.certified,
+            "proved": self.proved,
+            "verdict": {"certified": self.verdict()[0], "reasons": self.verdict()[1]},
             "lmis": [r.as_dict() for r in self.lmis],
             "recovered": {k: listify(v) for k, v in self.recovered.items()},
             "inverted": self.inverted,
@@ -131,19 +167,26 @@ class Solution:
         }
 
 
-def lmi_certificate(instance: Instance, values: dict) -> list[LMIReport]:
-    """Largest eigenvalue of every LMI (form N ≺ 0) at the given point, evaluated in numpy."""
+def lmi_certificate(instance: Instance, values: dict, prove: bool = False) -> list[LMIReport]:
+    """Largest eigenvalue of every LMI (form N ≺ 0) at the given point, evaluated in numpy, at
+    every polytope vertex and uncertainty scenario the LMI is imposed at; with ``prove``, each
+    is also proved or refuted in ball arithmetic (:mod:`lmidsl.numeric.proof`)."""
     reports = []
     for lmi in instance.theorem.lmis:
         negative = lmi.negative_form()
         for sc in scenarios(instance, lmi):
             v = sc.vertex
+            spec = spec_at(negative, sc)
             ev = NumericEvaluator(instance.dims, values, instance.params, vertex=v)
-            M = evaluate_block_matrix(ev, spec_at(negative, sc))
+            M = evaluate_block_matrix(ev, spec)
             eigs = eigenvalues(M)
-            reports.append(LMIReport(lmi.label, float(eigs[-1]), M.shape[0],
-                                     None if v is None else v + 1, sc.label,
-                                     float(np.max(np.abs(eigs)))))
+            report = LMIReport(lmi.label, float(eigs[-1]), M.shape[0],
+                               None if v is None else v + 1, sc.label,
+                               float(np.max(np.abs(eigs))))
+            if prove:
+                report.proof, report.proof_note = prove_block_matrix(
+                    (instance.dims, values, instance.params, v), spec, lmi.strict)
+            reports.append(report)
     return reports
 
 

@@ -85,8 +85,7 @@ def reproduce_one(theorem_id: str, example: str, solver: str | None = None) -> R
     if printed is not None and computed is not None:
         rel = abs(computed - printed) / abs(printed)
     analysis = getattr(sol, "analysis", None)
-    certified = (sol.certified and (analysis.passed if analysis is not None else True)
-                 and all(c.passed for c in getattr(sol, "checks", [])))
+    certified = sol.verdict()[0]      # every LMI proved, the analysis and the checks pass
     figure = _exact(sol)
     exact_ok = None
     if figure is not None and sol.gamma is not None:

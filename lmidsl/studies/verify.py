@@ -37,6 +37,8 @@ from ..theorem.registry import linked_analysis
 from ..pipeline import as_theorem, make_instance, solve_instance
 from ..solver.backends import get_backend
 from ..solver.status import SOLVED
+from ..solver.solution import lmi_certificate
+from ..numeric.proof import PROVED
 from types import SimpleNamespace
 from ..theorem.checks import run_checks
 
@@ -189,19 +191,24 @@ def figures_for_solution(solution) -> list | None:
     return exact_figures(analysis_instances_for(instance, fil))
 
 
+def _proved(report: dict) -> bool:
+    """An LMI report (dict) that holds numerically and is proved in ball arithmetic."""
+    return report["max_eig"] < 0 and report.get("proof") == PROVED
+
+
 def _set_analysis(result: Verification, status: str, gamma, lmis: list) -> None:
     """Record the analysis; a γ counts only if every analysis LMI holds strictly at the point."""
     result.analysis_lmis = lmis
-    violated = [r for r in lmis if r["max_eig"] >= 0]
+    violated = [r for r in lmis if not _proved(r)]
     if status not in OK_STATUS or gamma is None:
         result.analysis_status, result.analysis_gamma = status, None
     elif violated:
         worst = max(violated, key=lambda r: r["max_eig"])
-        result.analysis_status = (f"{status}, LMI {worst['label']} violated at the returned point "
-                                  f"(λmax = {worst['max_eig']:.3g}): not certified")
+        result.analysis_status = (f"{status}, LMI {worst['label']} not proved at the returned point "
+                                  f"(λmax = {worst['max_eig']:.3g}, {worst.get('proof')}): not certified")
         result.analysis_gamma = None
-        result.notes.append(f"the analysis solver returned γ = {gamma:.6g} at a point that violates "
-                            f"its LMIs; treated as infeasible")
+        result.notes.append(f"the analysis solver returned γ = {gamma:.6g} at a point where its LMIs "
+                            f"are not proved to hold; not certified")
     else:
         result.analysis_status, result.analysis_gamma = status, gamma
 
@@ -276,8 +283,10 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
             claimed = printed.get("gamma_bound", printed.get("gamma"))
         result = Verification(thm.id, instance.example, mode, fil, claimed, tol, analysis_theorem=thm.id)
         sol = get_backend(backend)(instance).solve(solver)
+        reports = (lmi_certificate(instance, {**instance.data, **sol.values}, prove=True)
+                   if sol.ok else sol.lmis)
         _set_analysis(result, sol.status, sol.gamma if sol.ok else None,
-                      [r.as_dict() for r in sol.lmis])
+                      [r.as_dict() for r in reports])
         analysis_instances = [instance]
     elif thm.analysis is not None:             # a synthesis theorem with an analysis counterpart
         analysis_thm = linked_analysis(thm)
@@ -329,7 +338,7 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
     ref = result.claimed_gamma if result.claimed_gamma is not None else result.analysis_gamma
     checks = {}
     if result.synthesis_status is not None:
-        checks["synthesis_lmis"] = bool(result.lmis) and all(r["max_eig"] < 0 for r in result.lmis)
+        checks["synthesis_lmis"] = bool(result.lmis) and all(_proved(r) for r in result.lmis)
     checks["analysis"] = bool(result.analysis_gamma is not None and (result.claimed_gamma is None
                                                or result.analysis_gamma <= result.claimed_gamma * (1 + tol)))
     if link is None:
