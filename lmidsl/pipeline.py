@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import time
 
-from .solver.backends import get_backend
+from .solver.backends import fallback_solvers, get_backend
 from .certify import certify_by_analysis
 from .theorem.checks import run_checks
 from .errors import InputError, LmidslError
@@ -58,6 +58,29 @@ def make_instance(theorem, example: str | None = None, data: dict | None = None,
     return bind(thm, instance_inputs(thm, example, data, overrides), example=example)
 
 
+def other_solvers(model, first: Solution, backend: str, margin: float, **options) -> Solution:
+    """When the default solver returns no certified point, the backend's other solvers
+    (:func:`lmidsl.solver.backends.fallback_solvers`), as ``lmidsl check`` would: the first
+    certified answer is kept, and the notes say what was tried.  A solver's failure is not a
+    verdict on the problem."""
+    tried = [f"{first.solver}: {first.status}" + ("" if not first.ok else ", not certified")]
+    for name in fallback_solvers(backend):
+        if name.lower() == (first.solver or "").lower():
+            continue
+        model.set_margin(margin)           # each solver starts from the base margin
+        try:
+            other = solve_model(model, name, **options)
+        except LmidslError:          # not installed here
+            continue
+        if other.ok and other.certified:
+            other.notes.append(f"the default solver gave no certified point ({tried[0]}); "
+                               f"solved by {other.solver}")
+            return other
+        tried.append(f"{other.solver}: {other.status}" + ("" if not other.ok else ", not certified"))
+    first.notes.append("no solver returned a certified point: " + "; ".join(tried))
+    return first
+
+
 def solve_instance(instance: Instance, solver: str | None = None, backend: str = "cvxpy",
                    margin: float | None = None, certify: bool = True, scaling="auto",
                    backoff: float | None = None, diagnose: bool = True, **options) -> Solution:
@@ -74,6 +97,8 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str =
     model = get_backend(backend)(applied.scaled, margin=margin)
     base_margin = model.margin
     solution = solve_model(model, solver, **options)
+    if solver is None and not (solution.ok and solution.certified):
+        solution = other_solvers(model, solution, backend, base_margin, **options)
     solution.scaling = applied
     reason = None
     if backoff == "auto":
@@ -129,7 +154,8 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
         solution.times["feasp"] = time.perf_counter() - t0
     if solution.ok:
         # THE certificate again, now proved in ball arithmetic (lmidsl.numeric.proof)
-        solution.lmis = lmi_certificate(instance, {**instance.data, **solution.values}, prove=True)
+        solution.lmis = lmi_certificate(instance, {**instance.data, **solution.values}, prove=True,
+                                        congruence=solution.congruence)
     if solution.ok and instance.theorem.reported:
         solution.reported = evaluate_reported(instance, {**instance.data, **solution.values})
     if solution.ok and instance.theorem.recovery:

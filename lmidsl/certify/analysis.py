@@ -182,7 +182,8 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
         methods.append(method)
         minima.append(minimum)
         if sol.ok:
-            sol.lmis = lmi_certificate(scaled.scaled, {**scaled.scaled.data, **sol.values}, prove=True)
+            sol.lmis = lmi_certificate(scaled.scaled, {**scaled.scaled.data, **sol.values}, prove=True,
+                                       congruence=sol.congruence)
         lmis += [dict(r.as_dict(), vertex=None if v is None else v + 1) for r in sol.lmis]
         if sol.ok and analysis.reported:
             reported.append(evaluate_reported(scaled.scaled, {**scaled.scaled.data, **sol.values}))

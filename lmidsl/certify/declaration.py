@@ -49,7 +49,8 @@ class ErrorSystem:
                 if isinstance(cov[0], (list, tuple)) else \
                 np.array([ev.visit(sp.sympify(c)) for c in cov], dtype=float)
         noise = [{k: num(v) for k, v in term.items()} for term in self.noise]
-        return StochasticSystem.build(num(self.A), num(self.B), num(self.C), num(self.D), noise, cov)
+        return StochasticSystem.build(num(self.A), num(self.B), num(self.C), num(self.D), noise, cov,
+                                      time=instance.theorem.time)
 
 
 def namespace(instance, vertex: int | None = None) -> SimpleNamespace:

@@ -32,16 +32,25 @@ tr(X̃ W_o) with W_o = 𝓛*(W_o) + Q, so
     Σ_k E|e(k)|² = Σ_k |z(k)|²,  z = [C m + D w;  (Σ⊗I)^½ [c_i];  (Σ⊗W_o)^½ [u_i]],
 
 the output energy of a *deterministic* LTI system (A, B, C_eq, D_eq) driven by w: γ_∞ is its
-H∞ norm (:func:`lti_hinf_norm`).  For a deterministic system this is the ordinary H∞ norm.
+H∞ norm (:func:`lti_hinf_norm`, python-control's ``linfnorm`` with slycot's AB13DD).  For a
+deterministic system this is the ordinary H∞ norm.
+
+**Continuous time** (a theorem with ``time="continuous"``): only deterministic systems
+ẋ = Ax + Bw, e = Cx + Dw are covered (multiplicative noise in continuous time is an Itô system,
+not implemented: refused).  Stability is max Re λ(A) < 0 (``spectral_radius`` then holds the
+spectral abscissa); γ_∞ is the H∞ norm (python-control); the energy-to-peak (generalised H2)
+figure is √λ_max(C W Cᵀ) with A W + W Aᵀ + B Bᵀ = 0 when D = 0 (infinite otherwise).  No
+worst-case disturbance is computed (the Monte Carlo check is discrete-time only).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import control
 import numpy as np
-from scipy.linalg import eigh
-from scipy.optimize import minimize_scalar
+from scipy.linalg import eigh, solve_continuous_lyapunov
 
+from ..errors import InputError
 from .system import StochasticSystem
 
 ENERGY_TO_PEAK = "energy_to_peak"
@@ -65,12 +74,18 @@ class Figure:
     def squared(self) -> float | None:
         return None if self.value is None else self.value ** 2
 
+    time: str = "discrete"
+
     @property
     def mean_square_stable(self) -> bool:
+        """ρ(𝓛) < 1 in discrete time; in continuous time ``spectral_radius`` is the spectral
+        abscissa max Re λ(A), and stability is abscissa < 0."""
+        if self.time == "continuous":
+            return self.spectral_radius < 0.0
         return self.spectral_radius < 1.0
 
     def as_dict(self) -> dict:
-        return {"kind": self.kind, "description": FIGURES.get(self.kind, self.kind),
+        return {"kind": self.kind, "description": FIGURES.get(self.kind, self.kind), "time": self.time,
                 "value": self.value, "squared": self.squared,
                 "mean_square_stable": self.mean_square_stable,
                 "spectral_radius": self.spectral_radius, **self.details}
@@ -221,36 +236,14 @@ def equivalent_lti(sys: StochasticSystem):
     return sys.A, sys.B, np.vstack(Cs), np.vstack(Ds)
 
 
-def _sigma_max(A, B, C, D, theta: float) -> float:
-    z = np.exp(1j * theta)
-    G = C @ np.linalg.solve(z * np.eye(A.shape[0]) - A, B) + D
-    return float(np.linalg.norm(G, 2))
-
-
-def lti_hinf_norm(A, B, C, D, grid: int = 4097) -> tuple[float, float]:
-    """(‖G‖∞, θ*) of a stable discrete-time LTI system: frequency grid (plus the pole angles),
-    then bounded scalar refinement around the best local maxima."""
+def lti_hinf_norm(A, B, C, D, dt=True) -> tuple[float, float]:
+    """(‖G‖∞, frequency of the peak) of a stable LTI system, by python-control (slycot AB13DD);
+    ``dt=True`` discrete time (frequency in rad/sample), ``dt=0`` continuous."""
     A, B, C, D = (np.atleast_2d(np.asarray(M, dtype=float)) for M in (A, B, C, D))
     if A.size == 0:
         return float(np.linalg.norm(D, 2)), 0.0
-    angles = np.abs(np.angle(np.linalg.eigvals(A)))
-    thetas = np.unique(np.concatenate([np.linspace(0.0, np.pi, grid), angles]))
-    n = A.shape[0]
-    zI = np.exp(1j * thetas)[:, None, None] * np.eye(n)[None]
-    G = C[None] @ np.linalg.solve(zI - A[None], np.broadcast_to(B, (len(thetas),) + B.shape)) + D[None]
-    values = np.linalg.norm(G, ord=2, axis=(1, 2))
-    best, arg = float(values.max()), float(thetas[values.argmax()])
-    peaks = [i for i in range(len(thetas))
-             if values[i] >= values[max(i - 1, 0)] and values[i] >= values[min(i + 1, len(thetas) - 1)]]
-    for i in sorted(peaks, key=lambda i: -values[i])[:8]:
-        lo, hi = thetas[max(i - 1, 0)], thetas[min(i + 1, len(thetas) - 1)]
-        if hi <= lo:
-            continue
-        res = minimize_scalar(lambda t: -_sigma_max(A, B, C, D, t), bounds=(lo, hi),
-                              method="bounded", options={"xatol": 1e-12})
-        if -res.fun > best:
-            best, arg = float(-res.fun), float(res.x)
-    return best, arg
+    peak, frequency = control.linfnorm(control.ss(A, B, C, D, dt))
+    return float(peak), float(frequency)
 
 
 def h_infinity(sys: StochasticSystem, horizon: int = 200) -> Figure:
@@ -282,7 +275,31 @@ def h_infinity(sys: StochasticSystem, horizon: int = 200) -> Figure:
                    "horizon": horizon})
 
 
+def continuous_figure(kind: str, sys: StochasticSystem) -> Figure:
+    """The figures of a deterministic continuous-time system (see the module docstring)."""
+    if sys.q:
+        raise InputError("exact figures of continuous-time systems with multiplicative noise are "
+                         "not implemented (an Itô system); only deterministic error systems")
+    abscissa = float(np.max(np.linalg.eigvals(sys.A).real)) if sys.A.size else -np.inf
+    if abscissa >= 0.0:
+        return Figure(kind, None, abscissa, details={"reason": "not stable (max Re λ(A) ≥ 0)"},
+                      time="continuous")
+    if kind == H_INFINITY:
+        value, frequency = lti_hinf_norm(sys.A, sys.B, sys.C, sys.D, dt=0)
+        return Figure(H_INFINITY, value, abscissa, details={"frequency": frequency}, time="continuous")
+    if kind == ENERGY_TO_PEAK:
+        if np.any(sys.D):
+            return Figure(kind, None, abscissa, details={"reason": "D ≠ 0: the peak is unbounded"},
+                          time="continuous")
+        W = solve_continuous_lyapunov(sys.A, -sys.B @ sys.B.T)
+        lam = float(np.max(np.linalg.eigvalsh(sys.C @ W @ sys.C.T)))
+        return Figure(kind, float(np.sqrt(max(lam, 0.0))), abscissa, time="continuous")
+    raise ValueError(f"unknown figure {kind!r}; known: {', '.join(FIGURES)}")
+
+
 def exact_figure(kind: str, sys: StochasticSystem) -> Figure:
+    if sys.time == "continuous":
+        return continuous_figure(kind, sys)
     if kind == ENERGY_TO_PEAK:
         return energy_to_peak(sys)
     if kind == H_INFINITY:

@@ -45,9 +45,10 @@ class StochasticSystem:
     D: np.ndarray
     noise: list = field(default_factory=list)
     covariance: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    time: str = "discrete"          # "continuous": ẋ = Ax + Bw (deterministic only, see figures)
 
     @classmethod
-    def build(cls, A, B, C, D=None, noise=(), covariance=None) -> "StochasticSystem":
+    def build(cls, A, B, C, D=None, noise=(), covariance=None, time: str = "discrete") -> "StochasticSystem":
         """Fill missing matrices with zeros; ``covariance`` may be a list of variances (diagonal Σ)."""
         A = _mat(A)
         B = _mat(B)
@@ -73,7 +74,7 @@ class StochasticSystem:
             for k in _PARTS:
                 if term[k].shape != sizes[k]:
                     raise ValueError(f"noise term {i + 1}: {k} must be {sizes[k]}, got {term[k].shape}")
-        return cls(A, B, C, D, full, cov)
+        return cls(A, B, C, D, full, cov, time)
 
     @classmethod
     def bernoulli(cls, A0, A1, B, C, a, D=None) -> "StochasticSystem":

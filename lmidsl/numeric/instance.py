@@ -226,22 +226,26 @@ def random_point(instance: Instance, rng: np.random.Generator) -> dict:
 
 
 def check_symmetric_blocks(instance: Instance) -> None:
-    """Refuse an LMI whose diagonal block is not symmetric (never symmetrise silently)."""
+    """Refuse an LMI whose diagonal block is not symmetric (never symmetrise silently): each
+    diagonal block is evaluated at a random point at every polytope vertex and uncertainty
+    scenario the LMI is imposed at."""
     rng = np.random.default_rng(0)
     values = random_point(instance, rng)
     theorem = instance.theorem
     for lmi in theorem.lmis:
-        ev = NumericEvaluator(instance.dims, values, instance.params, vertex=0)
-        scenario = scenarios(instance, lmi)[0]
-        for i, row in enumerate(lmi.spec.lower):
-            blk = scenario.apply(row[i])
-            try:
-                value = ev.visit(blk)
-            except Exception as exc:  # a theorem that cannot be evaluated is a definition error
-                raise TheoremDefinitionError(
-                    f"{theorem.id}: LMI {lmi.label} block ({i + 1},{i + 1}) cannot be evaluated: {exc}") from None
-            value = np.atleast_2d(value)
-            if value.shape[0] != value.shape[1] or asymmetry(value) > 1e-9:
-                raise TheoremDefinitionError(
-                    f"{theorem.id}: LMI {lmi.label} diagonal block ({i + 1},{i + 1}) {blk} is not "
-                    f"symmetric (relative asymmetry {asymmetry(value) if value.shape[0] == value.shape[1] else 'n/a'})")
+        for scenario in scenarios(instance, lmi):
+            ev = NumericEvaluator(instance.dims, values, instance.params, vertex=scenario.vertex)
+            where = ("" if scenario.vertex is None else f" at vertex {scenario.vertex + 1}") + \
+                    (f" at {scenario.label}" if scenario.label else "")
+            for i, row in enumerate(lmi.spec.lower):
+                blk = scenario.apply(row[i])
+                try:
+                    value = ev.visit(blk)
+                except Exception as exc:  # a theorem that cannot be evaluated is a definition error
+                    raise TheoremDefinitionError(
+                        f"{theorem.id}: LMI {lmi.label} block ({i + 1},{i + 1}) cannot be evaluated: {exc}") from None
+                value = np.atleast_2d(value)
+                if value.shape[0] != value.shape[1] or asymmetry(value) > 1e-9:
+                    raise TheoremDefinitionError(
+                        f"{theorem.id}: LMI {lmi.label} diagonal block ({i + 1},{i + 1}) {blk} is not "
+                        f"symmetric{where} (relative asymmetry {asymmetry(value) if value.shape[0] == value.shape[1] else 'n/a'})")

@@ -13,7 +13,12 @@ badly scaled feasible problem may need large variables.  Verdicts:
 
 * "strictly feasible": t* < −margin and numpy finds every strict LMI ⪯ −margin I at the
   returned point: the compiled problem (``N ⪯ −margin I``) has a point;
-* "infeasible": t* ≥ −``FEASP_TOL`` (zero up to the solver's accuracy);
+* "infeasible": t* ≥ −``FEASP_TOL`` (zero up to the solver's accuracy) at a point strictly inside
+  the radius: the norm bound is inactive, so t* is the minimum over all x (the problem is convex)
+  and no strictly feasible point exists anywhere;
+* "undecided (radius)": t* ≥ −``FEASP_TOL`` but the point lies on the radius even at
+  ``max_radius``: a feasible point may need larger variables (a badly scaled problem), so this
+  is no proof of infeasibility;
 * "marginal" otherwise: t* < 0 but by less than the margin, or a point the numpy check does not
   confirm (solve again with a smaller ``margin``, or rescale the data).
 
@@ -30,6 +35,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
 import sympy as sp
 
 from ..numeric.instance import Instance
@@ -86,6 +92,12 @@ class FeasibilityReport:
 
     radii: list = field(default_factory=list)
     point_certified: bool = False
+    point_norm: float | None = None   # ‖x‖₂ of the feasp point (all variables stacked)
+
+    @property
+    def at_radius(self) -> bool:
+        """The norm bound ‖x‖₂ ≤ R is active at the feasp point (then t* is not a global minimum)."""
+        return self.point_norm is not None and self.point_norm >= 0.99 * self.radius
 
     @property
     def feasible(self) -> bool:
@@ -95,8 +107,8 @@ class FeasibilityReport:
 
     @property
     def infeasible(self) -> bool:
-        """No strictly feasible point (t* ≥ 0 up to the solver accuracy)."""
-        return self.tmin is not None and self.tmin >= -FEASP_TOL
+        """No strictly feasible point: t* ≥ 0 up to the solver accuracy, with the radius inactive."""
+        return self.tmin is not None and self.tmin >= -FEASP_TOL and not self.at_radius
 
     @property
     def verdict(self) -> str:
@@ -104,6 +116,8 @@ class FeasibilityReport:
             return "undecided"
         if self.feasible:
             return "strictly feasible"
+        if self.tmin >= -FEASP_TOL and self.at_radius:
+            return "undecided (radius)"
         return "infeasible" if self.infeasible else "marginal"
 
     @property
@@ -112,7 +126,7 @@ class FeasibilityReport:
 
     def as_dict(self) -> dict:
         return {"tmin": self.tmin, "verdict": self.verdict, "feasible": self.feasible,
-                "point_certified": self.point_certified,
+                "point_certified": self.point_certified, "point_norm": self.point_norm,
                 "status": self.status, "margin": self.margin, "radius": self.radius,
                 "radii": self.radii,
                 "solver": self.solver, "responsible": self.responsible,
@@ -204,6 +218,16 @@ def _tmin(model, chosen, radius, solver, options):
     return (float(value) if ok else None), status
 
 
+def stacked_norm(values: dict) -> float:
+    """‖x‖₂ of all decision variables stacked (per-vertex copies included)."""
+    parts = []
+    for value in values.values():
+        for v in (value if isinstance(value, list) else [value]):
+            if v is not None:
+                parts.append(np.ravel(np.asarray(v, dtype=float)))
+    return float(np.linalg.norm(np.concatenate(parts))) if parts else 0.0
+
+
 def feasp(instance: Instance, backend: str = "cvxpy", solver: str | None = None,
           radius: float = DEFAULT_RADIUS, margin: float | None = None, detail: bool | None = None,
           max_radius: float = MAX_RADIUS, **options) -> FeasibilityReport:
@@ -222,7 +246,7 @@ def feasp(instance: Instance, backend: str = "cvxpy", solver: str | None = None,
         point = dict(instance.data)
         point.update(model.values())
         return {(r.label, r.vertex, getattr(r, "point", "") or ""): r.max_eig
-                for r in lmi_certificate(instance, point)}
+                for r in lmi_certificate(instance, point, congruence=model._congruence)}
 
     def certified(values):
         strict = [values.get(c.key) for c in compiled if c.strict]
@@ -247,7 +271,8 @@ def feasp(instance: Instance, backend: str = "cvxpy", solver: str | None = None,
             tmin, status = _tmin(model, compiled, radius, solver, options)
             values = point_values(tmin)
     report = FeasibilityReport(tmin, status, model.margin, radius, solver=model.solver_name(solver),
-                               radii=radii, point_certified=certified(values))
+                               radii=radii, point_certified=certified(values),
+                               point_norm=stacked_norm(model.values()) if tmin is not None else None)
     tol = max(1e-6 * max(1.0, abs(tmin or 0.0)), 10 * model.margin)
     for c in compiled:
         value = values.get(c.key)

@@ -1,8 +1,16 @@
-"""The strictness margin: strict ``N ≺ 0`` is imposed as ``N ⪯ −ε I``; escalate ε when needed.
+"""The strictness margin: strict ``N ≺ 0`` is imposed as ``N ⪯ −ε I``; escalate ε when needed,
+reduce it when it, not the problem, sets the optimum.
 
 A solver stops at its own tolerance, so with ε below that tolerance the returned point may
 miss a strict LMI by a hair.  :func:`solve_model` then re-solves with ε multiplied by
 :data:`MARGIN_ESCALATION` until numpy's certificate holds.
+
+The other way round: with ε too large for the problem's scale (γ* = 1e-9 with data of size 1),
+the optimum of the compiled problem is set by ε.  By LP/SDP sensitivity the optimal value moves
+by about ε·Σ_k tr Z_k (Z_k the dual matrix of the k-th strict LMI) when ε does; when that exceeds
+:data:`MARGIN_INFLUENCE` of the objective, ε is divided by 100 (while the certificate holds, down
+to :data:`MIN_MARGIN`), and a γ still set by the margin is flagged (``margin_limited``): a valid
+bound, not the optimum.
 """
 from __future__ import annotations
 
@@ -10,6 +18,18 @@ from .solution import Solution
 
 
 MARGIN_ESCALATION = (10.0, 100.0, 1000.0)
+MARGIN_INFLUENCE = 1e-4
+MIN_MARGIN = 1e-14
+
+
+def margin_influence(model, solution: Solution) -> float | None:
+    """ε·Σ tr Z_k relative to |objective| (None when the backend gives no duals)."""
+    if solution.objective is None:
+        return None
+    sensitivity = model.margin_sensitivity()
+    if sensitivity is None:
+        return None
+    return model.margin * sensitivity / max(abs(solution.objective), 1e-300)
 
 
 def solve_model(model, solver: str | None = None, escalate: bool = True,
@@ -35,6 +55,8 @@ def solve_model(model, solver: str | None = None, escalate: bool = True,
         tried.append(model.margin)
         solution = model.solve(solver, **options)
         calls += _solver_call_time(solution)
+    if len(tried) == 1 and solution.ok and solution.certified:
+        solution, calls = _reduce_margin(model, solver, solution, calls, restore_margin, **options)
     solution.times["solver_calls"] = calls
     if len(tried) > 1:
         solution.notes.append(
@@ -43,6 +65,31 @@ def solve_model(model, solver: str | None = None, escalate: bool = True,
         if restore_margin:
             model.set_margin(base)
     return solution
+
+
+def _reduce_margin(model, solver, solution: Solution, calls: float, restore: bool, **options):
+    """Divide ε by 100 while it sets the optimum and the certificate still holds."""
+    base = model.margin
+    influence = margin_influence(model, solution)
+    tried = [base]
+    while influence is not None and influence > MARGIN_INFLUENCE and model.margin / 100 >= MIN_MARGIN:
+        model.set_margin(model.margin / 100)
+        tried.append(model.margin)
+        smaller = model.solve(solver, **options)
+        calls += _solver_call_time(smaller)
+        if not (smaller.ok and smaller.certified):
+            break
+        solution, influence = smaller, margin_influence(model, smaller)
+    if len(tried) > 1:
+        solution.notes.append("margin reduced " + " -> ".join(f"{m:g}" for m in tried)
+                              + " (it was setting the optimum)")
+    if influence is not None and influence > MARGIN_INFLUENCE:
+        solution.margin_limited = True
+        solution.notes.append(f"the strictness margin still moves the optimum by {influence:.1e} "
+                              "(relative): gamma is a certified bound, not the optimum")
+    if restore and model.margin != base:
+        model.set_margin(base)
+    return solution, calls
 
 
 def _solver_call_time(solution: Solution) -> float:

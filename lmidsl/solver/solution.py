@@ -78,6 +78,9 @@ class Solution:
     backoff: dict | None = None     # lmidsl.backoff record when the point is a back-off point
     reported: dict = field(default_factory=dict)
     checks: list = field(default_factory=list)
+    margin_limited: bool = False    # the strictness margin, not the problem, sets the optimum
+    congruence: dict = field(default_factory=dict, repr=False)  # of the conditioning, per LMI key
+    conditioning: dict | None = None  # the exact congruence/variable scaling (solver/conditioning)
 
     @property
     def recovered(self):
@@ -151,6 +154,8 @@ class Solution:
             "margin": self.margin,
             "certified": self.certified,
             "proved": self.proved,
+            "margin_limited": self.margin_limited,
+            "conditioning": self.conditioning,
             "verdict": {"certified": self.verdict()[0], "reasons": self.verdict()[1]},
             "lmis": [r.as_dict() for r in self.lmis],
             "recovered": {k: listify(v) for k, v in self.recovered.items()},
@@ -167,10 +172,16 @@ class Solution:
         }
 
 
-def lmi_certificate(instance: Instance, values: dict, prove: bool = False) -> list[LMIReport]:
+def lmi_certificate(instance: Instance, values: dict, prove: bool = False,
+                    congruence: dict | None = None) -> list[LMIReport]:
     """Largest eigenvalue of every LMI (form N ≺ 0) at the given point, evaluated in numpy, at
     every polytope vertex and uncertainty scenario the LMI is imposed at; with ``prove``, each
-    is also proved or refuted in ball arithmetic (:mod:`lmidsl.numeric.proof`)."""
+    is also proved or refuted in ball arithmetic (:mod:`lmidsl.numeric.proof`).
+
+    ``congruence`` maps an LMI's (label, vertex, point) to the diagonal d of the conditioning
+    congruence (:mod:`lmidsl.solver.conditioning`): the eigenvalues are then those of
+    D N D, which has the same sign pattern (Sylvester) and far less rounding on badly scaled
+    data; the proof always uses N itself."""
     reports = []
     for lmi in instance.theorem.lmis:
         negative = lmi.negative_form()
@@ -179,7 +190,8 @@ def lmi_certificate(instance: Instance, values: dict, prove: bool = False) -> li
             spec = spec_at(negative, sc)
             ev = NumericEvaluator(instance.dims, values, instance.params, vertex=v)
             M = evaluate_block_matrix(ev, spec)
-            eigs = eigenvalues(M)
+            d = (congruence or {}).get((lmi.label, v, sc.label))
+            eigs = eigenvalues(M if d is None else M * np.outer(d, d))
             report = LMIReport(lmi.label, float(eigs[-1]), M.shape[0],
                                None if v is None else v + 1, sc.label,
                                float(np.max(np.abs(eigs))))

@@ -22,7 +22,9 @@ from pathlib import Path
 import numpy as np
 
 from ..pipeline import make_instance
+from ..numeric.proof import PROVED
 from ..solver.margin import solve_model
+from ..solver.solution import lmi_certificate
 from ..solver.backends import get_backend
 from ..errors import InputError
 from ..numeric.scaling import apply_scaling
@@ -58,6 +60,8 @@ class SweepPoint:
     solver_call: float | None
     solver_internal: float | None
     total: float
+    proved: bool = False          # every LMI proved at the point (lmidsl.numeric.proof)
+    prove_time: float = 0.0
 
     def as_dict(self) -> dict:
         return dict(self.__dict__)
@@ -109,8 +113,8 @@ class SweepResult:
                 "points": [p.as_dict() for p in self.points]}
 
     def certified_count(self) -> int:
-        """Points whose returned point satisfies every strict LMI (largest eigenvalue < 0)."""
-        return sum(1 for p in self.points if p.worst_eig is not None and p.worst_eig < 0)
+        """Points whose every LMI is proved at the returned point (ball arithmetic)."""
+        return sum(1 for p in self.points if p.proved)
 
     def gamma_array(self) -> np.ndarray:
         """γ on the grid as an array of shape (len(values) for each grid parameter)."""
@@ -205,8 +209,13 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
             result.first_solve = total
         internal = sol.times.get("solver")
         call = sol.times["solver_calls"]
+        t2 = time.perf_counter()
+        proved = sol.ok and sol.certified and all(
+            r.proof == PROVED for r in lmi_certificate(sol.instance, {**sol.instance.data, **sol.values},
+                                                       prove=True))
         result.points.append(SweepPoint(params, sol.status, sol.gamma, sol.objective, sol.worst_eig,
-                                        call, internal if internal != call else None, total))
+                                        call, internal if internal != call else None, total,
+                                        proved, time.perf_counter() - t2))
     return result
 
 

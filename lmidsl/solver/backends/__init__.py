@@ -31,6 +31,7 @@ class SolverInfo:
     name: str
     first_order: bool = False    # ADMM-type: tolerances ~1e-4, 'optimal' is not trustworthy alone
     pip: str | None = None       # how to install it
+    cvxpy_options: tuple = ()    # (keyword, value) pairs cvxpy passes unless the user overrides
 
 
 BACKEND_INFO = {
@@ -42,7 +43,8 @@ BACKENDS = tuple(BACKEND_INFO)
 SOLVER_INFO = {s.name: s for s in (
     SolverInfo("clarabel", pip="clarabel"),
     SolverInfo("cvxopt", pip="cvxopt"),
-    SolverInfo("scs", first_order=True, pip="scs"),
+    # without a cap SCS iterates for minutes on an ill-posed LMI and certifies nothing
+    SolverInfo("scs", first_order=True, pip="scs", cvxpy_options=(("max_iters", 20000),)),
     SolverInfo("cosmo", first_order=True),
     SolverInfo("mosek", pip="mosek (and a licence)"),
     SolverInfo("copt", pip="coptpy (and a licence)"),
@@ -99,10 +101,17 @@ def fallback_solvers(backend: str) -> tuple:
     return backend_info(backend).fallbacks
 
 
+def default_options(solver: str) -> dict:
+    """The keyword options a backend passes to ``solver`` unless the user gives them."""
+    info = SOLVER_INFO.get((solver or "").lower())
+    return dict(info.cvxpy_options) if info else {}
+
+
 def is_first_order(solver: str) -> bool:
     info = SOLVER_INFO.get((solver or "").lower())
     return bool(info and info.first_order)
 
 
 __all__ = ["BACKENDS", "BACKEND_INFO", "SOLVER_INFO", "BackendInfo", "SolverInfo", "get_backend",
-           "backend_sdp_solvers", "resolve_solver", "fallback_solvers", "is_first_order", "backend_info"]
+           "backend_sdp_solvers", "resolve_solver", "fallback_solvers", "is_first_order", "backend_info",
+           "default_options"]

@@ -22,12 +22,17 @@ import sympy as sp
 from ...numeric.instance import Instance
 from ...numeric.evaluate import NumericEvaluator
 from ..solution import Solution, evaluate_performance, lmi_certificate
+from ..conditioning import Equilibration, equilibrate
 from ..status import solved
 from ...symbolic.symbols import DECISION_TYPES, DerivedParam, Param, ScalarVariable, expand_derived
 from ...symbolic.uncertainty import scenarios
 from ...symbolic.walker import ExpressionWalker
 
 DEFAULT_MARGIN = 1e-7
+
+
+def _times(value, factor: float):
+    return value if factor == 1.0 else value * factor
 
 
 _CLASSIFIED: dict = {}
@@ -73,7 +78,10 @@ class BackendCompiler(ExpressionWalker):
         return self.constants.data(symbol)
 
     def variable(self, symbol):
-        return self.model.variable_for(symbol, self.vertex)
+        """The backend variable X̃, times the variable's conditioning factor s_X."""
+        variable = self.model.variable_for(symbol, self.vertex)
+        factor = self.model.equilibration.variable(symbol.name)
+        return variable if factor == 1.0 else factor * variable
 
     scalar_variable = variable
 
@@ -102,25 +110,32 @@ class CompiledModel:
     backend = "abstract"
     compiler_class = BackendCompiler
 
-    def __init__(self, instance: Instance, margin: float | None = None, reuse: bool = False):
+    def __init__(self, instance: Instance, margin: float | None = None, reuse: bool = False,
+                 conditioning: bool = True):
         t0 = time.perf_counter()
         self.instance = instance
+        self.conditioning = conditioning
+        self.equilibration = equilibrate(instance) if conditioning else Equilibration()
         self.reuse = reuse  # True: the backend keeps its compiled form for re-solves (sweeps)
         self.margin = DEFAULT_MARGIN if margin is None else float(margin)
         self._variables: dict = {}
         self._parameters: dict = {}
+        self._congruence: dict = {}   # LMI key -> diagonal of T (the congruence of conditioning)
         self.constraints: list = []
         self.lmi_matrices: list = []  # ((label, vertex, point), assembled backend expression N)
         self.current_lmi = None       # (label, vertex, point) being compiled, for error messages
         theorem = instance.theorem
         # a model that is re-solved keeps ε as a backend parameter; a one-shot model a number
         self._margin_parameter = self.new_parameter("margin", self.margin) if reuse else self.margin
-        for lmi in theorem.lmis:
+        for index, lmi in enumerate(theorem.lmis):
             negative = lmi.negative_form()
+            t = [self.equilibration.row(index, i) for i in range(negative.nblocks)]
             for scenario in scenarios(instance, lmi):  # polytope vertices x uncertainty points
                 v = scenario.vertex
                 compiler = self.compiler_class(self, v)
-                lower = [[compiler.visit(scenario.apply(b)) for b in row] for row in negative.lower]
+                # the congruence T N T of solver/conditioning: block (i, j) times t_i t_j
+                lower = [[_times(compiler.visit(scenario.apply(b)), t[i] * t[j])
+                          for j, b in enumerate(row)] for i, row in enumerate(negative.lower)]
                 rows = [[lower[i][j] if j <= i else compiler.transpose(lower[j][i])
                          for j in range(negative.nblocks)] for i in range(negative.nblocks)]
                 size = sum(compiler.size(s) for s in negative.sizes)
@@ -129,13 +144,17 @@ class CompiledModel:
                 self.current_lmi = key
                 N = self.assemble(rows)
                 self.lmi_matrices.append((key, N))
+                self._congruence[key] = np.concatenate(
+                    [np.full(compiler.size(s), t[i]) for i, s in enumerate(negative.sizes)])
                 self.constraints.append((key, self.lmi_constraint(N, size, eps)))
         self.current_lmi = None
         objective = None
         if theorem.objective is not None:
             objective = self.compiler_class(self, None).visit(theorem.objective)
         self.objective = objective
-        self.problem = self.make_problem(objective, [c for _, c in self.constraints])
+        scaled = objective if objective is None or self.equilibration.objective == 1.0 \
+            else objective * (1.0 / self.equilibration.objective)
+        self.problem = self.make_problem(scaled, [c for _, c in self.constraints])
         self.compile_time = time.perf_counter() - t0
 
     # -- shared bookkeeping -------------------------------------------------------------
@@ -168,7 +187,7 @@ class CompiledModel:
     def set_margin(self, margin: float) -> None:
         """Change the strictness margin ε (in place when ``reuse``, else by recompiling)."""
         if not self.reuse:
-            self.__init__(self.instance, margin=margin, reuse=False)
+            self.__init__(self.instance, margin=margin, reuse=False, conditioning=self.conditioning)
             return
         self.margin = float(margin)
         self.set_parameter(self._margin_parameter, self.margin)
@@ -189,10 +208,16 @@ class CompiledModel:
             if getattr(symbol, "per_vertex", False):
                 keys = [(name, v) for v in range(self.instance.nvertices)]
                 if all(k in self._variables for k in keys):
-                    out[name] = [self.value_of(self._variables[k]) for k in keys]
+                    out[name] = [self._unscaled(name, self._variables[k]) for k in keys]
             elif (name, None) in self._variables:
-                out[name] = self.value_of(self._variables[(name, None)])
+                out[name] = self._unscaled(name, self._variables[(name, None)])
         return out
+
+    def _unscaled(self, name: str, variable):
+        """X = s_X X̃ from the backend variable X̃."""
+        value = self.value_of(variable)
+        factor = self.equilibration.variable(name)
+        return value if value is None or factor == 1.0 else value * factor
 
     def assign(self, values: dict) -> None:
         """Give the backend variables values (same layout as :meth:`values`), e.g. to compare
@@ -201,11 +226,16 @@ class CompiledModel:
             value = values[name]
             if vertex is not None:
                 value = value[vertex]
-            self.set_value(variable, value)
+            self.set_value(variable, np.asarray(value, dtype=float) / self.equilibration.variable(name))
 
     def lmi_values(self) -> dict:
-        """Numeric value of every assembled LMI matrix N at the current variable values."""
-        return {key: np.asarray(self.expression_value(N), dtype=float) for key, N in self.lmi_matrices}
+        """Numeric value of every assembled LMI matrix N at the current variable values (the
+        conditioning congruence undone: the theorem's own N)."""
+        out = {}
+        for key, N in self.lmi_matrices:
+            d = self._congruence[key]
+            out[key] = np.asarray(self.expression_value(N), dtype=float) / np.outer(d, d)
+        return out
 
     def level_problem(self, bound: float):
         """The feasibility problem 'every LMI, and objective ≤ bound': a point inside the strict
@@ -218,11 +248,15 @@ class CompiledModel:
         instance = self.instance
         t0 = time.perf_counter()
         status, objective, message, solver_time = self.run_solver(solver, problem, **options)
+        if problem is None and objective is not None:
+            objective *= self.equilibration.objective      # the compiled objective was divided
         wall = time.perf_counter() - t0
         solution = Solution(instance.theorem.id, instance.example, self.backend,
                             self.solver_name(solver), status, objective, margin=self.margin,
                             message=message, params=dict(instance.params), instance=instance)
         solution.times = {"compile": self.compile_time, "solve": wall}
+        if not self.equilibration.trivial:
+            solution.conditioning = self.equilibration.as_dict()
         if solver_time is not None:
             solution.times["solver"] = solver_time
         if getattr(self, "last_solver_call", None) is not None:
@@ -233,7 +267,8 @@ class CompiledModel:
             solution.values = values
             point = dict(instance.data)
             point.update(values)
-            solution.lmis = lmi_certificate(instance, point)
+            solution.congruence = self._congruence
+            solution.lmis = lmi_certificate(instance, point, congruence=self._congruence)
             solution.gamma = evaluate_performance(instance, point)
             if solution.gamma is None and instance.theorem.performance is not None:
                 solution.notes.append(f"{instance.theorem.performance[0]} is not real at the returned "
@@ -269,6 +304,11 @@ class CompiledModel:
         message, solver time or None); may set ``self.last_solver_call`` to the wall time of the
         solver call with its interface."""
         raise NotImplementedError
+
+    def margin_sensitivity(self) -> float | None:
+        """d(objective)/dε at the last solve: Σ_k tr Z_k over the strict LMIs' dual matrices
+        (the objective moves by about ε·Σ tr Z_k because of the margin), None if unknown."""
+        return None
 
     def shifted_lmi_constraint(self, N, t, size: int):
         """``N ⪯ t I`` for a scalar variable ``t`` (auxiliary problems such as feasp)."""

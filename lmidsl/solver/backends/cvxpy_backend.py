@@ -13,6 +13,7 @@ import cvxpy as cp
 import numpy as np
 
 from ...errors import SolverUnavailableError
+from . import default_options
 from .base import CompiledModel
 
 DEFAULT_SOLVER = "CLARABEL"
@@ -92,9 +93,12 @@ class CvxpyModel(CompiledModel):
             with warnings.catch_warnings():
                 # cvxpy warns "Solution may be inaccurate"; the status and certificate say so
                 warnings.simplefilter("ignore", UserWarning)
-                problem.solve(solver=name, **options)
-        except cp.error.SolverError as exc:
-            return "solver_error", None, str(exc).splitlines()[0] if str(exc) else "solver failed", None
+                problem.solve(solver=name, **{**default_options(name), **options})
+        except (cp.error.SolverError, ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
+            # a solver's own numerical crash (CVXOPT divides by zero on badly scaled LMIs) is a
+            # failure of that solver, not of lmidsl: report it like cvxpy's SolverError
+            text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            return "solver_error", None, text or "solver failed", None
         status = _STATUS.get(problem.status, str(problem.status))
         # wall time of the solver call including its interface (cvxpy's own measurement)
         self.last_solver_call = getattr(problem, "_solve_time", None)
@@ -103,6 +107,15 @@ class CvxpyModel(CompiledModel):
         objective = float(value) if value is not None and np.isfinite(value) else None
         solver_time = getattr(stats, "solve_time", None)
         return status, objective, "", solver_time if solver_time is not None else self.last_solver_call
+
+    def margin_sensitivity(self):
+        total = 0.0
+        for key, constraint in self.constraints:
+            dual = constraint.dual_value
+            if dual is None:
+                return None
+            total += float(np.trace(np.atleast_2d(dual)))
+        return abs(total) * self.equilibration.objective   # duals of the scaled objective
 
     def norm_bound(self, radius):
         parts = [cp.reshape(v, (1,), order="F") if v.ndim == 0 else cp.vec(v, order="F")
