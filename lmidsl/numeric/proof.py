@@ -121,6 +121,35 @@ class BallEvaluator(ExpressionWalker):
             return value ** (arb(int(exp.p)) / arb(int(exp.q)))
         return value ** self.visit(exp)
 
+    def _visit_Abs(self, expr):
+        return abs(self.visit(expr.args[0]))
+
+    def _visit_exp(self, expr):
+        return self.visit(expr.args[0]).exp()
+
+    def _visit_log(self, expr):
+        return self.visit(expr.args[0]).log()
+
+    def _visit_sin(self, expr):
+        return self.visit(expr.args[0]).sin()
+
+    def _visit_cos(self, expr):
+        return self.visit(expr.args[0]).cos()
+
+    def _visit_Max(self, expr):
+        values = [self.visit(a) for a in expr.args]
+        out = values[0]
+        for v in values[1:]:
+            out = arb.max(out, v)
+        return out
+
+    def _visit_Min(self, expr):
+        values = [self.visit(a) for a in expr.args]
+        out = values[0]
+        for v in values[1:]:
+            out = arb.min(out, v)
+        return out
+
     def _visit_MatrixBase(self, expr):
         rows = [[self.visit(sp.sympify(e)) for e in row] for row in expr.tolist()]
         return np.array(rows, dtype=object).reshape(expr.shape)

@@ -16,7 +16,7 @@ from ..pipeline import solve
 from ..errors import LmidslError
 from ..solver.status import solved
 from ..theorem.registry import all_theorems, get_theorem
-from ..theorem.values import PROVENANCE
+from ..theorem.values import OUTCOMES, PROVENANCE
 from .verify import figures_for_solution, worst_index
 
 REPRODUCED_TOLERANCE = 5e-3
@@ -42,9 +42,25 @@ class ReproductionRow:
     spectral_radius: float | None = None
     exact_ok: bool | None = None
     provenance: str = "paper"
+    expect: str = "certified"
 
+    @property
+    def outcome(self) -> str:
+        """One of :data:`~lmidsl.theorem.values.OUTCOMES`."""
+        if self.certified:
+            return "certified"
+        if self.status in ("infeasible", "marginal"):
+            return "infeasible"
+        if self.computed_gamma is not None or solved(self.status):
+            return "not certified"
+        return "not solved"
+
+    @property
+    def as_expected(self) -> bool:
+        """Ends no worse than its example expects (OUTCOMES is ordered best first)."""
+        return OUTCOMES.index(self.outcome) <= OUTCOMES.index(self.expect)
     def as_dict(self) -> dict:
-        return asdict(self)
+        return {**asdict(self), "outcome": self.outcome, "as_expected": self.as_expected}
 
 
 def _verdict(kind, printed, computed, rel, certified, status):
@@ -71,6 +87,7 @@ def row_provenance(theorem, example: str) -> str:
 def reproduce_one(theorem_id: str, example: str, solver: str | None = None) -> ReproductionRow:
     theorem = get_theorem(theorem_id)
     provenance = row_provenance(theorem, example)
+    expect = theorem.examples[example].expect
     printed_values = theorem.examples[example].printed
     kind = "gamma_bound" if "gamma_bound" in printed_values else "gamma"
     printed = printed_values.get(kind)
@@ -78,7 +95,7 @@ def reproduce_one(theorem_id: str, example: str, solver: str | None = None) -> R
         sol = solve(theorem, example=example, solver=solver, backoff="auto")
     except LmidslError as exc:
         return ReproductionRow(theorem_id, example, kind, printed, None, None, f"error: {exc}", None,
-                               None, False, "error", provenance=provenance)
+                               None, False, "error", provenance=provenance, expect=expect)
     # after an automatic back-off the optimum is what compares with the printed value
     computed = (sol.backoff or {}).get("gamma_opt", sol.gamma) if sol.backoff else sol.gamma
     rel = None
@@ -99,7 +116,7 @@ def reproduce_one(theorem_id: str, example: str, solver: str | None = None) -> R
         verdict += f" (filter from the back-off at γ {sol.backoff['gamma']:.6g})"
     row = ReproductionRow(theorem_id, example, kind, printed, computed, rel, sol.status,
                           sol.worst_eig, analysis.gamma if analysis is not None else None, certified,
-                          verdict, provenance=provenance)
+                          verdict, provenance=provenance, expect=expect)
     if figure is not None:
         row.exact_kind, row.exact_gamma = figure.kind, figure.value
         row.mean_square_stable, row.spectral_radius = figure.mean_square_stable, figure.spectral_radius

@@ -12,7 +12,9 @@ example's printed filter, or matrices by name); for an analysis theorem with an 
    disturbance (:mod:`.montecarlo`).
 
 The claimed level γ_c is, in this order: ``gamma`` given by the user, the synthesis γ, the
-paper's printed γ for a printed filter (``gamma`` or ``gamma_bound``).  The filter is
+paper's printed γ (``gamma`` or ``gamma_bound``) for a printed or a given design.  A given
+design with no level to meet (no ``gamma``, nothing printed) is not certified: the check
+``claimed_level`` fails and says so.  The filter is
 *certified* when every applicable check passes (relative tolerance ``tol`` on γ):
 synthesis LMIs all negative; the analysis is feasible with γ_a ≤ γ_c(1+tol); the error system
 is mean-square stable; the exact figure is ≤ γ_c(1+tol) (≤ γ_a when no claim); the Monte Carlo
@@ -280,7 +282,7 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
                                                           **{k: v.tolist() for k, v in fil.items()}})
         fil = {n: np.asarray(instance.data[n]) for n in link.design}
         claimed = gamma
-        if claimed is None and mode != "given":   # the printed bound belongs to the printed filter
+        if claimed is None:                       # the level the example prints
             claimed = printed.get("gamma_bound", printed.get("gamma"))
         result = Verification(thm.id, instance.example, mode, fil, claimed, tol, analysis_theorem=thm.id)
         sol = get_backend(backend)(instance).solve(solver)
@@ -326,6 +328,8 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
         else:
             result.mode = "given"
             fil = _as_design(names, design, thm.id)
+            if result.claimed_gamma is None:      # the level the example prints, if any
+                result.claimed_gamma = printed.get("gamma", printed.get("gamma_bound"))
         result.design = fil
         cert = certify_by_analysis(instance, fil, result.claimed_gamma, solver=solver, backend=backend)
         _set_analysis(result, cert.status, cert.gamma, cert.lmis)
@@ -340,6 +344,10 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
     checks = {}
     if result.synthesis_status is not None:
         checks["synthesis_lmis"] = bool(result.lmis) and all(_proved(r) for r in result.lmis)
+    if result.mode == "given" and result.claimed_gamma is None:
+        checks["claimed_level"] = False
+        result.notes.append("no level to certify the given design against: give --gamma "
+                            "(the example prints none)")
     checks["analysis"] = bool(result.analysis_gamma is not None and (result.claimed_gamma is None
                                                or result.analysis_gamma <= result.claimed_gamma * (1 + tol)))
     if link is None:

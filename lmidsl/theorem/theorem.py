@@ -347,11 +347,11 @@ class Theorem:
     def example(self, name: str, data: dict, *, params: dict | None = None,
                 printed: dict | None = None, vertices: list | None = None,
                 description: str = "", printed_note: str = "", provenance: str = "paper",
-                provenance_note: str = "") -> Example:
+                provenance_note: str = "", expect: str = "certified", expect_note: str = "") -> Example:
         """Attach a named example with the values the paper prints (``provenance``: see
         :data:`~lmidsl.theorem.values.PROVENANCE`; an example not from the paper says so)."""
         ex = Example(name, data, params or {}, printed or {}, vertices, description, printed_note,
-                     provenance, provenance_note)
+                     provenance, provenance_note, expect, expect_note)
         self.examples[name] = ex
         return ex
 

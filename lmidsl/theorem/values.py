@@ -27,6 +27,13 @@ PROVENANCE = {
 """Where a theorem or an example stands relative to its paper; anything but "paper" needs a note."""
 
 
+OUTCOMES = ("certified", "not certified", "infeasible", "not solved")
+"""What solving an example ends in, best first: the solution certified (every LMI proved, the
+analysis and checks passed); solved but not certified; proved infeasible (feasp); no solver
+returned a point.  An example declares the outcome it is known to have (``expect``, default
+certified); ``lmidsl reproduce`` fails when a row ends worse than that."""
+
+
 def check_provenance(owner: str, provenance: str, note: str) -> None:
     if provenance not in PROVENANCE:
         raise TheoremDefinitionError(f"{owner}: provenance must be one of {', '.join(PROVENANCE)}, "
@@ -102,9 +109,17 @@ class Example:
     printed_note: str = ""
     provenance: str = "paper"
     provenance_note: str = ""
+    expect: str = "certified"
+    expect_note: str = ""
 
     def __post_init__(self):
         check_provenance(f"example {self.name}", self.provenance, self.provenance_note)
+        if self.expect not in OUTCOMES:
+            raise TheoremDefinitionError(f"example {self.name}: expect must be one of "
+                                         f"{', '.join(OUTCOMES)}, got {self.expect!r}")
+        if self.expect != "certified" and not self.expect_note:
+            raise TheoremDefinitionError(f"example {self.name}: expect={self.expect!r} needs an "
+                                         "expect_note saying why (a finding, with its evidence)")
 
     def inputs(self) -> dict:
         merged = dict(self.data)
