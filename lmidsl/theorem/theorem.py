@@ -8,6 +8,8 @@ recovered design, and lists named examples with the values the paper prints.
 Every LMI is checked when it is declared: each block's products and sums must conform
 (symbolic dimensions, see :mod:`lmidsl.symbolic.shapes`) and each block must be affine in the decision
 variables (:mod:`lmidsl.symbolic.linearity`).  Errors name the theorem, the LMI label and the block.
+Recovery formulas and factor arguments are checked for shapes.  A sympy node the library has no
+rule for is refused at declaration.
 """
 from __future__ import annotations
 
@@ -16,7 +18,7 @@ from typing import Any
 import sympy as sp
 
 from ..symbolic.blocks import block_matrix
-from ..errors import LmidslError, ShapeMismatchError, TheoremDefinitionError
+from ..errors import TheoremDefinitionError
 from ..symbolic.linearity import check_affine
 from ..symbolic.shapes import check_conformance
 from ..symbolic.uncertainty import uncertain_symbol
@@ -134,7 +136,7 @@ class Theorem:
         """Declare a named matrix assembled from other variables, e.g. Λ = [[X, Z], [Z, Z]]."""
         self._check_new(name)
         expansion = sp.BlockMatrix(rows)
-        shape = check_conformance(expansion)
+        shape = check_conformance(expansion, where=f"{self.id}: structured variable {name}")
         symbol = self._describe(StructuredVariable(name, *shape, self.id), latex,
                                  description)
         symbol.expansion = expansion
@@ -203,11 +205,9 @@ class Theorem:
         spec = block_matrix(rows, triangle=triangle, sizes=sizes, where=where)
         for i, row in enumerate(spec.lower):
             for j, blk in enumerate(row):
-                try:
-                    check_conformance(blk)
-                    check_affine(blk)
-                except LmidslError as exc:
-                    raise type(exc)(f"{where} block ({i + 1},{j + 1}): {exc}") from None
+                at = f"{where} block ({i + 1},{j + 1})"
+                check_conformance(blk, where=at)
+                check_affine(blk, where=at)
         lmi = LMI(label, spec, sense, strict and sense in ("<", ">"), description)
         if any(isinstance(a, RecoveredMatrix) for a in lmi.symbols()):
             raise TheoremDefinitionError(f"{where}: uses a recovery intermediate (declared by factor)")
@@ -249,10 +249,7 @@ class Theorem:
     def recover(self, **formulas):
         """Recovery formulas, e.g. ``Af=V2.I * Af_hat``: evaluated after the solve, in order."""
         for name, expr in formulas.items():
-            try:
-                check_conformance(expr)
-            except ShapeMismatchError as exc:
-                raise ShapeMismatchError(f"{self.id}: recovery of {name}: {exc}") from None
+            check_conformance(expr, where=f"{self.id}: recovery of {name}")
             self.recovery[name] = expr
             self.recovery_steps.append(("formula", name))
 
@@ -266,10 +263,7 @@ class Theorem:
         later recovery formulas (``Af = R.I * Af_hat * ...``).
         """
         names = names.split()
-        try:
-            shapes = [check_conformance(a) for a in args]
-        except ShapeMismatchError as exc:
-            raise ShapeMismatchError(f"{self.id}: factor {' '.join(names)}: {exc}") from None
+        shapes = [check_conformance(a, where=f"{self.id}: factor {' '.join(names)}") for a in args]
         out = factorization.shapes(*shapes)
         if len(out) != len(names):
             raise TheoremDefinitionError(
@@ -300,11 +294,9 @@ class Theorem:
         """Positive definite expressions the recovery inverts (e.g. Z and X − Z); the back-off
         (:mod:`lmidsl.backoff`) improves their conditioning at a γ slightly above the optimum."""
         for expr in exprs:
-            try:
-                check_conformance(expr)
-                check_affine(expr)
-            except LmidslError as exc:
-                raise type(exc)(f"{self.id}: well_conditioned {expr}: {exc}") from None
+            at = f"{self.id}: well_conditioned {expr}"
+            check_conformance(expr, where=at)
+            check_affine(expr, where=at)
             self.conditioned.append(expr)
 
     def linearise(self, **updates):
@@ -316,7 +308,7 @@ class Theorem:
         for name, expr in updates.items():
             if name not in self.data_decl:
                 raise TheoremDefinitionError(f"{self.id}: linearisation point {name} is not declared data")
-            check_conformance(expr)
+            check_conformance(expr, where=f"{self.id}: linearisation of {name}")
             self.linearisation[name] = expr
 
     def certified_by(self, theorem, design: tuple, gamma_tolerance: float = 1e-3):
