@@ -188,6 +188,8 @@ def test_unknown_node_is_a_one_line_definition_error():
     assert "\n" not in message
     assert message.startswith("t.unknown: LMI (u) block (3,3): ")
     assert "HadamardProduct: HadamardProduct(A, A.T)" in message
+    with pytest.raises(TheoremDefinitionError, match=r"t.unknown: objective .*Determinant: Determinant\(P\)"):
+        thm.minimize(sp.Determinant(P))
     with pytest.raises(TheoremDefinitionError, match=r"t.unknown: recovery of K: .*KroneckerProduct"):
         thm.recover(K=sp.KroneckerProduct(A, A))
     # the numeric evaluator (and the compilers, its subclasses) fall back the same way

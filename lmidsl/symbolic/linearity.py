@@ -9,7 +9,8 @@ The degree of an expression in the decision variables is computed on the express
 * a product (``MatMul``, ``Mul``, Hadamard) adds the degrees of its factors: the product of two
   decision-variable factors (``P V``, ``g·g``) has degree 2;
 * a sum and a block matrix take the largest degree of their terms / blocks;
-* a transpose keeps the degree;
+* a transpose and a trace keep the degree (``tr(M)`` is linear in M, so ``tr(W Z)`` is affine
+  in Z when W is data);
 * the inverse of an expression containing a decision variable is not affine at all (an error,
   whatever the degree); the inverse of data is degree 0;
 * a power ``M^k`` of an expression of degree d > 0 has degree k·d for an integer k ≥ 0; a negative
@@ -94,6 +95,9 @@ class DegreeWalker(Walker):
 
     # -- degree-preserving maps ----------------------------------------------------------------
     def _visit_Transpose(self, expr):
+        return self.visit(expr.arg)
+
+    def _visit_Trace(self, expr):
         return self.visit(expr.arg)
 
     # -- inverse and powers --------------------------------------------------------------------

@@ -15,8 +15,9 @@ scalar is 1×1):
 * a sum: every term has the shape of the first;
 * ``Mᵀ``: the shape swapped; ``M⁻¹`` and ``M^k``: M square;
 * a block matrix: every block (i, j) has the rows of block (i, 1) and the columns of block (1, j);
+* ``tr(M)``: M square, the trace is a scalar;
 * scalar nodes (numbers, symbols, +, ·, powers, functions such as sqrt): 1×1, after checking
-  the matrices inside them.
+  the matrices inside them (a trace in a coefficient).
 
 Any other node is refused (:meth:`~lmidsl.symbolic.walker.Walker.unknown`): a node the library
 has no rule for would otherwise be accepted here and fail later, at compile time.
@@ -42,7 +43,7 @@ def fmt_shape(shape) -> str:
 
 
 class ShapeWalker(Walker):
-    """The shape of an expression, every product, sum and block in it checked."""
+    """The shape of an expression, every product, sum, block and trace in it checked."""
 
     action = "check the shape of"
 
@@ -72,7 +73,7 @@ class ShapeWalker(Walker):
     def _visit_MatMul(self, expr):
         for a in expr.args:
             if not isinstance(a, MatrixExpr):
-                self.visit(a)  # a scalar factor: check the matrices inside it
+                self.visit(a)  # a scalar factor: check the matrices inside it (tr(W Z) P)
         matrices = [a for a in expr.args if isinstance(a, MatrixExpr)]
         shapes = [self.visit(a) for a in matrices]
         for (left, ls), (right, rs) in zip(zip(matrices, shapes), zip(matrices[1:], shapes[1:])):
@@ -109,6 +110,11 @@ class ShapeWalker(Walker):
                     raise self.mismatch(
                         f"block matrix {expr}: block ({i + 1},{j + 1}) {blocks[i, j]} is {fmt_shape(s)}")
         return expr.shape
+
+    # -- matrix to scalar -----------------------------------------------------------------
+    def _visit_Trace(self, expr):
+        self._square(expr.arg, "trace of {arg}, which is {shape}")
+        return SCALAR
 
     # -- scalars --------------------------------------------------------------------------
     def _visit_Atom(self, expr):  # numbers, scalar symbols (variables, parameters, dimensions)

@@ -16,7 +16,7 @@ unknown node).  Its subclasses are the concerns:
 * :class:`ExpressionWalker` -- evaluation into an algebra: the numpy evaluator, the cvxpy compiler
   and the PICOS compiler.  The walk is generic; a subclass supplies the leaves (what a data
   matrix, a variable or a parameter becomes) and the few operations its target spells
-  differently (block assembly, identity, zeros, inverse).  No expression is ever
+  differently (block assembly, identity, zeros, inverse, trace).  No expression is ever
   expanded into scalar entries.
 """
 from __future__ import annotations
@@ -27,7 +27,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import TheoremDefinitionError
-from .symbols import (DataMatrix, DerivedParam, Param, ScalarVariable, StructuredVariable,
+from .symbols import (DataMatrix, DerivedParam, Dim, Param, ScalarVariable, StructuredVariable,
                       Variable)
 
 
@@ -152,6 +152,10 @@ class ExpressionWalker(Walker):
     def inverse(self, a, expr):
         raise NotImplementedError(f"{type(self).__name__} cannot invert {expr}")
 
+    def trace(self, a):
+        """tr(a) of a square matrix value (numpy here; the compilers spell it for their algebra)."""
+        return float(np.trace(np.atleast_2d(a)))
+
     # -- leaves (subclasses) ----------------------------------------------------------
     def data(self, symbol):
         raise NotImplementedError
@@ -256,12 +260,20 @@ class ExpressionWalker(Walker):
     def _visit_MatrixBase(self, expr):
         return np.array(expr.tolist(), dtype=float)
 
+    def _visit_Trace(self, expr):
+        # tr(M) is linear in M: the target's trace of the evaluated argument
+        return self.trace(self.visit(expr.arg))
+
     # -- scalar nodes -------------------------------------------------------------------
     def _visit_Number(self, expr):
         return float(expr)
 
     def _visit_NumberSymbol(self, expr):
         return float(expr)
+
+    def _visit_Dim(self, expr: Dim):
+        # a dimension in a scalar, e.g. tr(Z + I_n) = tr(Z) + n
+        return float(self.size(expr))
 
     def _visit_Param(self, expr: Param):
         return self.parameter(expr)

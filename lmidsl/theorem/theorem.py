@@ -5,11 +5,11 @@ scalar parameters, writes each LMI as a block triangle with the paper's label, s
 objective, the recovery formulas and (optionally) the analysis theorem that certifies the
 recovered design, and lists named examples with the values the paper prints.
 
-Every LMI is checked when it is declared: each block's products and sums must conform
+Every LMI is checked when it is declared: each block's products, sums and traces must conform
 (symbolic dimensions, see :mod:`lmidsl.symbolic.shapes`) and each block must be affine in the decision
 variables (:mod:`lmidsl.symbolic.linearity`).  Errors name the theorem, the LMI label and the block.
-Recovery formulas and factor arguments are checked for shapes.  A sympy node the library has no
-rule for is refused at declaration.
+The objective is checked the same way (and must be a scalar); recovery formulas and factor
+arguments for shapes.  A sympy node the library has no rule for is refused at declaration.
 """
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ import sympy as sp
 from ..symbolic.blocks import block_matrix
 from ..errors import TheoremDefinitionError
 from ..symbolic.linearity import check_affine
-from ..symbolic.shapes import check_conformance
+from ..symbolic.shapes import check_conformance, dims_equal, fmt_shape
 from ..symbolic.uncertainty import uncertain_symbol
 from ..symbolic.symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, RecoveredMatrix,
                       ScalarVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
@@ -220,17 +220,30 @@ class Theorem:
         return [self.lmi(label or f"{v.name} > 0", [[v]], sense=">") for v in variables]
 
     def minimize(self, objective, *, performance: tuple[str, Any] | None = None):
-        """Minimise a linear scalar objective; ``performance`` = (name, expr) e.g. ('gamma', √g)."""
-        self.objective = sp.sympify(objective)
-        if performance is not None:
-            self.performance = (performance[0], sp.sympify(performance[1]))
+        """Minimise a scalar objective affine in the decision variables (``g``, ``g1 + g2``,
+        ``Trace(Z)``, ``Trace(W*Z) + g``); ``performance`` = (name, expr) e.g. ('gamma', √g) or
+        ('h2', √tr(Z)).  Checked like an LMI block: shapes, a 1×1 result, affinity."""
+        objective = sp.sympify(objective)
+        where = f"{self.id}: objective {objective}"
+        shape = check_conformance(objective, where=where)
+        if not (dims_equal(shape[0], 1) and dims_equal(shape[1], 1)):
+            raise TheoremDefinitionError(f"{where} is {fmt_shape(shape)}, not a scalar "
+                                         f"(minimise a scalar of it, e.g. Trace(...))")
+        check_affine(objective, where=where)
+        self.objective = objective
+        self._set_performance(performance)
 
     def feasibility(self, *, performance: tuple[str, Any] | None = None):
         """A feasibility problem (no objective); ``performance`` = (name, expr) names the level
         the LMIs are stated at, e.g. ('gamma', γ) for a prescribed γ parameter."""
         self.objective = None
+        self._set_performance(performance)
+
+    def _set_performance(self, performance):
         if performance is not None:
-            self.performance = (performance[0], sp.sympify(performance[1]))
+            name, expr = performance[0], sp.sympify(performance[1])
+            check_conformance(expr, where=f"{self.id}: performance {name}")
+            self.performance = (name, expr)
 
     def report(self, **values):
         """Named scalar values evaluated at the solution, e.g. ``gamma_1=sqrt(rho_1)``.

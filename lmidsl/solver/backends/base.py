@@ -64,8 +64,8 @@ class BackendCompiler(ExpressionWalker):
         if not has_decision:
             if not has_param:
                 return self.constants.visit(expr)
-            if not isinstance(expr, sp.MatrixExpr):
-                return self.model.parameter_for(expr)
+            if not isinstance(expr, sp.MatrixExpr) and not expr.has(sp.MatrixSymbol):
+                return self.model.parameter_for(expr)  # a scalar of parameters only (not r·tr(W))
         return super()._dispatch(expr)
 
     def context(self) -> str:
