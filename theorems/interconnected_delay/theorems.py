@@ -48,7 +48,7 @@ from sympy import BlockMatrix, Identity, ZeroMatrix, sqrt
 from lmidsl import Family, He, I, NormBounded, Source, SubsystemFamily, Theorem, member_label, reported_agree, sprocedure
 from .network import FrequencySweepCheck, SimulationCheck
 
-PAPER = "Robust H∞ filtering for interconnected time-delay systems (SJTU / Yanshan)"
+PAPER = "Interconnected time-delay systems (SJTU / Yanshan)"
 CITATION = "Robust H-infinity filtering for uncertain interconnected time-delay systems (SJTU / Yanshan)"
 NOTES = "docs/reproductions/004.md"
 

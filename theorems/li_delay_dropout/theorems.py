@@ -30,7 +30,7 @@ from lmidsl import ErrorSystem, I, Source, Theorem, rs_split
 from .simulation import model_2_with_filter_6
 from sympy import BlockMatrix, Identity, ZeroMatrix, sqrt
 
-PAPER = "Li et al. 2014, H∞ filtering with one-step random delays and dropouts"
+PAPER = "Li, Wang, Sun 2014, random delays and dropouts"
 CITATION = ("Li, Wang, Sun, H∞ filter design for networked systems with one-step random delays "
             "and multiple packet dropouts, Acta Automatica Sinica 40(1):155-160, 2014")
 

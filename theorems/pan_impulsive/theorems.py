@@ -29,7 +29,7 @@ from lmidsl import He, Source, Theorem
 from .impulsive import simulate_design
 from sympy import BlockMatrix, Identity, ZeroMatrix, sqrt
 
-PAPER = "Pan and Sun, robust H∞ filtering for impulsive systems"
+PAPER = "Pan, Sun, H∞ filtering for impulsive systems"
 CITATION = "Pan, Sun, Robust H∞ filtering for discrete-time impulsive systems with uncertainty"
 PRINTED_AT = "Section 3 (numerical example)"
 

@@ -37,7 +37,7 @@ from lmidsl import He, I, Source, Theorem, TheoremFamily
 from .delta import filter_reading
 from sympy import BlockMatrix, Rational, ZeroMatrix, sqrt
 
-PAPER = "Zhang et al. 2023, H∞ filtering with quantisation and multiple packet loss"
+PAPER = "Zhang, Liu, Du 2023, quantisation and packet loss"
 CITATION = ("Zhang, Liu, Du, H∞ filtering for cyber physical systems with random multiple packet "
             "loss with quantization error, J. Zhengzhou Univ. (Eng. Sci.) 2023")
 
@@ -174,7 +174,7 @@ def build_thm2_literal(thm: Theorem, N: int):
     ]
     tail = [[-g * I, 0, 0], [-P2, 0], [Psc]]
     thm.lmi("(17)", _upper(first, N, _delay_diagonal(N, P2, P3, h), tail), triangle="upper",
-            description="(17) corrected (docs/reproductions/002.md §4.7) and rescaled exactly (§4.8)")
+            description="(17) corrected (docs/reproductions/002.md, section 4.7) and rescaled exactly (4.8)")
     thm.positive(R, S, P2, P3)
     thm.minimize(g, performance=("gamma", sqrt(g)))
     thm.recover(Af=H1 * (S - R).I / h, Bf=H2 / h, Cf=h * H3 * (S - R).I)
@@ -250,7 +250,7 @@ def build_exact(thm: Theorem, N: int):
     ]
     tail = [[-g * I, 0, 0], [-P2, 0], [-P3]]
     thm.lmi("(10)-exact", _upper(first, N, _delay_diagonal(N, P2, P3, h), tail), triangle="upper",
-            description="Theorem 1 after the congruence diag(T, I, ..., I) and H1, H2, H3 (docs/reproductions/002.md §4.9)")
+            description="Theorem 1 after the congruence diag(T, I, ..., I) and H1, H2, H3 (docs/reproductions/002.md, section 4.9)")
     thm.positive(Pi, P2, P3)
     thm.minimize(g, performance=("gamma", sqrt(g)))
     thm.recover(Af=H1 * (S - R).I, Bf=H2, Cf=H3 * (S - R).I)
