@@ -1,7 +1,7 @@
 """The synthesis LMIs re-evaluated in numpy at the point a solver returned.
 
 Independent of the backend and of the solver's status: each LMI ``N ≺ 0`` is assembled block by
-block from the solved values with :class:`~lmidsl.numeric.NumericEvaluator` and its largest
+block from the solved values with :class:`~lmidsl.numeric.evaluate.NumericEvaluator` and its largest
 eigenvalue λ_max(N) is reported with the relative margin λ_max(N) / max(1, ‖N‖₂).  The point
 certifies the strict LMIs iff every λ_max(N) < 0.
 """

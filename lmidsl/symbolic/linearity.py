@@ -81,7 +81,7 @@ def _nonlinear_culprit(expr):
 
 def check_affine(expr) -> None:
     """Raise :class:`NonlinearityError` unless ``expr`` is affine in the decision variables
-    and affine in each uncertain symbol (the vertex argument of :mod:`lmidsl.uncertainty`)."""
+    and affine in each uncertain symbol (the vertex argument of :mod:`lmidsl.symbolic.uncertainty`)."""
     for u in uncertain_atoms(expr):
         if degree(expr, {u}) > 1:
             raise NonlinearityError(f"{expr} is not affine in the uncertain {u}: its vertices would not cover the box")

@@ -11,7 +11,7 @@ BACKENDS = ("cvxpy", "picos")
 
 
 def get_backend(name: str = "cvxpy"):
-    """The :class:`~lmidsl.backends.base.CompiledModel` subclass of a backend."""
+    """The :class:`~lmidsl.solver.backends.base.CompiledModel` subclass of a backend."""
     key = (name or "cvxpy").lower()
     if key == "cvxpy":
         from .cvxpy_backend import CvxpyModel
