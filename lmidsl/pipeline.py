@@ -89,8 +89,8 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str =
     An uncertified solve gets the feasp diagnosis (``diagnose``, see :func:`finish_solution`).
     ``scaling``: the theorem's declared signal scalings ('auto', 'none' or {signal: factor});
     the solver sees the scaled instance, recovered matrices are mapped back
-    (:mod:`lmidsl.scaling`).  ``backoff`` = δ: re-solve at objective ≤ (1 + δ)·optimum for a
-    well-conditioned recovery (:mod:`lmidsl.backoff`); ``"auto"``: only when the filter recovered
+    (:mod:`lmidsl.numeric.scaling`).  ``backoff`` = δ: re-solve at objective ≤ (1 + δ)·optimum for a
+    well-conditioned recovery (:mod:`lmidsl.solver.backoff`); ``"auto"``: only when the filter recovered
     at the optimum fails its analysis certificate (or its recovery fails), with δ = 10⁻².
     """
     applied = apply_scaling(instance, scaling)
@@ -135,7 +135,7 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
     """Feasibility diagnosis, recovery (mapped back through any scaling) and analysis
     certificate, in place.
 
-    When the solver returns no certified point, the feasp diagnosis (:mod:`lmidsl.feasibility`)
+    When the solver returns no certified point, the feasp diagnosis (:mod:`lmidsl.solver.feasibility`)
     is attached; if it finds no strictly feasible point, ``status`` becomes "infeasible" (or
     "marginal": feasible by less than the margin); the solver's own word stays in
     ``solver_status``.  An infeasible problem is a result, not an error.

@@ -294,7 +294,7 @@ def test_reproduce_row_has_the_independent_figure():
     assert row["exact_gamma"] < row["computed_gamma"]
 
 
-# -- the H∞ path on seed 001's model (NOTES.md §2.2), with a fixed test filter ----------------
+# -- the H∞ path on seed 001's model ((5)-(7) of Li, Wang, Sun 2014), with a fixed test filter --
 def _seed001_type(filter_seed=5):
     """UPS data of seed 001, a small fixed filter (not a designed one), error system (7) as
     li_delay_dropout.thm1 declares it, and model (2) + filter (6) simulated literally."""

@@ -41,7 +41,7 @@ def test_default_check_rows_and_agreement(default_check):
     assert len(trusted) >= 3 and any(r["backend"] == "picos" for r in trusted)
     gammas = [r["gamma"] for r in trusted]
     assert (max(gammas) - min(gammas)) / min(gammas) < 1e-3          # the trusted answers agree
-    assert abs(min(gammas) - 0.3367) < 1e-3                            # NOTES §1: optimum 0.33674
+    assert abs(min(gammas) - 0.3367) < 1e-3                            # docs/reproductions/000.md: optimum 0.336741
     assert result["agree"] and result["exit_code"] == 0 and code == 0
     for r in trusted:                                                  # the certificate really holds
         assert all(l["max_eig"] < 0 for l in r["lmis"]) and r["analysis"]["passed"]

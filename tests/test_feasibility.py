@@ -1,4 +1,4 @@
-"""The feasp diagnosis (lmidsl.feasibility) on problems whose t* is known in closed form."""
+"""The feasp diagnosis (lmidsl.solver.feasibility) on problems whose t* is known in closed form."""
 import pytest
 
 from lmidsl import Source, Theorem

@@ -1,4 +1,4 @@
-"""Simulation of the impulsive filtering-error system (lmidsl.impulsive) and the simulate command."""
+"""Simulation of the impulsive filtering-error system (lmidsl.theorems.pan_impulsive.impulsive) and the simulate command."""
 import json
 
 import numpy as np

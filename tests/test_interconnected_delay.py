@@ -1,6 +1,6 @@
 """Seed 004: Theorem 2 (18)/(26) and Theorem 1 (15) on the reconstructed Section 4 example.
 
-The example's A_i, A_ij, B_i, C_i, H_i1 and delays are GUESSED (NOTES.md §5.9), so nothing here
+The example's A_i, A_ij, B_i, C_i, H_i1 and delays are GUESSED (docs/reproductions/004.md), so nothing here
 is compared with the paper's printed 0.037; the tests compare independent computations: the
 analysis LMI with the recovered filters, the congruence (15) ↔ (18), a frequency sweep, a time
 simulation of the delayed network, and two solvers.

@@ -1,6 +1,6 @@
 """LaTeX of the LMIs: golden strings for small LMIs, symbol names, and documents that compile.
 
-The golden strings are the exact output of :func:`lmidsl.latex.lmi_latex`; they were checked
+The golden strings are the exact output of :func:`lmidsl.render.latex.lmi_latex`; they were checked
 by eye against the way the papers print such blocks (``\\star`` above the diagonal, ``I`` and
 ``0`` blocks, ``P^{T}`` never for a symmetric ``P``).  The compile tests run ``pdflatex`` on the
 document of every theorem in ``theorems/`` (and on a 12-block-column LMI, which needs amsmath's
@@ -118,7 +118,7 @@ def test_sized_identity_and_zero(small):
 
 
 def test_paper_thm3_lmi_30_as_printed():
-    """Theorem 3 (30) of seed 000 reads exactly as NOTES.md §1.4 prints it."""
+    """Theorem 3 (30) of seed 000 reads exactly as the paper (Wang, Cai, Lin, Yang) prints it."""
     text = lmi_latex(get_theorem("wang_l2linf.thm3"), "(30)")
     rows = text.split("\n")[1:-1]
     assert rows[3] == ("V_1^{T} A + \\bar{r} E \\hat{B}_f C & E \\hat{A}_f & "
@@ -259,7 +259,7 @@ def test_example_document_with_solution(tmp_path):
     """Theorem 3 on the paper's full-order example: γ computed and printed, the filter, a PDF."""
     text = theorem_latex("wang_l2linf.thm3", lmidsl.solve("wang_l2linf.thm3", example="paper-full"))
     gamma = float(re.search(r"\$\\gamma\$ computed & \$([0-9.]+)\$", text).group(1))
-    assert abs(gamma - 0.3373) < 2e-3  # the paper prints 0.3373 (NOTES.md §1.6)
+    assert abs(gamma - 0.3373) < 2e-3  # the paper prints 0.3373 (Section 5)
     assert "printed in the paper & $0.3373$" in text
     assert re.search(r"A_f = \\begin\{bmatrix\} -0\.00\d+ & 0\.28\d+ \\\\", text)
     assert_compiles(text, tmp_path, "thm3_example")

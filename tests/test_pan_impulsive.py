@@ -26,7 +26,7 @@ PI = load_theorem_module("pan_impulsive", "pan_impulsive_test_copy")
 
 @pytest.mark.parametrize("seed", [1, 2])
 def test_27_28_are_the_congruence_image_of_24_25(seed):
-    """(27)/(28) = diag(Tc, I, Tc, I)ᵀ (24)/(25) diag(Tc, I, Tc, I) with F, G from (26) (NOTES §4.6.3)."""
+    """(27)/(28) = diag(Tc, I, Tc, I)ᵀ (24)/(25) diag(Tc, I, Tc, I) with F, G from (26) (docs/reproductions/003.md)."""
     rng = np.random.default_rng(seed)
     n, m, r = 2, 1, 1
     rnd = lambda *s: rng.standard_normal(s)  # noqa: E731

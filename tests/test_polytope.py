@@ -11,7 +11,7 @@ from lmidsl.theorem.registry import get_theorem
 
 
 def _hand_written_theorem1_min(vertices, lam1, lam2, eps, margin=1e-7):
-    """(27), (28), P̂ > 0 at every vertex: common R, W, T, S_*, Ψ, g; P̂ per vertex (NOTES §4.4)."""
+    """(27), (28), P̂ > 0 at every vertex: common R, W, T, S_*, Ψ, g; P̂ per vertex (docs/reproductions/003.md)."""
     n, m, r = 2, 1, 1
     R, W, T, SA, SM = (cp.Variable((n, n)) for _ in range(5))
     SB, SC, SD, Psi = cp.Variable((n, r)), cp.Variable((m, n)), cp.Variable((m, r)), cp.Variable((m, m))

@@ -1,4 +1,4 @@
-"""Scalar search (lmidsl.scalar_search) on problems whose optimum over the scalars is known."""
+"""Scalar search (lmidsl.studies.search) on problems whose optimum over the scalars is known."""
 import math
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""The S-procedure helper (lmidsl.uncertainty_nb) against brute force over sampled F.
+"""The S-procedure helper (lmidsl.symbolic.sprocedure) against brute force over sampled F.
 
 Soundness: whenever the LMI the helper produces is feasible, the original robust inequality
 M + He(H F E) < 0 holds at the returned point for every sampled F with FᵀF ≤ I.

@@ -32,7 +32,7 @@ def sizes(theorem_id, N):
 
 @pytest.mark.parametrize("N", [1, 2, 3])
 def test_block_count_and_sizes(N):
-    """(10): b1 2n, b2 n_z, b3 2n, d_1..d_N (n after the reduction of NOTES §3.3), w n_w,
+    """(10): b1 2n, b2 n_z, b3 2n, d_1..d_N (n after the reduction of docs/reproductions/002.md §4.1), w n_w,
     p2 n, p3 n: N + 6 blocks.  (17): b1a, b1b, b2, b3a, b3b, d_1..d_N, w, p2, p3: N + 8."""
     n, nz, nw = 2, 1, 1
     assert sizes(f"{Z}.thm1", N) == [2 * n, nz, 2 * n] + [n] * N + [nw, n, n]
@@ -80,7 +80,7 @@ def test_vertex_expansion_matches_interior_points(theorem):
 
 
 def _numpy_thm1(Af, Bf, Cf, N, ab, delta):
-    """NOTES §3.3 restatement written by hand (no lmidsl): min g s.t. the Schur form at Δ."""
+    """docs/reproductions/002.md §4.2 restatement written by hand (no lmidsl): min g s.t. the Schur form at Δ."""
     Pt = cp.Variable((4, 4), symmetric=True)
     P2 = cp.Variable((2, 2), symmetric=True)
     P3 = cp.Variable((2, 2), symmetric=True)
@@ -110,7 +110,7 @@ def _numpy_thm1(Af, Bf, Cf, N, ab, delta):
 
 def test_thm1_printed_filter_shift_reading_against_hand_written_model():
     """Table 1's N = 2 filter read as shift form: lmidsl's thm1 = a hand-written cvxpy model of
-    NOTES §3.3 (1e-3 relative); the delta reading violates the necessary condition."""
+    docs/reproductions/002.md §4.2 (1e-3 relative); the delta reading violates the necessary condition."""
     sol = solve_instance(make_instance(f"{Z}.thm1", example="paper-N2-printed-shift"), certify=False)
     inst = sol.instance
     ref = _numpy_thm1(inst.data["Af"], inst.data["Bf"], inst.data["Cf"], 2, 0.5, BETA)
@@ -158,7 +158,7 @@ def test_thm2_literal_is_the_congruence_of_10():
     T = Z1 @ sl.block_diag(S, np.eye(2))
     M17 = sl.block_diag(Z1, np.eye(1), T, np.eye(2), np.eye(2), np.eye(1), P2, np.eye(2)).T @ M10 @ \
         sl.block_diag(Z1, np.eye(1), T, np.eye(2), np.eye(2), np.eye(1), P2, np.eye(2))
-    # rescaling of NOTES §3.4 plus P̌3 = hP3 (congruence √h on d_i, 1/√h on p3)
+    # rescaling of docs/reproductions/002.md §4.8 plus P̌3 = hP3 (congruence √h on d_i, 1/√h on p3)
     f = np.concatenate([np.full(2, H ** -0.5), np.full(2, H ** 0.5), [1], np.full(4, H ** 0.5),
                         np.full(4, H ** 0.5), [1], np.ones(2), np.full(2, H ** -0.5)])
     expected = np.diag(f) @ M17 @ np.diag(f)

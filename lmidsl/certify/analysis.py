@@ -12,7 +12,7 @@ level (the synthesis γ, else the minimum plus the tolerance): a point inside th
 that level is the certificate (``method`` "level").  When the default solver fails numerically,
 the backend's fallback solvers (:func:`lmidsl.solver.backends.fallback_solvers`) are tried (the certificate is numpy's, whichever solver found the
 point).  An analysis without a certified point carries the feasp diagnosis
-(:mod:`lmidsl.feasibility`).
+(:mod:`lmidsl.solver.feasibility`).
 """
 from __future__ import annotations
 
@@ -49,7 +49,7 @@ class AnalysisCertificate:
     minimum: float | None = None
     feasp: list = field(default_factory=list)
     solvers: list = field(default_factory=list)
-    scaling: dict | None = None   # the analysis instance's own exact signal scaling (lmidsl.scaling)
+    scaling: dict | None = None   # the analysis instance's own exact signal scaling (lmidsl.numeric.scaling)
     reported: dict = field(default_factory=dict)
 
     @property
@@ -149,7 +149,7 @@ def _solve_one(make_model, solver, backend, synthesis_gamma, tolerance):
 
 
 def analysis_theorem_for(instance: Instance):
-    """The analysis counterpart of ``instance.theorem``; for a family (:mod:`lmidsl.family`), the
+    """The analysis counterpart of ``instance.theorem``; for a family (:mod:`lmidsl.theorem.family`), the
     member matching the instance (its data names may depend on the family index)."""
     analysis = linked_analysis(instance.theorem)
     if hasattr(analysis, "specialise"):

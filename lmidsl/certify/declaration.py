@@ -9,7 +9,7 @@ A theorem whose data include the filter (the analysis theorem) states the error 
 ``A, B, C, D`` are the mean matrices; each ``noise`` entry holds the matrices multiplying one
 zero-mean random scalar ν_i (keys A, B, C, D, missing = 0); ``covariance`` is Σ = E ννᵀ (a list
 = its diagonal, or a nested list), in the theorem's parameters.  Everything is a sympy
-expression of the theorem's symbols, evaluated with :class:`~lmidsl.numeric.NumericEvaluator`
+expression of the theorem's symbols, evaluated with :class:`~lmidsl.numeric.evaluate.NumericEvaluator`
 on an instance (so block matrices are written as the paper writes them).  ``simulate`` is a
 numpy function of the *original* model with the filter (see :mod:`.montecarlo`).
 """

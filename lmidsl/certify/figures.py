@@ -4,7 +4,7 @@ All figures are for a **deterministic** disturbance w (the papers' index; the ex
 over the Bernoulli variables only) and zero initial state; they are gains in the units of γ
 (``value``), with ``squared`` = value² in the units of γ² = g.
 
-**Mean-square energy-to-peak** (seed 000, index (6) as proved, NOTES.md §1.7 item 3):
+**Mean-square energy-to-peak** (seed 000, index (6) as proved, docs/reproductions/000.md):
 
     γ_ep² = sup_{K ≥ 0} sup_{‖w‖₂ ≤ 1} E|e(K)|².
 

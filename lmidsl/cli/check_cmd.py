@@ -1,7 +1,7 @@
 """``lmidsl check``: solve one instance on every backend × solver and compare the answers.
 
 Exit code 0 when the trusted rows agree, 1 when they disagree (or none is trusted), 2 on bad
-input.  See :mod:`lmidsl.check` for what "certified" and "trusted" mean.
+input.  See :mod:`lmidsl.studies.cross_check` for what "certified" and "trusted" mean.
 """
 from __future__ import annotations
 

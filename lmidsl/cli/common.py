@@ -44,7 +44,7 @@ def load_data_file(path: str | None) -> dict | None:
 
 
 def instance_spec(args) -> dict:
-    """Keyword arguments for :func:`lmidsl.api.make_instance` from parsed arguments."""
+    """Keyword arguments for :func:`lmidsl.pipeline.make_instance` from parsed arguments."""
     return {"example": args.example, "data": load_data_file(args.data),
             "overrides": parse_overrides(args.overrides)}
 

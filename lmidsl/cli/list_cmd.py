@@ -32,7 +32,7 @@ def run(args):
         hidden_examples += len(t.examples) - len(examples)
         names = ", ".join(e.name + ("" if e.provenance == "paper" else f" [{e.provenance}]")
                           for e in examples)
-        row = [t.id, t.title, str(t.source.paper) + " " + t.source.equations, names]
+        row = [t.id, t.title, f"{t.source.paper}, {t.source.equations}", names]
         if args.all:
             row.insert(1, t.provenance)
         rows.append(row)

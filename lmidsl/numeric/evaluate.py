@@ -77,7 +77,7 @@ def asymmetry(M: np.ndarray) -> float:
 
 
 def evaluate_block_matrix(evaluator: NumericEvaluator, spec) -> np.ndarray:
-    """The full symmetric matrix of a :class:`~lmidsl.blocks.BlockMatrixSpec`, block by block."""
+    """The full symmetric matrix of a :class:`~lmidsl.symbolic.blocks.BlockMatrixSpec`, block by block."""
     q = spec.nblocks
     lower = [[np.atleast_2d(evaluator.visit(spec.lower[i][j])) for j in range(i + 1)] for i in range(q)]
     return np.block([[lower[i][j] if j <= i else lower[j][i].T for j in range(q)] for i in range(q)])

@@ -127,8 +127,8 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None) -> Instance
     per-vertex datum given once, outside ``vertices``, is common to every vertex, and without
     ``vertices`` the polytope is the single vertex of the data given.
     A theorem whose block structure depends on an input (``theorem.specialise``, see
-    :mod:`lmidsl.family`) is first replaced by the member that input selects.  Inputs named
-    after an uncertain symbol choose its points (:mod:`lmidsl.uncertainty`).
+    :mod:`lmidsl.theorem.family`) is first replaced by the member that input selects.  Inputs named
+    after an uncertain symbol choose its points (:mod:`lmidsl.symbolic.uncertainty`).
     """
     if hasattr(theorem, "specialise"):
         theorem = theorem.specialise(inputs)

@@ -2,7 +2,7 @@
 
 A theorem declares its recovery as ordered steps: sympy formulas (``Theorem.recover``, e.g.
 ``Af = V2⁻¹ Âf``) and library factorisations producing named intermediate matrices
-(``Theorem.factor``, e.g. R, S with R Sᵀ = I − X Z⁻¹, see :mod:`lmidsl.factorization`),
+(``Theorem.factor``, e.g. R, S with R Sᵀ = I − X Z⁻¹, see :mod:`lmidsl.numeric.factorization`),
 which later formulas use.  Every matrix that gets inverted is reported with its 2-norm
 condition number, because an ill-conditioned inverse makes a recovered design untrustworthy
 even when the LMIs are comfortably feasible.

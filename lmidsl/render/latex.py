@@ -6,11 +6,11 @@ r"""LaTeX of the LMIs, as the paper prints them.
 * every declared symbol by its theorem's LaTeX name (``\hat{A}_f``, ``\bar{r}``, ``P_1``);
   per-vertex symbols of a polytopic LMI get the vertex index (``P_{1i}``, ``A_i``);
 * a symmetric variable's transpose as the variable itself (``P^{T}`` never appears: the
-  transpose of a :class:`~lmidsl.symbols.SymmetricVariable` is the variable);
+  transpose of a :class:`~lmidsl.symbolic.symbols.SymmetricVariable` is the variable);
 * ``I`` and ``0`` for identity and zero blocks (``I_{n}``, ``0_{n \times k}`` on request);
 * a trace as ``\operatorname{tr}(W Z)`` (sympy's ``Trace``, e.g. in an objective);
-* a :class:`~lmidsl.blocks.BlockMatrixSpec` as a ``bmatrix`` with ``\star`` in the triangle the
-  theorem left implicit, and an :class:`~lmidsl.theorem.LMI` as ``M < 0`` (or ``M \prec 0``);
+* a :class:`~lmidsl.symbolic.blocks.BlockMatrixSpec` as a ``bmatrix`` with ``\star`` in the triangle the
+  theorem left implicit, and an :class:`~lmidsl.theorem.values.LMI` as ``M < 0`` (or ``M \prec 0``);
 * the terms of a sum in the paper's habitual order (positive terms first, then by number of
   factors; ``X`` before ``X^{T}``), because sympy sorts the terms of a ``MatAdd`` when it
   builds it and the order the theorem file wrote is lost;

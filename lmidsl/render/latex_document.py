@@ -131,8 +131,7 @@ def theorem_latex(theorem, solution=None, **settings) -> str:
     out = [PREAMBLE % {"maxcols": _maxcols(theorem)}, "\\begin{document}"]
     out.append(f"\\section*{{{tex_text(theorem.title)}}}")
     src = theorem.source
-    source = tex_text(src.citation) + (", " if src.citation else "") + \
-        f"\\texttt{{{tex_text(src.paper)}}}, {tex_text(src.equations)}"
+    source = f"{tex_text(src.citation or src.paper)}, {tex_text(src.equations)}"
     out.append(f"\\textbf{{Source.}} {source}.\\\\\n\\textbf{{Theorem id.}} "
                f"\\texttt{{{tex_text(theorem.id)}}} ({tex_text(theorem.time)} time).")
     if theorem.description:

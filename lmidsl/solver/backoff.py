@@ -53,7 +53,7 @@ DEFAULT_DELTA = 1e-2
 
 def backoff_solution(model, solution, delta: float, solver=None, iterations: int = 12,
                      decades: float = 6.0, **options):
-    """A new :class:`~lmidsl.solution.Solution` at the back-off point (see module docstring)."""
+    """A new :class:`~lmidsl.solver.solution.Solution` at the back-off point (see module docstring)."""
     import cvxpy as cp
 
     instance = model.instance

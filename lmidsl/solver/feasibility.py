@@ -28,7 +28,7 @@ Per LMI the report gives
 * ``without`` t* of all LMIs but k (< −margin: dropping k restores feasibility, so k is
   responsible).
 The auxiliary problems are built from the same compiled matrices as the solve
-(:attr:`lmidsl.backends.base.CompiledModel.lmi_matrices`), so the diagnosis works for every theorem and
+(:attr:`lmidsl.solver.backends.base.CompiledModel.lmi_matrices`), so the diagnosis works for every theorem and
 backend.
 """
 from __future__ import annotations
@@ -146,7 +146,7 @@ class FeasibilityReport:
 
 class JointFeasp:
     """The joint feasp problem built once on a compiled model; re-solved after
-    :meth:`~lmidsl.backends.base.CompiledModel.update` (parameters are backend parameters)."""
+    :meth:`~lmidsl.solver.backends.base.CompiledModel.update` (parameters are backend parameters)."""
 
     def __init__(self, model, radius: float = DEFAULT_RADIUS):
         self.model = model
@@ -184,7 +184,7 @@ class CompiledLMI:
 
     @property
     def key(self) -> tuple:
-        """(label, 1-based vertex or None, point): the key of :class:`~lmidsl.solution.LMIReport`."""
+        """(label, 1-based vertex or None, point): the key of :class:`~lmidsl.solver.solution.LMIReport`."""
         return (self.label, None if self.vertex is None else self.vertex + 1, self.point)
 
 

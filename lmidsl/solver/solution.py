@@ -74,8 +74,8 @@ class Solution:
     instance: Instance | None = None
     solver_status: str | None = None
     feasp: object | None = None
-    scaling: object = None          # lmidsl.scaling.AppliedScaling (instance is the scaled one)
-    backoff: dict | None = None     # lmidsl.backoff record when the point is a back-off point
+    scaling: object = None          # lmidsl.numeric.scaling.AppliedScaling (instance is the scaled one)
+    backoff: dict | None = None     # lmidsl.solver.backoff record when the point is a back-off point
     reported: dict = field(default_factory=dict)
     checks: list = field(default_factory=list)
     margin_limited: bool = False    # the strictness margin, not the problem, sets the optimum

@@ -1,13 +1,13 @@
 """Cross-checking: one instance solved on every backend × solver pair, answers compared.
 
->>> from lmidsl.check import check
+>>> from lmidsl.studies.cross_check import check
 >>> result = check("wang_l2linf.thm3", example="paper-full")
 >>> result.agree, [(r.backend, r.solver, r.gamma, r.trusted) for r in result.rows]
 
 Each row is one backend/solver pair solving the same bound instance.  Two levels of belief:
 
 * **certified** — the returned point satisfies every LMI (largest eigenvalue of each ``N`` in
-  ``N ≺ 0`` negative, evaluated with numpy, see :func:`lmidsl.solution.lmi_certificate`) and,
+  ``N ≺ 0`` negative, evaluated with numpy, see :func:`lmidsl.solver.solution.lmi_certificate`) and,
   where the theorem has an analysis counterpart, the analysis certifies the recovered filter at
   the synthesis level.  A certified row's γ is a *valid upper bound*; it need not be the optimum.
 * **trusted** — certified, *and* the solver claims full accuracy: status ``optimal`` (not

@@ -8,7 +8,7 @@ best level is then
 a non-convex problem in θ.  :func:`scalar_search` evaluates γ*(θ) on a grid (in parallel,
 one compiled model per worker process, the scalars changed as backend parameters), then refines
 the best grid point with Nelder–Mead on θ ↦ γ*(θ).  With ``objective="tmin"`` the searched
-value is the feasp t*(θ) of :mod:`lmidsl.feasibility` instead (for feasibility theorems at a
+value is the feasp t*(θ) of :mod:`lmidsl.solver.feasibility` instead (for feasibility theorems at a
 prescribed γ: θ with t*(θ) < 0 makes the LMIs strictly feasible).
 
 γ*(θ) is the solver's optimum, the infimum over the closure of the strict set; each point also

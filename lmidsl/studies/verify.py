@@ -4,12 +4,12 @@ For a synthesis theorem the filter is designed (solve + recovery) unless one is 
 example's printed filter, or matrices by name); for an analysis theorem with an error system
 (e.g. ``wang_l2linf.thm1``) the filter is part of the data.  Then:
 
-1. the synthesis LMIs at the returned point (numpy, :mod:`.synthesis`), when a design was solved;
-2. the analysis counterpart with the filter fixed (:mod:`.analysis`): the γ it certifies;
-3. the exact mean-square figure of the error system (no LMI, :mod:`.figures`) and mean-square
+1. the synthesis LMIs at the returned point (numpy, :mod:`lmidsl.certify.synthesis`), when a design was solved;
+2. the analysis counterpart with the filter fixed (:mod:`lmidsl.certify.analysis`): the γ it certifies;
+3. the exact mean-square figure of the error system (no LMI, :mod:`lmidsl.certify.figures`) and mean-square
    stability, per vertex;
 4. a Monte Carlo simulation of the original model with the worst-case (or a chosen)
-   disturbance (:mod:`.montecarlo`).
+   disturbance (:mod:`lmidsl.certify.montecarlo`).
 
 The claimed level γ_c is, in this order: ``gamma`` given by the user, the synthesis γ, the
 paper's printed γ (``gamma`` or ``gamma_bound``) for a printed or a given design.  A given
@@ -178,7 +178,7 @@ def figures_for_solution(solution) -> list | None:
     For an analysis theorem with an error system the filter is the instance's data; for a
     synthesis theorem it is the recovered filter, put into the analysis counterpart.  The solver
     saw the signal-scaled instance, but the recovered filter is in the original coordinates
-    (:func:`lmidsl.api.finish_solution`), so the original instance is paired with it.
+    (:func:`lmidsl.pipeline.finish_solution`), so the original instance is paired with it.
     """
 
     scaling = getattr(solution, "scaling", None)
@@ -253,7 +253,7 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
     """Certify a designed, printed (``design='printed'``) or given (``design={name: matrix}``) design
     (a filter, controller, ...).
 
-    ``backoff`` (designed filters only) is passed to :func:`lmidsl.api.solve_instance`: δ, or
+    ``backoff`` (designed filters only) is passed to :func:`lmidsl.pipeline.solve_instance`: δ, or
     ``"auto"`` (back off only when the optimum's filter fails its analysis certificate).
     """
 

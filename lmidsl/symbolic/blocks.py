@@ -138,7 +138,7 @@ def block_matrix(rows, *, triangle: str = "lower", sizes=None, where: str = "") 
     ``rows[i]`` holds blocks (i, 0..i) for ``triangle="lower"`` (the usual ``*``-above layout)
     or blocks (i, i..q-1) for ``triangle="upper"``.  ``sizes`` optionally states the block sizes.
     ``where`` prefixes error messages (theorem id and LMI label).  A :class:`BlockMatrixSpec`
-    (e.g. built by :func:`lmidsl.uncertainty_nb.sprocedure`) is accepted and re-checked.
+    (e.g. built by :func:`lmidsl.symbolic.sprocedure.sprocedure`) is accepted and re-checked.
     """
     prefix = f"{where}: " if where else ""
     if isinstance(rows, BlockMatrixSpec):

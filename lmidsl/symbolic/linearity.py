@@ -150,7 +150,7 @@ def _nonlinear_culprit(expr, walker: DegreeWalker):
 
 def check_affine(expr, where: str = "") -> None:
     """Raise :class:`NonlinearityError` unless ``expr`` is affine in the decision variables
-    and affine in each uncertain symbol (the vertex argument of :mod:`lmidsl.uncertainty`).
+    and affine in each uncertain symbol (the vertex argument of :mod:`lmidsl.symbolic.uncertainty`).
 
     ``where`` (theorem, LMI, block) prefixes the message.
     """

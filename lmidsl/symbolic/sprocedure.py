@@ -21,7 +21,7 @@ The term is made affine in the decision variables by Schur complements.  The for
 Each is equivalent to M + ε⁻¹HHᵀ + εEᵀE < 0 (the dual forms use ε ↔ ε⁻¹).  Several terms
 (independent blocks F₁, F₂, …, each with its own ε) are applied one after the other; with more
 than one block the condition is only sufficient.  Whether the result is affine is checked by
-:meth:`lmidsl.theorem.Theorem.lmi`, which names the block when a form does not fit the data.
+:meth:`lmidsl.theorem.theorem.Theorem.lmi`, which names the block when a form does not fit the data.
 """
 from __future__ import annotations
 

@@ -1,8 +1,8 @@
 """Extra certificates of a recovered filter, beyond the analysis LMI.
 
 A theorem lists them with ``Theorem.verify_with(check, ...)``; each is a callable taking the
-:class:`~lmidsl.solution.Solution` (with its instance, values, recovered filter and analysis
-certificate) and returning a :class:`CheckResult`.  ``lmidsl.api.finish_solution`` runs them
+:class:`~lmidsl.solver.solution.Solution` (with its instance, values, recovered filter and analysis
+certificate) and returning a :class:`CheckResult`.  ``lmidsl.pipeline.finish_solution`` runs them
 after the analysis certificate; the report prints one line per check.
 """
 from __future__ import annotations

@@ -5,7 +5,7 @@ A paper often states one LMI for every N, with N delay blocks.  The theorem file
 function ``build(thm, N)`` that declares everything for one N (building the N blocks in a
 Python loop) and declares N itself as a parameter with ``thm.param("N", domain=(N, N))`` so
 that it can appear in formulas (``l = sqrt(N)``).  :class:`TheoremFamily` is a
-:class:`~lmidsl.theorem.Theorem` (the member for the default N) that binds any other N by
+:class:`~lmidsl.theorem.theorem.Theorem` (the member for the default N) that binds any other N by
 building that member on demand::
 
     thm1 = TheoremFamily("paper.thm1", "...", Source(...), build, index="N", default=2)

@@ -1,6 +1,6 @@
 """Finding theorems.
 
-A *theorem module* defines ``THEOREMS``, a list of :class:`~lmidsl.theorem.Theorem`.  It is
+A *theorem module* defines ``THEOREMS``, a list of :class:`~lmidsl.theorem.theorem.Theorem`.  It is
 either a plain ``*.py`` file or a package (a folder with ``__init__.py``: a paper with its own
 models and simulators beside its theorem file).  Theorem modules are looked for in
 

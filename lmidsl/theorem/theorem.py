@@ -184,7 +184,7 @@ class Theorem:
         """Declare an uncertain scalar |Δ| ≤ bound (or matrix |Δ_ij| ≤ bound) entering affinely.
 
         Every LMI that mentions it is imposed at the vertices (or at the ``points`` an instance
-        chooses, in units of the bound) with common variables; see :mod:`lmidsl.uncertainty`.
+        chooses, in units of the bound) with common variables; see :mod:`lmidsl.symbolic.uncertainty`.
         """
         self._check_new(name)
         symbol = uncertain_symbol(self.id, name, rows, cols, bound=bound, pattern=pattern,
@@ -256,7 +256,7 @@ class Theorem:
 
     def verify_with(self, *checks):
         """Extra certificates run after recovery: callables ``check(solution) -> CheckResult``
-        (frequency sweeps, simulations; see :mod:`lmidsl.checks`)."""
+        (frequency sweeps, simulations; see :mod:`lmidsl.theorem.checks`)."""
         self.checks.extend(checks)
 
     def recover(self, **formulas):
@@ -271,7 +271,7 @@ class Theorem:
         """Recovery intermediates computed by a library factorisation, e.g.
         ``R, S = thm.factor("R S", rs_split, I - X*Z.I)`` for R Sᵀ = I − X Z⁻¹.
 
-        ``factorization`` is a :class:`lmidsl.factorization.Factorization`; its arguments are
+        ``factorization`` is a :class:`lmidsl.numeric.factorization.Factorization`; its arguments are
         matrix expressions evaluated at the solved point.  The returned symbols may be used in
         later recovery formulas (``Af = R.I * Af_hat * ...``).
         """
@@ -294,7 +294,7 @@ class Theorem:
     def scale_signal(self, signal: str, *, rows=(), cols=(), recovered_rows=(), recovered_cols=(),
                      description: str = "") -> SignalScaling:
         """Declare an exact rescaling of ``signal`` the library may apply and undo (see
-        :class:`SignalScaling` and :mod:`lmidsl.scaling`)."""
+        :class:`SignalScaling` and :mod:`lmidsl.numeric.scaling`)."""
         for name in (*rows, *cols):
             if name not in self.data_decl:
                 raise TheoremDefinitionError(f"{self.id}: scaling of {signal}: {name} is not declared data")
@@ -305,7 +305,7 @@ class Theorem:
 
     def well_conditioned(self, *exprs):
         """Positive definite expressions the recovery inverts (e.g. Z and X − Z); the back-off
-        (:mod:`lmidsl.backoff`) improves their conditioning at a γ slightly above the optimum."""
+        (:mod:`lmidsl.solver.backoff`) improves their conditioning at a γ slightly above the optimum."""
         for expr in exprs:
             at = f"{self.id}: well_conditioned {expr}"
             check_conformance(expr, where=at)
@@ -316,7 +316,7 @@ class Theorem:
         """Data that are a linearisation point, with their update from a solved point.
 
         E.g. ``Sbar=S.I``: after a solve, the datum ``Sbar`` is replaced by ``S⁻¹`` and the LMI
-        is solved again (BMI by successive LMIs, :mod:`lmidsl.bmi`).
+        is solved again (BMI by successive LMIs, :mod:`lmidsl.studies.bmi`).
         """
         for name, expr in updates.items():
             if name not in self.data_decl:

@@ -45,15 +45,16 @@ def check_provenance(owner: str, provenance: str, note: str) -> None:
 
 @dataclass(frozen=True)
 class Source:
-    """Where a theorem comes from: the paper file and its equation numbers."""
+    """Where a theorem comes from: ``paper``, a short name of the paper (``lmidsl list`` shows it),
+    ``equations``, its theorem and equation numbers, and ``citation``, the full reference (authors,
+    title, venue), which stands in for the short name where there is room (reports, LaTeX)."""
 
     paper: str
     equations: str
     citation: str = ""
 
     def __str__(self):
-        text = f"{self.paper} {self.equations}"
-        return f"{self.citation}, {text}" if self.citation else text
+        return f"{self.citation or self.paper}, {self.equations}"
 
 
 @dataclass

@@ -13,7 +13,7 @@ X = [x_1; x̂_1; …; x_N; x̂_N]; for frozen uncertainty it is a linear delay s
     Ẋ = A₀ X + Σ_ij A_ij^big X(t − τ_ij) + B w,   z̃ = C X,
     T(s) = C (sI − A₀ − Σ A_ij^big e^{−sτ_ij})⁻¹ B.
 
-A delay-independent certificate ∑‖z̃_i‖² < ∑γ_i²‖w_i‖² (NOTES.md §5.6) is tested two ways:
+A delay-independent certificate ∑‖z̃_i‖² < ∑γ_i²‖w_i‖² (docs/reproductions/004.md) is tested two ways:
 
 * :func:`frequency_sweep`: sup_ω σ̄(T(jω) Γ⁻¹) ≤ 1, Γ = diag(γ_i I), at every uncertainty
   vertex (F = ±I, and random orthogonal F when F is a matrix) and for several delay sets;
@@ -21,7 +21,7 @@ A delay-independent certificate ∑‖z̃_i‖² < ∑γ_i²‖w_i‖² (NOTES.m
   linear interpolation, zero initial function), time-varying admissible F(t), l2 disturbances;
   the energy ratio ∑‖z̃_i‖² / ∑γ_i²‖w_i‖² must stay below 1 on every horizon.
 
-The names of the data follow :mod:`lmidsl.family` (``A_1``, ``A_1_2``, ...); ``names`` maps
+The names of the data follow :mod:`lmidsl.theorem.family` (``A_1``, ``A_1_2``, ...); ``names`` maps
 the roles to the base names a theorem uses.
 """
 from __future__ import annotations

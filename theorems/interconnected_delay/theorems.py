@@ -1,9 +1,9 @@
 """Robust H∞ filtering for uncertain interconnected time-delay systems (seed 004).
 
-Paper: ``shared/papers/004_09af37a26237b4a3.txt`` (authors lost in the OCR; Shanghai Jiao Tong
-University and Yanshan University).  The OCR is badly garbled: the statement below is the
-reconstruction of ``NOTES.md`` §5, whose tags [READ] / [READ-PARTIAL] / [RECONSTRUCTED] /
-[GUESS] are repeated here.
+Paper: "Robust H-infinity filtering for uncertain interconnected time-delay systems" (authors lost
+in the OCR; Shanghai Jiao Tong University and Yanshan University).  The OCR is badly garbled: the
+statement below is the reconstruction given in ``docs/reproductions/004.md`` ("Reconstruction of
+the statement"), whose tags [READ] / [READ-PARTIAL] / [RECONSTRUCTED] / [GUESS] are repeated here.
 
 Continuous time, N subsystems (1) with norm-bounded uncertainty (2)::
 
@@ -14,31 +14,31 @@ and one decentralised filter (3) per subsystem: x̂̇_i = A_fi x̂_i + B_fi y_i,
 
 * ``interconnected_delay.thm1``  Theorem 1 in its S-procedure form (15), the filters fixed:
   min Σρ_i (ρ_i = γ_i²) over P_i > 0, Q_ij > 0, ε_i1, ε_i2.  [(8) READ-PARTIAL, (15) completed
-  by RECONSTRUCTION, NOTES §5.3.]
+  by RECONSTRUCTION, docs/reproductions/004.md.]
 * ``interconnected_delay.thm2``  Theorem 2: LMIs (18) for every i, (17) X_i > 0, Y_i − X_i > 0,
   problem (26) min Σρ_i; recovery (25) A_fi = (X_i − Y_i)⁻¹Â_fi, B_fi = (X_i − Y_i)⁻¹B̂_fi,
-  L_fi = L̂_fi.  [(18) READ-PARTIAL / RECONSTRUCTED, (25) READ, NOTES §5.4–5.5.]
-* ``...thm1b`` / ``...thm2b``: "Variant B" of NOTES §5.3 — independent ΔF_ij with one
+  L_fi = L̂_fi.  [(18) READ-PARTIAL / RECONSTRUCTED, (25) READ, docs/reproductions/004.md.]
+* ``...thm1b`` / ``...thm2b``: "Variant B" of (15) — independent ΔF_ij with one
   multiplier ε_ij per coupling, instead of the paper's single ε_i1 column (Variant A, exact for a
   common ΔF_i(t) over j).
 * ``...thm2_r19`` / ``...thm1_r19``: Variant A plus the [GUESS] reading (19) Y_i ≤ ρ_i R_i
-  (analysis: U_i P_i U_iᵀ ≤ ρ_i R_i) of the unresolved condition (9)/(19), NOTES §5.7.  The
+  (analysis: U_i P_i U_iᵀ ≤ ρ_i R_i) of the unresolved condition (9)/(19), docs/reproductions/004.md.  The
   default theorems omit (19), i.e. zero initial conditions.
 
 The N LMIs are coupled through the Krasovskii weights: subsystem i's (1,1) block carries
 S_i = Σ_j Q_ji, its delay blocks Q_ij.  The uncertainty is removed once, by the library's
-S-procedure helper (:mod:`lmidsl.uncertainty_nb`): He(PH̄ F Ē) with ε_i2 in the "diag" form
+S-procedure helper (:mod:`lmidsl.symbolic.sprocedure`): He(PH̄ F Ē) with ε_i2 in the "diag" form
 (ε_i2 ĒᵀĒ on the diagonal, column PH̄), He(PM̄ ΔF [N_i1 … N_iN]) with ε_i1 in the "columns"
 form (columns ε_i1 Nᵀ and PM̄) — the block layout of (15) and (18).
 
-The theorems are stated for any number of subsystems N (:class:`lmidsl.family.SubsystemFamily`):
+The theorems are stated for any number of subsystems N (:class:`lmidsl.theorem.family.SubsystemFamily`):
 N is the parameter ``N`` if given, else the number of ``A_<i>`` in the data.  Data names: ``A_i``, ``A_i_j`` (= A_ij), ``B_i``, ``C_i``, ``D_i``, ``L_i``,
 ``HA_i`` (= H_i1, ΔA part), ``HC_i`` (= H_i2, ΔC part), ``E_i``, ``M_i``, ``N_i_j``; delays
 ``tau_i_j`` are parameters used by the simulation only (the conditions are delay-independent).
 
-The certificate (NOTES §5.6) is the joint bound Σ‖z̃_i‖² < Σγ_i²‖w_i‖²: besides the analysis
-LMI, a frequency sweep over the uncertainty vertices and a time simulation of the delayed
-network (:mod:`lmidsl.interconnected`) test it.
+The certificate (docs/reproductions/004.md, "What is proved") is the joint bound
+Σ‖z̃_i‖² < Σγ_i²‖w_i‖²: besides the analysis LMI, a frequency sweep over the uncertainty
+vertices and a time simulation of the delayed network (:mod:`.network`) test it.
 """
 from functools import reduce
 from operator import add
@@ -48,13 +48,13 @@ from sympy import BlockMatrix, Identity, ZeroMatrix, sqrt
 from lmidsl import Family, He, I, NormBounded, Source, SubsystemFamily, Theorem, member_label, reported_agree, sprocedure
 from .network import FrequencySweepCheck, SimulationCheck
 
-PAPER = "004_09af37a26237b4a3.txt"
+PAPER = "Interconnected time-delay systems (SJTU / Yanshan)"
 CITATION = "Robust H-infinity filtering for uncertain interconnected time-delay systems (SJTU / Yanshan)"
-NOTES = "NOTES.md §5"
+NOTES = "docs/reproductions/004.md"
 
-# -- Section 4 example, with provenance (NOTES.md §5.9) ----------------------------------------
+# -- Section 4 example, with provenance (docs/reproductions/004.md) -------------------------------
 READ = {
-    # [READ] uncertainty data; E_i printed as "E11", "E21" (NOTES §5.8-3)
+    # [READ] uncertainty data; E_i printed as "E11", "E21" (docs/reproductions/004.md)
     "E_1": [[0.1, 0.0]], "E_2": [[0.0, -0.02]],
     # [READ] printed as rows; n_i × r_i forces columns
     "M_1": [[0.2], [0.01]], "M_2": [[0.01], [0.03]],
@@ -81,8 +81,8 @@ TAU_GUESSED = {"tau_1_1": 0.3, "tau_1_2": 0.5, "tau_2_1": 0.4, "tau_2_2": 0.2}  
 GUESSED_NAMES = sorted(GUESSED) + sorted(TAU_GUESSED)
 PAPER_DATA = {**READ, **GUESSED}
 
-PRINTED_GAMMA = 0.037  # "y i = 0.037", read as sqrt(Σγ_i²) (NOTES §5.8-7); NOT comparable, see below
-PRINTED_FILTER = {     # legible parts of the printed filters (NOTES §5.9)
+PRINTED_GAMMA = 0.037  # "y i = 0.037", read as sqrt(Σγ_i²) (docs/reproductions/004.md); NOT comparable, see below
+PRINTED_FILTER = {     # legible parts of the printed filters (docs/reproductions/004.md)
     "Af_1": [[-1.6321, 8.1306], [-6.8832, -7.7953]],   # label lost, inferred from position
     "Lf_1": [[0.0909, 0.0909]], "Lf_2": [[0.0833, 0.0833]],
 }
@@ -91,9 +91,9 @@ PRINTED_NOTE = (
     "2.7897 of B_f2, L_f1 = [0.0909 0.0909], L_f2 = [0.0833 0.0833] and 'y i = 0.037' (read as "
     "sqrt(sum gamma_i^2)).  NOT comparable: A_i, A_ij, B_i, C_i, H_i1 and the delays are GUESSED "
     "(lost in the OCR), so no computed number can confirm or refute the printed ones; filters "
-    "compare only by transfer function (NOTES §5.8-6).")
+    "compare only by transfer function (docs/reproductions/004.md).")
 DESCRIPTION = (
-    "Section 4 data as reconstructed in NOTES.md §5.9.  Paper's values [READ]: E_i, M_i, N_ij, D_i, "
+    "Section 4 data as reconstructed in docs/reproductions/004.md.  Paper's values [READ]: E_i, M_i, N_ij, D_i, "
     "L_i, H_i2 (HC_i), R_i.  GUESSED (lost in the OCR): " + ", ".join(GUESSED_NAMES) + ".")
 
 
@@ -143,7 +143,7 @@ def _coupling_terms(fam, i, H, eps1, zeros_after, variant, N_ij):
                         eps=eps1[i, j], form="columns", name=f"coupling {i}{j}") for j in fam]
 
 
-CONDITION19 = {          # [GUESS] readings of the illegible (9)/(19), NOTES §5.7: U_i P_i U_iᵀ = Y_i ≤ ...
+CONDITION19 = {          # [GUESS] readings of the illegible (9)/(19) (docs/reproductions/004.md): U_i P_i U_iᵀ = Y_i ≤ ...
     "rhoR": lambda rho, R: rho * R,            # the natural reading: H∞ index with transients x_i(0)ᵀR_i x_i(0)
     "R": lambda rho, R: R,
     "rhoRinv": lambda rho, R: rho * R.I,

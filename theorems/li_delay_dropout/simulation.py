@@ -7,7 +7,7 @@ augmented form (5):
     y_k = ξ1,k ỹ_k + (1−ξ1,k)(1−ξ1,k−1) ξ2,k ỹ_{k−1} + (1−ξ1,k)[1 − (1−ξ1,k−1) ξ2,k] y_{k−1},
 
 with ξ1,k, ξ2,k independent Bernoulli(ξ̄1), Bernoulli(ξ̄2) sequences, x_0 = 0 and
-ỹ_{−1} = y_{−1} = 0 (NOTES.md §2.7-9); ξ1,−1 is drawn like the others.  A step is "on time"
+ỹ_{−1} = y_{−1} = 0 (docs/reproductions/001.md); ξ1,−1 is drawn like the others.  A step is "on time"
 when ξ1,k = 1, "delayed" when ξ1,k = 0, ξ1,k−1 = 0, ξ2,k = 1 (y_k = ỹ_{k−1}), otherwise "lost"
 (y_k = y_{k−1}); Remark 1 gives their probabilities ξ̄1, (1−ξ̄1)²ξ̄2 and the rest.
 
@@ -243,7 +243,7 @@ def design_filter(solver: str | None = None, backoff: float | None = 1e-2, xi1=0
 
 
 def main(argv=None) -> int:
-    """``python -m lmidsl.sim_delay_dropout --out docs/figures``: Figs. 2 and 3 of seed 001."""
+    """``python -m lmidsl.theorems.li_delay_dropout.simulation --out docs/figures``: Figs. 2 and 3 of seed 001."""
     import argparse
     import warnings
 

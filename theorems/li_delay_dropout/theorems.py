@@ -1,7 +1,8 @@
 """Li, Wang, Sun: H∞ filter design for networked systems with one-step random delays and
 multiple packet dropouts (Acta Automatica Sinica 40(1):155–160, 2014).
 
-Paper: ``shared/papers/001_7829ce8d3bf50450.txt``; clean restatement in ``NOTES.md`` §2.
+Paper: Li Xiu-Ying, Wang Jin-Yu, Sun Shu-Li; readings taken, derivations and results in
+``docs/reproductions/001.md``.
 
 Plant (1): x_{k+1} = A x_k + B w_k,  ỹ_k = C1 x_k + C2 w_k,  z_k = D1 x_k + D2 w_k.
 Received measurement (2), with independent Bernoulli ξ1,k, ξ2,k (Pr{ξi = 1} = ξ̄i):
@@ -13,12 +14,13 @@ from the plant data as the paper defines them).  Filter (6): X̂_{k+1} = Af X̂_
 
 * ``li_delay_dropout.thm1``  Theorem 1, (9): analysis with the filter fixed.  (9) contains
   N = P⁻¹; the form solved here is its congruence with diag(I, I, P, P, P, P, I, I), which is
-  linear in (P, γ²) and exactly equivalent (NOTES.md §2.3).
+  linear in (P, γ²) and exactly equivalent (docs/reproductions/001.md, "The σ weights and the
+  LMI form of (9)").
 * ``li_delay_dropout.thm2``  Theorem 2, (15) and problem (20): min β = γ² over X, Z, Âf, B̂f,
   Ĉf, D̂f with Λ = [X Z; Z Z]; recovery Af = R⁻¹ÂfZ⁻¹S⁻ᵀ, Bf = R⁻¹B̂f, Cf = ĈfZ⁻¹S⁻ᵀ, Df = D̂f
   with R Sᵀ = I − XZ⁻¹ (R, S from the library's balanced split).
 
-Readings taken (NOTES.md §2.7): the σi are square roots; the means ϑ̄1 = ξ̄1,
+Readings taken (docs/reproductions/001.md): the σi are square roots; the means ϑ̄1 = ξ̄1,
 ϑ̄2 = (1 − ξ̄1)ξ̄2; Θ_B̄ carries ϑ̄1 B̂f C2 (the mean of B̃_k); the tilde-means of (9) are the
 bar-means.  The measurement y may be rescaled exactly (y = s y'): C1 and C2 produce y, the
 filter's Bf and Df consume it; the augmentation then changes by the similarity diag(I, I/s, I/s),
@@ -28,9 +30,9 @@ from lmidsl import ErrorSystem, I, Source, Theorem, rs_split
 from .simulation import model_2_with_filter_6
 from sympy import BlockMatrix, Identity, ZeroMatrix, sqrt
 
-PAPER = "001_7829ce8d3bf50450.txt"
+PAPER = "Li, Wang, Sun 2014, random delays and dropouts"
 CITATION = ("Li, Wang, Sun, H∞ filter design for networked systems with one-step random delays "
-            "and multiple packet dropouts, Acta Automatica Sinica 40(1), 2014")
+            "and multiple packet dropouts, Acta Automatica Sinica 40(1):155-160, 2014")
 
 # Section 4: the UPS model of the paper's ref. [14]
 UPS = {
@@ -41,7 +43,7 @@ UPS = {
     "D1": [[-0.3, 0.1, 0.0]],
     "D2": [[0.1]],
 }
-PRINTED_AT = "Section 4 (simulation example), NOTES.md §2.6"
+PRINTED_AT = "Section 4 (simulation example)"
 
 
 AUGMENTED_LATEX = {"Phi0": r"\Phi_0", "Phi1": r"\Phi_1", "Phi2": r"\Phi_2", "Gamma0": r"\Gamma_0",
@@ -205,7 +207,7 @@ thm2.lmi("(15)", [
 ], description="(15) with γ² = β; Λ1 = diag(−Λ, −Λ, −Λ, −Λ), Λ2 = diag(−I, −I) written out")
 thm2.minimize(beta, performance=("gamma", sqrt(beta)))
 R, S = thm2.factor("R S", rs_split, Identity(na) - X * Z.I,
-                   description="R Sᵀ = I − XZ⁻¹ (balanced split, lmidsl.factorization)")
+                   description="R Sᵀ = I − XZ⁻¹ (balanced split, lmidsl.numeric.factorization)")
 thm2.recover(Af=R.I * Af_hat * Z.I * S.I.T, Bf=R.I * Bf_hat, Cf=Cf_hat * Z.I * S.I.T, Df=Df_hat)
 thm2.certified_by("li_delay_dropout.thm1", design=("Af", "Bf", "Cf", "Df"), gamma_tolerance=1e-2)
 thm2.scale_signal("y", rows=("C1", "C2"), recovered_cols=("Bf", "Df"),

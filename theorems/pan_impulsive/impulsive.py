@@ -3,7 +3,7 @@
 Plant: x(k+1) = A x + B ω (k ∉ E), x(k+1) = M x (k ∈ E); y = C x + D ω; z = L1 x + L2 ω.
 Filter: x̂(k+1) = Â x̂ + B̂ y (k ∉ E), x̂(k+1) = M̂ x̂ (k ∈ E); ẑ = Ĉ x̂ + D̂ y.
 Error system, ξ = [x; x̂]: ξ(k+1) = Ā ξ + B̄ ω (k ∉ E), ξ(k+1) = M̄ ξ (k ∈ E),
-e = z − ẑ = C̄ ξ + D̄ ω at every k (impulse instants included: NOTES.md §4.6 item 6).
+e = z − ẑ = C̄ ξ + D̄ ω at every k (impulse instants included: docs/reproductions/003.md).
 
 * :func:`impulse_sequence` -- the impulse instants E as a boolean array: none, periodic, random
   (Bernoulli), all (every instant from some k on), or explicit instants;

@@ -1,6 +1,7 @@
 """Pan, Sun: robust H∞ filtering for discrete-time impulsive systems with uncertainty.
 
-Paper: ``shared/papers/003_e819f6d564045660.txt``; clean restatement in ``NOTES.md`` §4.
+Paper: Pan Sheng-tao, Sun Ji-tao (Tongji University); readings taken and results in
+``docs/reproductions/003.md``.
 
 Plant (1)-(4): x(k+1) = A x + B ω (k ≠ τ_j), x(τ_j+1) = M x(τ_j), y = C x + D ω,
 z = L1 x + L2 ω, with (A, B, M, C, D, L1, L2) in the polytope (5).  Impulsive filter (6)-(8):
@@ -17,8 +18,8 @@ In Theorem 1, λ1, λ2, ε are fixed scalars (parameters: the slack structure (2
 vertex-dependent variable is P̂⁽ⁱ⁾ = [[P̂11, P̂12], [P̂12ᵀ, P̂22]], the others are common.  Recovery:
 Â = T⁻¹S_A, B̂ = T⁻¹S_B, M̂ = T⁻¹S_M, Ĉ = Ψ⁻ᵀS_C, D̂ = Ψ⁻ᵀS_D.
 
-Readings taken (NOTES.md §4.4, §4.6): the block layout of (27)/(28), damaged by the OCR, is the
-congruence image of (24)/(25) under (26) derived in NOTES.md (checked numerically in
+Readings taken (docs/reproductions/003.md, "Reconstruction of (27)/(28)"): the block layout of
+(27)/(28), damaged by the OCR, is the congruence image of (24)/(25) under (26) (checked numerically in
 ``tests/test_pan_impulsive.py``); P̂⁽ⁱ⁾ > 0 is imposed explicitly (Lemma 1 needs P > 0); the
 ε Ψ block of F needs p = m, so the error output and the disturbance share the dimension ``m``
 (data with p ≠ m are refused with the shape error naming L1 or L2).
@@ -28,9 +29,9 @@ from lmidsl import He, Source, Theorem
 from .impulsive import simulate_design
 from sympy import BlockMatrix, Identity, ZeroMatrix, sqrt
 
-PAPER = "003_e819f6d564045660.txt"
+PAPER = "Pan, Sun, H∞ filtering for impulsive systems"
 CITATION = "Pan, Sun, Robust H∞ filtering for discrete-time impulsive systems with uncertainty"
-PRINTED_AT = "Section 3 (numerical example), NOTES.md §4.5"
+PRINTED_AT = "Section 3 (numerical example)"
 
 PLANT = {"A": [[1.0, 0.01], [-0.05, -0.1]], "B": [[1.0], [0.1]], "M": [[1.0, 0.0], [0.0, 0.8]],
          "C": [[1.0, 0.0]], "D": [[1.0]], "L1": [[1.0, 0.0]], "L2": [[0.0]]}
@@ -160,7 +161,7 @@ def _theorem1(thm: Theorem, *, minimise: bool):
         [out_1, S_C, out_w, 0, 0, Pi3],
     ], description="jump map at vertex i (congruence image of (25))")
     thm.lmi("P̂ > 0", [[P11], [P12.T, P22]], sense=">",
-            description="P̂⁽ⁱ⁾ = T_cᵀ P⁽ⁱ⁾ T_c > 0 (Lemma 1 needs P > 0; NOTES.md §4.6 item 2)")
+            description="P̂⁽ⁱ⁾ = T_cᵀ P⁽ⁱ⁾ T_c > 0 (Lemma 1 needs P > 0; docs/reproductions/003.md)")
     if minimise:
         thm.minimize(g, performance=("gamma", sqrt(g)))
     else:

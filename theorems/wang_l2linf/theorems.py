@@ -1,6 +1,7 @@
 """Wang, Cai, Lin, Yang: l2–l∞ filtering for networked systems with missing measurements.
 
-Paper: ``shared/papers/000_33978a18bf0584d4.txt``; clean restatement in ``NOTES.md`` §1.
+Paper: Wang Wu, Cai Feng-huang, Lin Qiong-bin, Yang Fu-wen (Fuzhou University); readings taken and
+results in ``docs/reproductions/000.md``.
 
 Plant (1): x(k+1) = A x + B w,  y = r(k) C x + D w,  z = L x, with r(k) Bernoulli,
 Pr{r = 1} = r̄, and a = (1 − r̄) r̄ the variance of r(k).  Filter (4): x̂(k+1) = Af x̂ + Bf y,
@@ -12,7 +13,7 @@ Pr{r = 1} = r̄, and a = (1 − r̄) r̄ the variance of r(k).  Filter (4): x̂(
 * ``wang_l2linf.cor1``  Corollary 1, (37)–(38): the polytopic version of Theorem 3 with
   vertex-dependent P1, P2, P3 and common V1, V2, V3, Âf, B̂f, Ĉf, γ.
 
-Reading taken (NOTES.md §1.7 item 2): the factor ``a`` appears both off the diagonal
+Reading taken (docs/reproductions/000.md): the factor ``a`` appears both off the diagonal
 (aPA_cl1, aEB̂fC, aB̂fC) and on the diagonal (−aP, a(P − V − Vᵀ)), exactly as printed; the Schur
 complement then weighs A_cl1ᵀPA_cl1 by a²/a = a, as the variance computation requires.
 """
@@ -20,7 +21,7 @@ import numpy as np
 from lmidsl import ErrorSystem, I, Source, Theorem
 from sympy import BlockMatrix, ZeroMatrix, sqrt
 
-PAPER = "000_33978a18bf0584d4.txt"
+PAPER = "Wang et al., l2-l∞ filtering with missing measurements"
 CITATION = "Wang, Cai, Lin, Yang, l2-l∞ filtering for networked systems with missing measurements"
 
 A_PAPER = [[0.0, 0.3], [-0.2, 0.4]]
@@ -28,7 +29,7 @@ PLANT = {"A": A_PAPER, "B": [[0.0], [1.0]], "C": [[1.0, 0.0]], "D": [[1.0]], "L"
 FULL_FILTER = {"Af": [[-0.0069, 0.2865], [-0.9725, 0.4557]], "Bf": [[-0.0186], [-0.9235]],
                "Cf": [[-0.9963, -1.9624]]}
 REDUCED_FILTER = {"Af": [[0.5253]], "Bf": [[-0.2456]], "Cf": [[-3.5200]]}
-PRINTED_AT = "Section 5 (numerical example), NOTES.md §1.6"
+PRINTED_AT = "Section 5 (numerical example)"
 
 
 def _plant(thm: Theorem, per_vertex: bool = False):

@@ -3,7 +3,7 @@
 Mechanism of Zhang/Liu/Du (seed 002), for any plant and filter:
 
 * plant (2):  x(k+1) = x(k) + h(A_δ x(k) + B_δ w(k)),  y = C x,  z = D x;
-* quantiser (3): ỹ(k) = q(y(k)) componentwise (:class:`lmidsl.quantizer.LogQuantizer`), or the
+* quantiser (3): ỹ(k) = q(y(k)) componentwise (:class:`.quantizer.LogQuantizer`), or the
   sector model ỹ = (1 + Δ)y with a fixed Δ;
 * losses (7): α_j(k) i.i.d. Bernoulli(ᾱ), π_i(k) = ∏_{j≤i} α_j(k),
   ŷ(k) = ỹ(k) − Σ_{i=1..N} π_i(k) [ỹ(k+1−i) − ỹ(k−i)]  (= ỹ(k − m_k), m_k the number of

@@ -1,8 +1,8 @@
 """Zhang, Liu, Du (2023): delta-operator H∞ filtering with random multiple packet loss and
 logarithmic quantisation.
 
-Paper: ``shared/papers/002_3b780ca4000d1f3f.txt`` (OCR of the LMIs badly damaged); the forms
-implemented are those reconstructed and checked in ``NOTES.md`` §3.
+Paper: Zhang Duanjin, Liu Mengkai, Du Zheng, J. Zhengzhou Univ. (Eng. Sci.) 2023 (OCR of the LMIs
+badly damaged); the forms implemented are those reconstructed in ``docs/reproductions/002.md`` §4.
 
 Plant (2): δx = A_δ x + B_δ w, y = C x, z = D x, sampling period h (x(k+1) = x + h δx).
 Quantiser (3)-(4): ỹ = (1 + Δ) y, |Δ| ≤ β = (1 − ρ)/(1 + ρ).  Losses (7): ŷ(k) = ỹ(k − m_k),
@@ -11,7 +11,7 @@ Error system (9): ξ = [x; x_f], Ā = [A_δ 0; B_f(1+Δ)C A_f], Ā₁U' = [0; �
 B̄ = [B_δ; 0], C̄ = [D −C_f], a_i = ᾱ^{i/2}, l = √N.
 
 * ``zhang_quantized_loss.thm1``  Theorem 1 (10) with the filter fixed, delay blocks reduced to
-  the plant part (NOTES §3.3), in the scaled form P̃ = hP with the cancellation-free
+  the plant part (docs/reproductions/002.md §4.1), in the scaled form P̃ = hP with the cancellation-free
   ``sym(P̃Ā)`` (ξ, ξ) block; p2 and p3 columns kept by the congruences diag(P2), diag(P3);
   the delay blocks scaled by P̌3 = hP3 with the congruence √h on d_1..d_N and p3 (the increments
   η(k−i) are O(h); unscaled, the optimal P3 is O(1/h)).
@@ -19,13 +19,13 @@ B̄ = [B_δ; 0], C̄ = [D −C_f], a_i = ᾱ^{i/2}, l = √N.
 * ``zhang_quantized_loss.thm2``  Theorem 2's method -- congruences Z1 (P column), T (ξ), P2 (p2) and
   the bounds −S⁻¹ ⪯ 𝒮 = −S̄ − S̄ᵀ + S̄ᵀSS̄, −P̌3⁻¹ ⪯ 𝒫̌ at a fixed point (S̄, P̌̄3) -- applied to
   thm1's cancellation-free form; recovery (18) with E12 = I: A_f = H1(S−R)⁻¹, B_f = H2,
-  C_f = H3(S−R)⁻¹; linearisation (S̄, P̌̄3) ← (S⁻¹, P̌3⁻¹) for :mod:`lmidsl.bmi`.
-* ``zhang_quantized_loss.thm2_literal``  LMI (17) itself (corrected as NOTES
-  §3.7 item 5), rescaled exactly (NOTES §3.4: R̃ = hR, S̃ = hS, H̃1 = h²H1, H̃2 = hH2, S̃̄ = S̄/h;
+  C_f = H3(S−R)⁻¹; linearisation (S̄, P̌̄3) ← (S⁻¹, P̌3⁻¹) for :mod:`lmidsl.studies.bmi`.
+* ``zhang_quantized_loss.thm2_literal``  LMI (17) itself (corrected as in docs/reproductions/002.md
+  §4.7), rescaled exactly (§4.8: R̃ = hR, S̃ = hS, H̃1 = h²H1, H̃2 = hH2, S̃̄ = S̄/h;
   and as in thm1 P̌3 = hP3, P̌̄3 = P̄3/h with the congruences √h on d_i and 1/√h on p3);
   recovery (18) with E12 = I.  The linearisation point (S̃̄, P̌̄3) ← (S̃⁻¹, P̌3⁻¹) is declared
-  for the successive-LMI driver :mod:`lmidsl.bmi`.
-* ``zhang_quantized_loss.exact``  the exact change of variables of NOTES §3.5 (no S̄, P̄3):
+  for the successive-LMI driver :mod:`lmidsl.studies.bmi`.
+* ``zhang_quantized_loss.exact``  the exact change of variables of docs/reproductions/002.md §4.9 (no S̄, P̄3):
   P̃ = [R I; I (R−S)⁻¹], T = [I I; S−R 0], Π = TᵀP̃T = [S S; S R], H1 = A_f(S−R), H2 = B_f,
   H3 = C_f(S−R).  Its optimum is the best γ Theorem 1 certifies over full-order filters.
 
@@ -37,7 +37,7 @@ from lmidsl import He, I, Source, Theorem, TheoremFamily
 from .delta import filter_reading
 from sympy import BlockMatrix, Rational, ZeroMatrix, sqrt
 
-PAPER = "002_3b780ca4000d1f3f.txt"
+PAPER = "Zhang, Liu, Du 2023, quantisation and packet loss"
 CITATION = ("Zhang, Liu, Du, H∞ filtering for cyber physical systems with random multiple packet "
             "loss with quantization error, J. Zhengzhou Univ. (Eng. Sci.) 2023")
 
@@ -51,7 +51,7 @@ TABLE1 = {
     3: {"Af": [[-0.3138, -4.5182], [0.0927, 0.8961]], "Bf": [[-0.1145], [-0.0229]],
         "Cf": [[-0.0006, -0.0082]], "gamma": 1.2584, "alpha_bar": 0.2},
 }
-PRINTED_AT = "Section 3, Table 1 (NOTES.md §3.6)"
+PRINTED_AT = "Section 3, Table 1"
 DELTA_PAPER = [1]  # the paper substitutes the threshold Δ = +β into the LMI
 
 
@@ -174,7 +174,7 @@ def build_thm2_literal(thm: Theorem, N: int):
     ]
     tail = [[-g * I, 0, 0], [-P2, 0], [Psc]]
     thm.lmi("(17)", _upper(first, N, _delay_diagonal(N, P2, P3, h), tail), triangle="upper",
-            description="(17) corrected (NOTES §3.7 item 5) and rescaled exactly (NOTES §3.4)")
+            description="(17) corrected (docs/reproductions/002.md, section 4.7) and rescaled exactly (4.8)")
     thm.positive(R, S, P2, P3)
     thm.minimize(g, performance=("gamma", sqrt(g)))
     thm.recover(Af=H1 * (S - R).I / h, Bf=H2 / h, Cf=h * H3 * (S - R).I)
@@ -199,7 +199,8 @@ def _synthesis_variables(thm: Theorem, n, ny, nz, s_meaning: str):
 # -- Theorem 2 on the cancellation-free statement of (10) ---------------------------------
 def build_thm2(thm: Theorem, N: int):
     """The proof of Theorem 2 (congruences Z1 on the P column, T on ξ, P2 on p2; bounds 𝒮, 𝒫)
-    applied to thm1's cancellation-free form instead of the literal (10) (NOTES §3.4/§3.5)."""
+    applied to thm1's cancellation-free form instead of the literal (10) (docs/reproductions/002.md
+    §4.2, §4.6)."""
     (n, ny, nz, nw), (Ad, Bd, C, D), (h, ab, rho, beta, l, a), Delta = _setup(thm, N)
     Sbar = thm.data("Sbar", n, n, latex=r"\bar S", description="linearisation point for S⁻¹")
     P3bar = thm.data("P3bar", n, n, latex=r"\check{\bar P}_3", description="linearisation point for P̌3⁻¹")
@@ -229,7 +230,7 @@ def build_thm2(thm: Theorem, N: int):
     thm.certified_by("zhang_quantized_loss.thm1", design=("Af", "Bf", "Cf"))
 
 
-# -- exact change of variables (NOTES §3.5) -----------------------------------------------
+# -- exact change of variables (docs/reproductions/002.md §4.9) ---------------------------
 def build_exact(thm: Theorem, N: int):
     (n, ny, nz, nw), (Ad, Bd, C, D), (h, ab, rho, beta, l, a), Delta = _setup(thm, N)
     R, S, H1, H2, H3, P2, P3, g = _synthesis_variables(thm, n, ny, nz,
@@ -249,7 +250,7 @@ def build_exact(thm: Theorem, N: int):
     ]
     tail = [[-g * I, 0, 0], [-P2, 0], [-P3]]
     thm.lmi("(10)-exact", _upper(first, N, _delay_diagonal(N, P2, P3, h), tail), triangle="upper",
-            description="Theorem 1 after the congruence diag(T, I, ..., I) and H1, H2, H3 (NOTES §3.5)")
+            description="Theorem 1 after the congruence diag(T, I, ..., I) and H1, H2, H3 (docs/reproductions/002.md, section 4.9)")
     thm.positive(Pi, P2, P3)
     thm.minimize(g, performance=("gamma", sqrt(g)))
     thm.recover(Af=H1 * (S - R).I, Bf=H2, Cf=H3 * (S - R).I)
@@ -269,10 +270,10 @@ def _synthesis_examples(thm: Theorem, start: dict | None = None):
 
 
 thm2 = TheoremFamily("zhang_quantized_loss.thm2", "Delta-domain H∞ filter synthesis with fixed S̄, P̄3 (Theorem 2)",
-                     Source(PAPER, "Theorem 2, (17)-(18), on the form of NOTES §3.3", CITATION), build_thm2,
+                     Source(PAPER, "Theorem 2, (17)-(18), on the cancellation-free form of (10)", CITATION), build_thm2,
                      index="N", default=2, designs="filter",
                      description="min γ² subject to (17)'s bounded LMI at a fixed point (S̄, P̌̄3), written on the "
-                                 "cancellation-free form of (10); iterate with lmidsl.bmi (S̄, P̌̄3) ← (S⁻¹, P̌3⁻¹).")
+                                 "cancellation-free form of (10); iterate with lmidsl.studies.bmi (S̄, P̌̄3) ← (S⁻¹, P̌3⁻¹).")
 _synthesis_examples(thm2, start={"Sbar": [[1.0, 0.0], [0.0, 1.0]], "P3bar": [[1e4, 0.0], [0.0, 1e4]]})
 
 thm2_literal = TheoremFamily(

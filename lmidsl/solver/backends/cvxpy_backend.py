@@ -1,6 +1,6 @@
 """The cvxpy backend: a bound theorem as a ``cvxpy.Problem`` with parameters kept as Parameters.
 
-Node mapping (the rest is in :mod:`lmidsl.backends.base`): a block matrix is ``cp.bmat``, an
+Node mapping (the rest is in :mod:`lmidsl.solver.backends.base`): a block matrix is ``cp.bmat``, an
 LMI ``N ⪯ −εI`` is ``N << -ε I``, a trace is ``cp.trace``, variables are ``cp.Variable`` with
 ``symmetric=True`` or ``diag=True`` as declared, scalar parameter expressions are ``cp.Parameter``.  The problem is
 DPP-compliant, so changing parameters and re-solving reuses cvxpy's compiled form.

@@ -1,6 +1,6 @@
 """The PICOS backend: a bound theorem as a ``picos.Problem``.
 
-Node mapping (the rest is the shared walk of :mod:`lmidsl.backends.base`): a block matrix is
+Node mapping (the rest is the shared walk of :mod:`lmidsl.solver.backends.base`): a block matrix is
 ``picos.block``, an LMI ``N ⪯ −εI`` is ``N << -ε I``, a trace is ``picos.trace``, variables are
 ``picos.RealVariable`` / ``picos.SymmetricVariable`` (a diagonal variable is ``picos.diag`` of a
 vector), and a matrix product is PICOS's ``*`` (in PICOS ``@`` is the Kronecker product, so the
