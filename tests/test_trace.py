@@ -19,7 +19,6 @@ import subprocess
 import numpy as np
 import pytest
 import scipy.linalg
-import sympy as sp
 from sympy import Trace, sqrt
 
 import lmidsl.pipeline as api
