@@ -208,3 +208,13 @@ def test_uncertain_symbol_must_enter_affinely():
     thm.lmi("ok", [[d * (P * A + A.T * P)]])
     with pytest.raises(NonlinearityError, match="uncertain"):
         thm.lmi("bad", [[d * d * (P * A + A.T * P)]])
+
+
+def test_verify_of_the_robust_exact_design_reaches_a_verdict():
+    """The synthesis certificate of verify is THE certificate: it evaluates every uncertainty
+    scenario (it used to fail on the uncertain Δ with a TypeError)."""
+    from lmidsl import verify
+    r = verify("zhang_quantized_loss.exact", "paper-N2-robust", runs=0)
+    points = {l.get("point") for l in r.lmis if l["label"] == "(10)-exact"}
+    assert len(points) == 2                     # Δ = −β and Δ = +β
+    assert r.checks["synthesis_lmis"] and r.certified, r.checks
