@@ -15,6 +15,8 @@ from .errors import InputError, LmidslError
 from .solver.feasibility import diagnosis_needed, feasp
 from .numeric.instance import Instance, bind
 from .numeric.recovery import recover, recover_design
+from .solver.backends.base import DEFAULT_MARGIN
+from .solver.conditioning import solve_conditioned
 from .solver.margin import solve_model
 from .numeric.scaling import apply_scaling
 from .theorem.registry import get_example, get_theorem
@@ -94,9 +96,9 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str =
     at the optimum fails its analysis certificate (or its recovery fails), with δ = 10⁻².
     """
     applied = apply_scaling(instance, scaling)
-    model = get_backend(backend)(applied.scaled, margin=margin)
-    base_margin = model.margin
-    solution = solve_model(model, solver, **options)
+    solution, model = solve_conditioned(applied.scaled, get_backend(backend),
+                                        lambda m: solve_model(m, solver, **options), margin)
+    base_margin = margin if margin is not None else DEFAULT_MARGIN
     if solver is None and not (solution.ok and solution.certified):
         solution = other_solvers(model, solution, backend, base_margin, **options)
     solution.scaling = applied

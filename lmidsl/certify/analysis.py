@@ -25,6 +25,7 @@ from ..errors import InputError, LmidslError
 from ..numeric.instance import Instance, bind
 from ..numeric.scaling import apply_scaling
 from ..solver.backends import fallback_solvers, get_backend
+from ..solver.conditioning import equilibrate
 from ..solver.feasibility import feasp
 from ..solver.margin import solve_model
 from ..numeric.proof import PROVED
@@ -132,18 +133,27 @@ def _attempt(model, solver, synthesis_gamma, tolerance):
     return sol, "min", minimum
 
 
-def _solve_one(make_model, solver, backend, synthesis_gamma, tolerance):
-    """(solution, method, min γ, solver used): the requested solver, else the fallbacks."""
+def _solve_one(instance, model_class, solver, backend, synthesis_gamma, tolerance):
+    """(solution, method, min γ, solver used): the requested solver, else the fallbacks; each on
+    the analysis as written and, where :func:`equilibrate` proposes one, conditioned — the
+    certified answer with the lower γ is kept (each is a valid certificate)."""
     candidates = [solver] if solver is not None else [None, *fallback_solvers(backend)]
+    proposal = equilibrate(instance)
+    conditionings = [None] if proposal.trivial else [None, proposal]
     result = None
     for name in candidates:
-        try:
-            sol, method, minimum = _attempt(make_model(), name, synthesis_gamma, tolerance)
-        except LmidslError:      # a fallback solver that is not installed
-            continue
-        if result is None or (sol.ok and sol.certified):
-            result = (sol, method, minimum, sol.solver)
-        if sol.ok and sol.certified:
+        for conditioning in conditionings:
+            try:
+                sol, method, minimum = _attempt(model_class(instance, conditioning=conditioning), name,
+                                                synthesis_gamma, tolerance)
+            except LmidslError:      # a fallback solver that is not installed
+                break
+            certified = sol.ok and sol.certified
+            if result is None or (certified and not (result[0].ok and result[0].certified)) or \
+                    (certified and sol.gamma is not None and result[0].gamma is not None
+                     and sol.gamma < result[0].gamma):
+                result = (sol, method, minimum, sol.solver)
+        if result is not None and result[0].ok and result[0].certified:
             break
     return result
 
@@ -169,7 +179,7 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
                    example=instance.example)
         scaled = apply_scaling(sub, "auto")
         scalings.append(scaled.as_dict())
-        sol, method, minimum, used = _solve_one(lambda: get_backend(backend)(scaled.scaled), solver,
+        sol, method, minimum, used = _solve_one(scaled.scaled, get_backend(backend), solver,
                                                 backend, synthesis_gamma, link.gamma_tolerance)
         solvers.append(used)
         if not (sol.ok and sol.certified):

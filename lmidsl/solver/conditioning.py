@@ -23,10 +23,12 @@ The strictness margin then applies to T N T: it is relative to the size of each 
 objective is divided by the size of its coefficients in the scaled variables (a power of two),
 so that a solver's absolute tolerances mean the same on γ* = 1e-9 as on γ* = 1.
 
-The scaling is applied only when it narrows the spread of the coefficients (largest over
-smallest, log2) by at least :data:`MIN_GAIN` bits: a theorem whose data are already balanced
-(the papers' examples) is compiled as written, since a least-squares compromise can also make a
-balanced problem worse for a particular solver.
+The scaling is proposed only when it narrows the spread of the coefficients (largest over
+smallest, log2) by at least :data:`MIN_GAIN` bits.  Even then it is a second opinion, not a
+replacement (:func:`solve_conditioned`): a least-squares compromise can make a problem worse for
+a particular solver, so the theorem is solved as written *and* conditioned, and of the points
+whose LMIs hold the one with the lower objective is kept (both are certificates: the lower bound
+is the better one).
 
 Nothing downstream sees the scaling: the model reports X = s_X X̃, and the certificate and the
 proofs evaluate the original LMIs at the original point.
@@ -192,4 +194,38 @@ def equilibrate(instance: Instance) -> Equilibration:
     return result
 
 
-__all__ = ["Equilibration", "equilibrate"]
+def _better(first, second):
+    """The solution to keep: a certified one over an uncertified one; of two certified ones, the
+    lower objective (each is a valid bound); otherwise the first."""
+    ok1, ok2 = first.ok and first.certified, second.ok and second.certified
+    if ok2 and not ok1:
+        return second
+    if ok1 and ok2 and first.objective is not None and second.objective is not None \
+            and second.objective < first.objective:
+        return second
+    return first
+
+
+def solve_conditioned(instance: Instance, model_class, solve, margin: float | None = None):
+    """(solution, model): ``solve(model)`` on the theorem as written and, when
+    :func:`equilibrate` proposes a scaling, on the conditioned model too; the better answer is
+    kept and the notes say what each gave."""
+    plain = model_class(instance, margin=margin)
+    solution = solve(plain)
+    proposal = equilibrate(instance)
+    if proposal.trivial:
+        return solution, plain
+    conditioned = model_class(instance, margin=margin, conditioning=proposal)
+    other = solve(conditioned)
+    kept = _better(solution, other)
+    before, after = proposal.spread
+    def said(s):
+        return f"{s.status}" + (f", objective {s.objective:.8g}" if s.objective is not None else "") + \
+            ("" if s.ok and s.certified else ", not certified")
+    kept.notes.append(f"conditioning (coefficient spread 2^{before:.0f} -> 2^{after:.0f}): as written "
+                      f"{said(solution)}; conditioned {said(other)}; kept "
+                      + ("the conditioned" if kept is other else "as written"))
+    return kept, (conditioned if kept is other else plain)
+
+
+__all__ = ["Equilibration", "equilibrate", "solve_conditioned"]

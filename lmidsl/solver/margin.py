@@ -23,8 +23,9 @@ MIN_MARGIN = 1e-14
 
 
 def margin_influence(model, solution: Solution) -> float | None:
-    """ε·Σ tr Z_k relative to |objective| (None when the backend gives no duals)."""
-    if solution.objective is None:
+    """ε·Σ tr Z_k relative to |objective| (None for a feasibility problem, or when the backend
+    gives no duals)."""
+    if solution.objective is None or model.instance.theorem.objective is None:
         return None
     sensitivity = model.margin_sensitivity()
     if sensitivity is None:

@@ -38,6 +38,8 @@ from ..certify.synthesis import synthesis_lmis
 from ..theorem.registry import linked_analysis
 from ..pipeline import as_theorem, make_instance, solve_instance
 from ..solver.backends import get_backend
+from ..solver.conditioning import solve_conditioned
+from ..solver.margin import solve_model
 from ..solver.status import SOLVED
 from ..solver.solution import lmi_certificate
 from ..numeric.proof import PROVED
@@ -285,7 +287,7 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
         if claimed is None:                       # the level the example prints
             claimed = printed.get("gamma_bound", printed.get("gamma"))
         result = Verification(thm.id, instance.example, mode, fil, claimed, tol, analysis_theorem=thm.id)
-        sol = get_backend(backend)(instance).solve(solver)
+        sol, _ = solve_conditioned(instance, get_backend(backend), lambda m: solve_model(m, solver))
         reports = (lmi_certificate(instance, {**instance.data, **sol.values}, prove=True)
                    if sol.ok else sol.lmis)
         _set_analysis(result, sol.status, sol.gamma if sol.ok else None,

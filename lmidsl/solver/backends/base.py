@@ -22,7 +22,7 @@ import sympy as sp
 from ...numeric.instance import Instance
 from ...numeric.evaluate import NumericEvaluator
 from ..solution import Solution, evaluate_performance, lmi_certificate
-from ..conditioning import Equilibration, equilibrate
+from ..conditioning import Equilibration
 from ..status import solved
 from ...symbolic.symbols import DECISION_TYPES, DerivedParam, Param, ScalarVariable, expand_derived
 from ...symbolic.uncertainty import scenarios
@@ -116,11 +116,13 @@ class CompiledModel:
     compiler_class = BackendCompiler
 
     def __init__(self, instance: Instance, margin: float | None = None, reuse: bool = False,
-                 conditioning: bool = True):
+                 conditioning: Equilibration | None = None):
+        """``conditioning``: the congruence and variable scaling to compile with
+        (:func:`lmidsl.solver.conditioning.equilibrate`); None compiles the theorem as written."""
         t0 = time.perf_counter()
         self.instance = instance
         self.conditioning = conditioning
-        self.equilibration = equilibrate(instance) if conditioning else Equilibration()
+        self.equilibration = conditioning if conditioning is not None else Equilibration()
         self.reuse = reuse  # True: the backend keeps its compiled form for re-solves (sweeps)
         self.margin = DEFAULT_MARGIN if margin is None else float(margin)
         self._variables: dict = {}
