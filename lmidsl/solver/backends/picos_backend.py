@@ -92,9 +92,9 @@ class PicosModel(CompiledModel):
     backend = "picos"
     compiler_class = PicosCompiler
 
-    def __init__(self, instance, margin=None, reuse=False):
+    def __init__(self, instance, margin=None, reuse=False, conditioning=None):
         self._scalars: set[str] = set()
-        super().__init__(instance, margin, reuse)
+        super().__init__(instance, margin, reuse, conditioning)
 
     # -- leaves ----------------------------------------------------------------------
     def new_variable(self, name, shape, kind):
