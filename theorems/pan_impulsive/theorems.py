@@ -105,7 +105,9 @@ lemma1.lmi("(14)", [
 lemma1.positive(P)
 lemma1.minimize(g_l, performance=("gamma", sqrt(g_l)))
 lemma1.example("paper-printed", {**PLANT, **PRINTED_FILTER}, printed={"gamma_bound": 0.5},
-               printed_note=PRINTED_AT,
+               printed_note=PRINTED_AT, expect="infeasible",
+               expect_note="Lemma 1 is infeasible at every γ for the printed filter: feasp t* = (1 − D̂)², "
+                           "LMI (14) responsible (docs/reproductions/003.md)",
                description="the filter the paper prints for γ = 0.5, analysed by Lemma 1")
 lemma1.example("modified-printed", {**MODIFIED_PLANT, **PRINTED_FILTER},
                provenance="illustration", provenance_note="not from the paper: the printed filter on the plant with M11 = 0.9",
@@ -171,13 +173,17 @@ def _theorem1(thm: Theorem, *, minimise: bool):
     thm.certified_by("pan_impulsive.lemma1", design=FILTER)
 
 
+PAPER_INFEASIBLE = ("Theorem 1 is infeasible on the paper's example at its scalars λ1 = 0.2, λ2 = −0.3, "
+                    "ε = 0.1: feasp t* = 0.125, (27) and (28) responsible (docs/reproductions/003.md)")
+
 thm1 = Theorem("pan_impulsive.thm1", "Robust impulsive H∞ filter at a prescribed γ (Theorem 1)",
                Source(PAPER, "Theorem 1, (26)-(28)", CITATION),
                description="feasibility of (27), (28), P̂⁽ⁱ⁾ > 0 at every vertex for given γ, λ1, λ2, ε.",
                designs="filter")
 _theorem1(thm1, minimise=False)
 thm1.example("paper", dict(PLANT), params={**SCALARS, "gamma": 0.5},
-             printed=dict(PRINTED_FILTER), printed_note=PRINTED_AT,
+             printed=dict(PRINTED_FILTER), printed_note=PRINTED_AT, expect="infeasible",
+             expect_note=PAPER_INFEASIBLE,
              description="the paper's example: one vertex, γ = 0.5, λ1 = 0.2, λ2 = −0.3, ε = 0.1")
 thm1.example("modified", dict(MODIFIED_PLANT), params={**MODIFIED_SCALARS, "gamma": 0.5},
              provenance="illustration", provenance_note="not from the paper: M11 = 0.9 (Schur jump map), γ = 0.5, scalars from the scalar search",
@@ -196,6 +202,7 @@ thm1_min = Theorem("pan_impulsive.thm1_min", "Robust impulsive H∞ filter, min 
 _theorem1(thm1_min, minimise=True)
 thm1_min.example("paper", dict(PLANT), params=dict(SCALARS),
                  printed_note="the paper prescribes γ = 0.5 and prints no optimum",
+                 expect="infeasible", expect_note=PAPER_INFEASIBLE,
                  description="the paper's example at its scalars, γ minimised")
 thm1_min.example("modified", dict(MODIFIED_PLANT), params=dict(MODIFIED_MIN_SCALARS),
                  provenance="illustration", provenance_note="not from the paper: M11 = 0.9 (Schur jump map), searched scalars",

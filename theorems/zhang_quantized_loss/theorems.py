@@ -124,6 +124,12 @@ def build_thm1(thm: Theorem, N: int):
     thm.minimize(g, performance=("gamma", sqrt(g)))
 
 
+DELTA_READING_INFEASIBLE = dict(
+    expect="infeasible",
+    expect_note="read as delta-form matrices the printed filter violates the necessary condition "
+                "(I + hĀ Schur) of (10), so Theorem 1 is infeasible for it: docs/reproductions/002.md")
+
+
 def _printed_examples(thm: Theorem):
     for N, row in TABLE1.items():
         params = {"h": H, "alpha_bar": row["alpha_bar"], "rho": RHO, "N": N}
@@ -133,6 +139,7 @@ def _printed_examples(thm: Theorem):
             thm.example(f"paper-N{N}-printed{suffix}",
                         {**PLANT, **{k: v.tolist() for k, v in f.items()}, "Delta": DELTA_PAPER},
                         params=params, printed={"gamma_bound": row["gamma"]}, printed_note=PRINTED_AT,
+                        **(DELTA_READING_INFEASIBLE if reading == "delta" else {}),
                         description=f"Table 1 filter for N = {N}, printed matrices read as {reading}-form "
                                     f"matrices{' (converted: Af = (A - I)/h, Bf = B/h)' if reading == 'shift' else ''}")
 
@@ -257,14 +264,22 @@ def build_exact(thm: Theorem, N: int):
     thm.certified_by("zhang_quantized_loss.thm1", design=("Af", "Bf", "Cf"))
 
 
-def _synthesis_examples(thm: Theorem, start: dict | None = None):
+def _synthesis_examples(thm: Theorem, start: dict | None = None, expect: dict | None = None):
+    """The Table 1 cases; ``expect`` maps an example name to its known (outcome, note)."""
+    expect = expect or {}
+
+    def known(name):
+        outcome, note = expect.get(name, ("certified", ""))
+        return {"expect": outcome, "expect_note": note}
+
     for N, row in TABLE1.items():
         params = {"h": H, "alpha_bar": row["alpha_bar"], "rho": RHO, "N": N}
         printed = {"gamma": row["gamma"], "Af": row["Af"], "Bf": row["Bf"], "Cf": row["Cf"]}
         thm.example(f"paper-N{N}", {**PLANT, **(start or {}), "Delta": DELTA_PAPER}, params=params,
-                    printed=printed, printed_note=PRINTED_AT,
+                    printed=printed, printed_note=PRINTED_AT, **known(f"paper-N{N}"),
                     description=f"case {N - 1} of Section 3: N = {N}, ᾱ = {row['alpha_bar']}, Δ = +β as in the paper")
         thm.example(f"paper-N{N}-robust", {**PLANT, **(start or {}), "Delta": [-1, 1]}, params=params,
+                    **known(f"paper-N{N}-robust"),
                     provenance="illustration", provenance_note="the paper imposes Δ = +β only",
                     description=f"not printed: as paper-N{N} but with the LMI imposed on the whole sector |Δ| ≤ β")
 
@@ -284,7 +299,13 @@ thm2_literal = TheoremFamily(
                     "numerically fragile at h = 1e-4 (thm2 is the same method on the cancellation-free form)",
     description="(17) with its b1/b3 blocks as printed: (hA+I) terms cancel to O(h) inside O(1) entries, "
                 "so at h = 1e-4 the LMI's margin at the tight point is ~1e-15 relative (see docs/reproductions/002.md).")
-_synthesis_examples(thm2_literal, start={"Sbar": [[1.0, 0.0], [0.0, 1.0]], "P3bar": [[1e4, 0.0], [0.0, 1e4]]})
+LITERAL_FRAGILE = ("LMI (17) as printed cancels (hA + I) terms to O(h) inside O(1) entries: at "
+                   "h = 1e-4 the solvers fail or return an uncertified point (docs/reproductions/002.md)")
+_synthesis_examples(thm2_literal, start={"Sbar": [[1.0, 0.0], [0.0, 1.0]], "P3bar": [[1e4, 0.0], [0.0, 1e4]]},
+                    expect={"paper-N2": ("not solved", LITERAL_FRAGILE),
+                            "paper-N2-robust": ("not solved", LITERAL_FRAGILE),
+                            "paper-N3": ("not certified", LITERAL_FRAGILE),
+                            "paper-N3-robust": ("not solved", LITERAL_FRAGILE)})
 
 exact = TheoremFamily("zhang_quantized_loss.exact", "Delta-domain H∞ filter synthesis, exact change of variables",
                       Source(PAPER, "Theorem 1 (10), exact change of variables", CITATION), build_exact,
@@ -293,6 +314,9 @@ exact = TheoremFamily("zhang_quantized_loss.exact", "Delta-domain H∞ filter sy
                                       "(no fixed S̄, P̄3), the best γ Theorem 1 certifies over full-order filters",
                       description="min γ² over Π = [S S; S R] > 0, H1, H2, H3, P2, P3: the best γ of Theorem 1 "
                                   "over full-order filters.")
-_synthesis_examples(exact)
+MARGIN_DOMINATED = ("with Δ = +β the infimum is not attained: γ is set by the strictness margin and "
+                    "the recovered filter is not certified by Theorem 1 (docs/reproductions/002.md)")
+_synthesis_examples(exact, expect={"paper-N2": ("not certified", MARGIN_DOMINATED),
+                                   "paper-N3": ("not certified", MARGIN_DOMINATED)})
 
 THEOREMS = [thm1, thm2, exact, thm2_literal]
