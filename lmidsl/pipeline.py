@@ -60,6 +60,10 @@ def make_instance(theorem, example: str | None = None, data: dict | None = None,
     return bind(thm, instance_inputs(thm, example, data, overrides), example=example)
 
 
+ILL_CONDITIONED = 1e6
+"""A recovery inverting a matrix of larger condition number is backed off from (``backoff="auto"``)."""
+
+
 def other_solvers(model, first: Solution, backend: str, margin: float, **options) -> Solution:
     """When the default solver returns no certified point, the backend's other solvers
     (:func:`lmidsl.solver.backends.fallback_solvers`), as ``lmidsl check`` would: the first
@@ -104,16 +108,23 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str =
     solution.scaling = applied
     reason = None
     if backoff == "auto":
-        # back off only when the filter recovered at the optimum is not certified
+        # back off only when the design recovered at the optimum is not certified, or when its
+        # recovery inverted a matrix with condition number above ILL_CONDITIONED
         finish_solution(solution, solver=solver, backend=backend, certify=certify,
                         diagnose=diagnose, margin=base_margin)
         failed = solution.message.startswith("recovery failed")
         uncertified = solution.analysis is not None and not solution.analysis.passed
-        if not (solution.ok and instance.theorem.conditioned and (failed or uncertified)):
+        cond = solution.design.worst_condition if solution.design is not None else None
+        ill = cond is not None and cond > ILL_CONDITIONED
+        if not (solution.ok and instance.theorem.conditioned and (failed or uncertified or ill)):
             return solution
-        reason = (solution.message if failed else
-                  f"{solution.analysis.theorem} did not certify the filter recovered at the optimum "
-                  f"({solution.analysis.status}, gamma {solution.analysis.gamma})")
+        if failed:
+            reason = solution.message
+        elif uncertified:
+            reason = (f"{solution.analysis.theorem} did not certify the design recovered at the optimum "
+                      f"({solution.analysis.status}, gamma {solution.analysis.gamma})")
+        else:
+            reason = f"the recovery at the optimum inverts a matrix of condition number {cond:.3g}"
         backoff = DEFAULT_DELTA
     if backoff is not None and solution.ok:
         optimum = solution
