@@ -142,3 +142,19 @@ def test_exit_code_verify_of_a_design_that_misses_the_printed_level(tmp_path):
     code, out, err = run_cli("verify", "wang_l2linf.thm3", "--example", "paper-full",
                              "--design", str(path), "--runs", "0")
     assert code == 1, (out, err)
+
+
+def test_exit_code_sweep_every_point_proved(tmp_path):
+    code, out, err = run_cli("sweep", "wang_l2linf.thm3", "--example", "paper-full",
+                             "--grid", "rbar=0.5:0.9:3", "--json")
+    assert code == 0, err
+    data = json.loads(out)
+    assert data["certified"] == 3 and all(p["proved"] for p in data["points"])
+
+
+def test_exit_code_reproduce_follows_the_expected_outcomes():
+    code, out, err = run_cli("reproduce", "--theorem", "pan_impulsive.lemma1", "--json")
+    assert code == 0, err                      # the paper's printed filter: infeasible, as declared
+    rows = json.loads(out)["rows"]
+    assert {r["example"]: r["outcome"] for r in rows}["paper-printed"] == "infeasible"
+    assert all(r["as_expected"] for r in rows)
