@@ -21,6 +21,8 @@ singular matrix is semidefinite); otherwise it is numerical only.
 """
 from __future__ import annotations
 
+from functools import reduce
+
 import numpy as np
 import sympy as sp
 from flint import arb, arb_mat, ctx
@@ -137,18 +139,10 @@ class BallEvaluator(ExpressionWalker):
         return self.visit(expr.args[0]).cos()
 
     def _visit_Max(self, expr):
-        values = [self.visit(a) for a in expr.args]
-        out = values[0]
-        for v in values[1:]:
-            out = arb.max(out, v)
-        return out
+        return reduce(arb.max, (self.visit(a) for a in expr.args))
 
     def _visit_Min(self, expr):
-        values = [self.visit(a) for a in expr.args]
-        out = values[0]
-        for v in values[1:]:
-            out = arb.min(out, v)
-        return out
+        return reduce(arb.min, (self.visit(a) for a in expr.args))
 
     def _visit_MatrixBase(self, expr):
         rows = [[self.visit(sp.sympify(e)) for e in row] for row in expr.tolist()]
