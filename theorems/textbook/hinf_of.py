@@ -10,12 +10,16 @@ Plant x' = A x + B1 w + B2 u, z = C1 x + D11 w + D12 u, y = C2 x + D21 w + D22 u
 xK' = AK xK + BK y, u = CK xK + DK y of order n.  With the blocks of
 :func:`lmidsl.output_feedback_blocks` (the closed loop after the congruence by Π₁; A11 = A X + B2 Ĉ,
 A12 = A + B2 D̂ C2, A21 = Â, A22 = Y A + B̂ C2, ...), the bounded real lemma becomes, linear in
-(X, Y, Â, B̂, Ĉ, D̂, g = γ²),
+(X, Y, Â, B̂, Ĉ, D̂, γ) — SGC's own form, with γ (not γ²) on both diagonal blocks,
 
-* continuous:  [[He(A11), *, *, *], [A21 + A12ᵀ, He(A22), *, *], [B1ᵀ, B2ᵀ, −gI, *],
-  [C1', C2', D, −I]] ≺ 0 and [[X, I], [I, Y]] ≻ 0;
-* discrete:    [[−X, *, ...], [−I, −Y], [0, 0, −gI], [A11, A12, B1, −X], [A21, A22, B2, −I, −Y],
-  [C1', C2', D, 0, 0, −I]] ≺ 0  (which contains [[X, I], [I, Y]] ≻ 0).
+* continuous:  [[He(A11), *, *, *], [A21 + A12ᵀ, He(A22), *, *], [B1ᵀ, B2ᵀ, −γI, *],
+  [C1', C2', D, −γI]] ≺ 0 and [[X, I], [I, Y]] ≻ 0;
+* discrete:    [[−X, *, ...], [−I, −Y], [0, 0, −γI], [A11, A12, B1, −X], [A21, A22, B2, −I, −Y],
+  [C1', C2', D, 0, 0, −γI]] ≺ 0  (which contains [[X, I], [I, Y]] ≻ 0).
+
+(The form with γ² and −I, equivalent on paper, made Clarabel fail with a solver error on 6 of
+the 20 continuous test plants, 2 of which the feasp diagnosis then declared "infeasible"; see
+docs/gallery.md.)
 
 These LMIs are for D22 = 0; a plant with D22 ≠ 0 is handled exactly by loop shifting in the
 recovery (:func:`lmidsl.output_feedback`, M Nᵀ = I − X Y by the balanced split).  The analysis
@@ -24,10 +28,9 @@ with the controller given (:func:`lmidsl.closed_loop_matrices`, general D22).
 """
 from lmidsl import (He, I, Source, Theorem, closed_loop_matrices, output_feedback,
                     output_feedback_blocks)
-from sympy import sqrt
 
 from .brl import bounded_real
-from .plants import random_plant, subset
+from .plants import random_plant
 
 SGC = ("Scherer, Gahinet, Chilali, Multiobjective output-feedback control via LMI optimization, "
        "IEEE TAC 42(7):896-911, 1997")
