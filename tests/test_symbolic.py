@@ -176,3 +176,23 @@ def test_structured_and_diagonal_variables_solve():
     Lv = np.block([[Xv, Zv], [Zv, Zv]])
     assert np.linalg.eigvalsh(Lv)[0] > 0
     assert sol.objective == pytest.approx(np.linalg.eigvalsh(Lv)[-1], rel=1e-4)
+
+
+def test_unknown_node_is_a_one_line_definition_error():
+    """A sympy node no walker has a rule for is refused where it is declared, naming the
+    theorem, the LMI, the block, the node class and the expression -- never a bare TypeError."""
+    thm, (n, m), A, B, P, g = small_theorem("t.unknown")
+    with pytest.raises(TheoremDefinitionError) as info:
+        thm.lmi("(u)", [[-P], [B.T * P, -g * I], [0, 0, sp.HadamardProduct(A, A.T) - P]])
+    message = str(info.value)
+    assert "\n" not in message
+    assert message.startswith("t.unknown: LMI (u) block (3,3): ")
+    assert "HadamardProduct: HadamardProduct(A, A.T)" in message
+    with pytest.raises(TheoremDefinitionError, match=r"t.unknown: objective .*Determinant: Determinant\(P\)"):
+        thm.minimize(sp.Determinant(P))
+    with pytest.raises(TheoremDefinitionError, match=r"t.unknown: recovery of K: .*KroneckerProduct"):
+        thm.recover(K=sp.KroneckerProduct(A, A))
+    # the numeric evaluator (and the compilers, its subclasses) fall back the same way
+    ev = NumericEvaluator({n: 2}, {"A": np.eye(2)}, {})
+    with pytest.raises(TheoremDefinitionError, match=r"NumericEvaluator cannot evaluate HadamardProduct"):
+        ev.visit(sp.HadamardProduct(A, A.T) + A)

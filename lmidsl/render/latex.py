@@ -8,6 +8,7 @@ r"""LaTeX of the LMIs, as the paper prints them.
 * a symmetric variable's transpose as the variable itself (``P^{T}`` never appears: the
   transpose of a :class:`~lmidsl.symbols.SymmetricVariable` is the variable);
 * ``I`` and ``0`` for identity and zero blocks (``I_{n}``, ``0_{n \times k}`` on request);
+* a trace as ``\operatorname{tr}(W Z)`` (sympy's ``Trace``, e.g. in an objective);
 * a :class:`~lmidsl.blocks.BlockMatrixSpec` as a ``bmatrix`` with ``\star`` in the triangle the
   theorem left implicit, and an :class:`~lmidsl.theorem.LMI` as ``M < 0`` (or ``M \prec 0``);
 * the terms of a sum in the paper's habitual order (positive terms first, then by number of
@@ -368,6 +369,9 @@ class LMILatexPrinter(LatexPrinter):
 
     def _print_BlockDiagMatrix(self, expr):
         return r"\mathrm{diag}(" + ", ".join(self._print(a) for a in expr.args) + ")"
+
+    def _print_Trace(self, expr):
+        return r"\operatorname{tr}" + self._paren(self._print(expr.arg))
 
     def _print_MatrixBase(self, expr):
         rows = [[self._print(expr[i, j]) for j in range(expr.cols)] for i in range(expr.rows)]

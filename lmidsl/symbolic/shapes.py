@@ -4,6 +4,23 @@ Sympy does not validate products and sums whose dimensions are symbols (``n×n``
 ``k×k`` passes silently), so lmidsl checks conformance itself, structurally: two dimensions
 are equal when their difference expands to zero.  With symbolic dimensions this catches
 transcription errors in a theorem before any data exist.
+
+The rules, one ``_visit_<Class>`` of :class:`ShapeWalker` each (shapes are (rows, cols); a
+scalar is 1×1):
+
+* a symbol (data, variable, its LaTeX-named kin), ``I_n``, ``0_{n×k}``, an explicit matrix: its
+  declared shape;
+* a product ``M₁ M₂ ⋯`` (scalar factors aside): the columns of each factor equal the rows of the
+  next; the shape is rows(M₁) × cols(M_last);
+* a sum: every term has the shape of the first;
+* ``Mᵀ``: the shape swapped; ``M⁻¹`` and ``M^k``: M square;
+* a block matrix: every block (i, j) has the rows of block (i, 1) and the columns of block (1, j);
+* ``tr(M)``: M square, the trace is a scalar;
+* scalar nodes (numbers, symbols, +, ·, powers, functions such as sqrt): 1×1, after checking
+  the matrices inside them (a trace in a coefficient).
+
+Any other node is refused (:meth:`~lmidsl.symbolic.walker.Walker.unknown`): a node the library
+has no rule for would otherwise be accepted here and fail later, at compile time.
 """
 from __future__ import annotations
 
@@ -11,6 +28,9 @@ import sympy as sp
 from sympy.matrices.expressions.matexpr import MatrixExpr
 
 from ..errors import ShapeMismatchError
+from .walker import Walker
+
+SCALAR = (1, 1)
 
 
 def dims_equal(a, b) -> bool:
@@ -22,49 +42,98 @@ def fmt_shape(shape) -> str:
     return f"{shape[0]}×{shape[1]}"
 
 
-def check_conformance(expr) -> tuple:
-    """Return the shape of a matrix expression after checking every product and sum in it.
+class ShapeWalker(Walker):
+    """The shape of an expression, every product, sum, block and trace in it checked."""
 
-    Raises :class:`ShapeMismatchError` naming the offending sub-expression and shapes.
-    """
-    if not isinstance(expr, MatrixExpr):
-        return (1, 1)
-    if isinstance(expr, sp.MatMul):
+    action = "check the shape of"
+
+    def mismatch(self, message: str):
+        return self.error(ShapeMismatchError, message)
+
+    def _square(self, arg, what: str):
+        r, c = self.visit(arg)
+        if not dims_equal(r, c):
+            raise self.mismatch(what.format(arg=arg, shape=fmt_shape((r, c))))
+        return (r, c)
+
+    # -- matrix leaves ----------------------------------------------------------------
+    def _visit_MatrixSymbol(self, expr):
+        return expr.shape
+
+    def _visit_Identity(self, expr):
+        return expr.shape
+
+    def _visit_ZeroMatrix(self, expr):
+        return expr.shape
+
+    def _visit_MatrixBase(self, expr):
+        return expr.shape
+
+    # -- matrix operations ------------------------------------------------------------
+    def _visit_MatMul(self, expr):
+        for a in expr.args:
+            if not isinstance(a, MatrixExpr):
+                self.visit(a)  # a scalar factor: check the matrices inside it (tr(W Z) P)
         matrices = [a for a in expr.args if isinstance(a, MatrixExpr)]
-        shapes = [check_conformance(a) for a in matrices]
+        shapes = [self.visit(a) for a in matrices]
         for (left, ls), (right, rs) in zip(zip(matrices, shapes), zip(matrices[1:], shapes[1:])):
             if not dims_equal(ls[1], rs[0]):
-                raise ShapeMismatchError(
+                raise self.mismatch(
                     f"product {left}·{right}: {left} is {fmt_shape(ls)} but {right} is {fmt_shape(rs)}")
-        return (shapes[0][0], shapes[-1][1]) if shapes else (1, 1)
-    if isinstance(expr, sp.MatAdd):
+        return (shapes[0][0], shapes[-1][1]) if shapes else SCALAR
+
+    def _visit_MatAdd(self, expr):
         terms = list(expr.args)
-        shapes = [check_conformance(a) for a in terms]
+        shapes = [self.visit(a) for a in terms]
         for term, shape in zip(terms[1:], shapes[1:]):
             if not (dims_equal(shape[0], shapes[0][0]) and dims_equal(shape[1], shapes[0][1])):
-                raise ShapeMismatchError(
+                raise self.mismatch(
                     f"sum {expr}: term {terms[0]} is {fmt_shape(shapes[0])} but {term} is {fmt_shape(shape)}")
         return shapes[0]
-    if isinstance(expr, sp.Transpose):
-        r, c = check_conformance(expr.arg)
+
+    def _visit_Transpose(self, expr):
+        r, c = self.visit(expr.arg)
         return (c, r)
-    if isinstance(expr, sp.Inverse):
-        r, c = check_conformance(expr.arg)
-        if not dims_equal(r, c):
-            raise ShapeMismatchError(f"inverse of {expr.arg}, which is {fmt_shape((r, c))}")
-        return (r, c)
-    if isinstance(expr, sp.BlockMatrix):
+
+    def _visit_Inverse(self, expr):
+        return self._square(expr.arg, "inverse of {arg}, which is {shape}")
+
+    def _visit_MatPow(self, expr):
+        return self._square(expr.base, "power of non-square {arg} ({shape})")
+
+    def _visit_BlockMatrix(self, expr):  # BlockDiagMatrix too (a subclass)
         blocks = expr.blocks
         for i in range(blocks.rows):
             for j in range(blocks.cols):
-                s = check_conformance(blocks[i, j])
+                s = self.visit(blocks[i, j])
                 if not dims_equal(s[0], blocks[i, 0].shape[0]) or not dims_equal(s[1], blocks[0, j].shape[1]):
-                    raise ShapeMismatchError(
+                    raise self.mismatch(
                         f"block matrix {expr}: block ({i + 1},{j + 1}) {blocks[i, j]} is {fmt_shape(s)}")
         return expr.shape
-    if isinstance(expr, sp.MatPow):
-        r, c = check_conformance(expr.base)
-        if not dims_equal(r, c):
-            raise ShapeMismatchError(f"power of non-square {expr.base} ({fmt_shape((r, c))})")
-        return (r, c)
-    return expr.shape
+
+    # -- matrix to scalar -----------------------------------------------------------------
+    def _visit_Trace(self, expr):
+        self._square(expr.arg, "trace of {arg}, which is {shape}")
+        return SCALAR
+
+    # -- scalars --------------------------------------------------------------------------
+    def _visit_Atom(self, expr):  # numbers, scalar symbols (variables, parameters, dimensions)
+        return SCALAR
+
+    def _scalar_op(self, expr):
+        for a in expr.args:
+            self.visit(a)
+        return SCALAR
+
+    _visit_Add = _visit_Mul = _visit_Pow = _scalar_op
+    _visit_Application = _scalar_op  # sqrt, exp, Abs, Max, ... of scalars
+
+
+def check_conformance(expr, where: str = "") -> tuple:
+    """Return the shape of a matrix expression after checking every product and sum in it.
+
+    Raises :class:`ShapeMismatchError` naming the offending sub-expression and shapes, and
+    :class:`~lmidsl.errors.TheoremDefinitionError` for a node lmidsl has no rule for; ``where``
+    (theorem, LMI, block) prefixes the message.
+    """
+    return ShapeWalker(where).visit(sp.sympify(expr))

@@ -1,10 +1,23 @@
 """One walk over a matrix expression tree, one method per node type.
 
 This is the pattern of sympy's printers: ``visit`` looks up ``_visit_<ClassName>`` along the
-class's MRO.  The walk is generic; a subclass supplies the leaves (what a data matrix, a
-variable or a parameter becomes) and the few operations its target spells differently
-(block assembly, identity, zeros, inverse).  The numpy evaluator, the cvxpy compiler and the
-PICOS compiler are subclasses.  No expression is ever expanded into scalar entries.
+class's MRO, so a node type is taught in one place per concern, and a node no method knows
+reaches :meth:`Walker.unknown`, which raises a one-line
+:class:`~lmidsl.errors.TheoremDefinitionError` naming the node class, the node, the expression
+being walked and, when the caller gave it, where (theorem, LMI label, block).
+
+:class:`Walker` is the walk itself (dispatch, a per-walk cache keyed by identity, the error for an
+unknown node).  Its subclasses are the concerns:
+
+* :class:`~lmidsl.symbolic.shapes.ShapeWalker` -- the shape of an expression, checking that every
+  product, sum, block and trace conforms (at declaration);
+* :class:`~lmidsl.symbolic.linearity.DegreeWalker` -- the degree in the decision variables (or in
+  an uncertain symbol), checking affinity (at declaration);
+* :class:`ExpressionWalker` -- evaluation into an algebra: the numpy evaluator, the cvxpy compiler
+  and the PICOS compiler.  The walk is generic; a subclass supplies the leaves (what a data
+  matrix, a variable or a parameter becomes) and the few operations its target spells
+  differently (block assembly, identity, zeros, inverse, trace).  No expression is ever
+  expanded into scalar entries.
 """
 from __future__ import annotations
 
@@ -13,39 +26,102 @@ from functools import reduce
 import numpy as np
 import sympy as sp
 
-from .symbols import (DataMatrix, DerivedParam, Param, ScalarVariable, StructuredVariable,
+from ..errors import TheoremDefinitionError
+from .symbols import (DataMatrix, DerivedParam, Dim, Param, ScalarVariable, StructuredVariable,
                       Variable)
 
 
 _SIGNED_TERMS: dict = {}  # id(MatAdd) -> (MatAdd, [(sign, term)]); theorem trees are immutable
+_METHODS: dict = {}       # (walker class, node class) -> the _visit_ function, or None
 
 
-class ExpressionWalker:
-    """Evaluate a sympy matrix/scalar expression into some algebra (numpy, cvxpy, picos)."""
+def _method_for(walker_cls, node_cls):
+    """The first ``_visit_<Class>`` along the node class's MRO (cached per class pair)."""
+    key = (walker_cls, node_cls)
+    try:
+        return _METHODS[key]
+    except KeyError:
+        pass
+    method = None
+    for cls in node_cls.__mro__:
+        method = getattr(walker_cls, f"_visit_{cls.__name__}", None)
+        if method is not None:
+            break
+    _METHODS[key] = method
+    return method
 
-    def __init__(self, dims: dict, vertex: int | None = None):
-        self.dims = dims
-        self.vertex = vertex
-        self._cache: dict = {}  # id(expr) -> (expr, value); one walker per vertex
+
+class Walker:
+    """Visit a sympy expression tree with one ``_visit_<Class>`` method per node type.
+
+    ``where`` (e.g. ``"paper.thm1: LMI (9) block (2,1)"``) prefixes every error the walk raises.
+    Results are cached by identity for the life of the walker: a shared sub-tree is walked once,
+    and no deep sympy equality is ever evaluated (the cache keeps the expressions alive, so ids
+    are stable).
+    """
+
+    #: what the walker does to a node, for the error raised on a node it has no rule for
+    action = "walk"
+
+    def __init__(self, where: str = ""):
+        self.where = where
+        self._cache: dict = {}  # id(expr) -> (expr, value)
+        self._root = None       # the expression the outermost visit started from
 
     # -- entry point -----------------------------------------------------------------
     def visit(self, expr):
-        # keyed by identity: a shared sub-tree is walked once, and no deep sympy equality is
-        # ever evaluated (the expressions outlive the walk, so ids are stable)
         key = id(expr)
         hit = self._cache.get(key)
         if hit is not None:
             return hit[1]
-        result = self._dispatch(expr)
+        outermost = self._root is None
+        if outermost:
+            self._root = expr
+        try:
+            result = self._dispatch(expr)
+        finally:
+            if outermost:
+                self._root = None
         self._cache[key] = (expr, result)
         return result
 
     def _dispatch(self, expr):
-        for cls in type(expr).__mro__:
-            method = getattr(self, f"_visit_{cls.__name__}", None)
-            if method is not None:
-                return method(expr)
-        raise TypeError(f"{type(self).__name__} cannot evaluate {type(expr).__name__}: {expr}")
+        method = _method_for(type(self), type(expr))
+        if method is None:
+            return self.unknown(expr)
+        return method(self, expr)
+
+    # -- errors --------------------------------------------------------------------------
+    def context(self) -> str:
+        """Where the walk is (theorem, LMI, block), for error messages; '' when unknown."""
+        return self.where
+
+    def error(self, cls, message: str):
+        """An error of class ``cls`` whose message is prefixed by :meth:`context`."""
+        where = self.context()
+        return cls(f"{where}: {message}" if where else message)
+
+    def unknown(self, expr):
+        """The fallback for a node no ``_visit_`` method knows: a one-line definition error."""
+        root = self._root
+        inside = ""
+        if root is not None and root is not expr:
+            text = str(root)
+            inside = f" in {text if len(text) <= 200 else text[:200] + '...'}"
+        raise self.error(TheoremDefinitionError,
+                         f"{type(self).__name__} cannot {self.action} {type(expr).__name__}: "
+                         f"{expr}{inside} (lmidsl has no rule for this sympy node)")
+
+
+class ExpressionWalker(Walker):
+    """Evaluate a sympy matrix/scalar expression into some algebra (numpy, cvxpy, picos)."""
+
+    action = "evaluate"
+
+    def __init__(self, dims: dict, vertex: int | None = None, where: str = ""):
+        super().__init__(where)
+        self.dims = dims
+        self.vertex = vertex  # one walker per vertex: the cache holds one vertex's values
 
     def size(self, dim) -> int:
         """A dimension expression as an integer under the bound dimensions."""
@@ -75,6 +151,10 @@ class ExpressionWalker:
 
     def inverse(self, a, expr):
         raise NotImplementedError(f"{type(self).__name__} cannot invert {expr}")
+
+    def trace(self, a):
+        """tr(a) of a square matrix value (numpy here; the compilers spell it for their algebra)."""
+        return float(np.trace(np.atleast_2d(a)))
 
     # -- leaves (subclasses) ----------------------------------------------------------
     def data(self, symbol):
@@ -152,7 +232,8 @@ class ExpressionWalker:
         if exp == -1:
             return self.inverse(self.visit(base), base)
         if not (exp.is_Integer and exp >= 1):
-            raise TypeError(f"cannot evaluate the power {expr}")
+            raise self.error(TheoremDefinitionError, f"{type(self).__name__} cannot evaluate the power "
+                             f"{expr}: only the inverse (exponent -1) and positive integer powers")
         value = self.visit(base)
         return reduce(self.matmul, [value] * int(exp))
 
@@ -179,12 +260,20 @@ class ExpressionWalker:
     def _visit_MatrixBase(self, expr):
         return np.array(expr.tolist(), dtype=float)
 
+    def _visit_Trace(self, expr):
+        # tr(M) is linear in M: the target's trace of the evaluated argument
+        return self.trace(self.visit(expr.arg))
+
     # -- scalar nodes -------------------------------------------------------------------
     def _visit_Number(self, expr):
         return float(expr)
 
     def _visit_NumberSymbol(self, expr):
         return float(expr)
+
+    def _visit_Dim(self, expr: Dim):
+        # a dimension in a scalar, e.g. tr(Z + I_n) = tr(Z) + n
+        return float(self.size(expr))
 
     def _visit_Param(self, expr: Param):
         return self.parameter(expr)

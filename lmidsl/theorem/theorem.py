@@ -5,9 +5,11 @@ scalar parameters, writes each LMI as a block triangle with the paper's label, s
 objective, the recovery formulas and (optionally) the analysis theorem that certifies the
 recovered design, and lists named examples with the values the paper prints.
 
-Every LMI is checked when it is declared: each block's products and sums must conform
+Every LMI is checked when it is declared: each block's products, sums and traces must conform
 (symbolic dimensions, see :mod:`lmidsl.symbolic.shapes`) and each block must be affine in the decision
 variables (:mod:`lmidsl.symbolic.linearity`).  Errors name the theorem, the LMI label and the block.
+The objective is checked the same way (and must be a scalar); recovery formulas and factor
+arguments for shapes.  A sympy node the library has no rule for is refused at declaration.
 """
 from __future__ import annotations
 
@@ -16,9 +18,9 @@ from typing import Any
 import sympy as sp
 
 from ..symbolic.blocks import block_matrix
-from ..errors import LmidslError, ShapeMismatchError, TheoremDefinitionError
+from ..errors import TheoremDefinitionError
 from ..symbolic.linearity import check_affine
-from ..symbolic.shapes import check_conformance
+from ..symbolic.shapes import check_conformance, dims_equal, fmt_shape
 from ..symbolic.uncertainty import uncertain_symbol
 from ..symbolic.symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, RecoveredMatrix,
                       ScalarVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
@@ -134,7 +136,7 @@ class Theorem:
         """Declare a named matrix assembled from other variables, e.g. Λ = [[X, Z], [Z, Z]]."""
         self._check_new(name)
         expansion = sp.BlockMatrix(rows)
-        shape = check_conformance(expansion)
+        shape = check_conformance(expansion, where=f"{self.id}: structured variable {name}")
         symbol = self._describe(StructuredVariable(name, *shape, self.id), latex,
                                  description)
         symbol.expansion = expansion
@@ -203,11 +205,9 @@ class Theorem:
         spec = block_matrix(rows, triangle=triangle, sizes=sizes, where=where)
         for i, row in enumerate(spec.lower):
             for j, blk in enumerate(row):
-                try:
-                    check_conformance(blk)
-                    check_affine(blk)
-                except LmidslError as exc:
-                    raise type(exc)(f"{where} block ({i + 1},{j + 1}): {exc}") from None
+                at = f"{where} block ({i + 1},{j + 1})"
+                check_conformance(blk, where=at)
+                check_affine(blk, where=at)
         lmi = LMI(label, spec, sense, strict and sense in ("<", ">"), description)
         if any(isinstance(a, RecoveredMatrix) for a in lmi.symbols()):
             raise TheoremDefinitionError(f"{where}: uses a recovery intermediate (declared by factor)")
@@ -220,17 +220,30 @@ class Theorem:
         return [self.lmi(label or f"{v.name} > 0", [[v]], sense=">") for v in variables]
 
     def minimize(self, objective, *, performance: tuple[str, Any] | None = None):
-        """Minimise a linear scalar objective; ``performance`` = (name, expr) e.g. ('gamma', √g)."""
-        self.objective = sp.sympify(objective)
-        if performance is not None:
-            self.performance = (performance[0], sp.sympify(performance[1]))
+        """Minimise a scalar objective affine in the decision variables (``g``, ``g1 + g2``,
+        ``Trace(Z)``, ``Trace(W*Z) + g``); ``performance`` = (name, expr) e.g. ('gamma', √g) or
+        ('h2', √tr(Z)).  Checked like an LMI block: shapes, a 1×1 result, affinity."""
+        objective = sp.sympify(objective)
+        where = f"{self.id}: objective {objective}"
+        shape = check_conformance(objective, where=where)
+        if not (dims_equal(shape[0], 1) and dims_equal(shape[1], 1)):
+            raise TheoremDefinitionError(f"{where} is {fmt_shape(shape)}, not a scalar "
+                                         f"(minimise a scalar of it, e.g. Trace(...))")
+        check_affine(objective, where=where)
+        self.objective = objective
+        self._set_performance(performance)
 
     def feasibility(self, *, performance: tuple[str, Any] | None = None):
         """A feasibility problem (no objective); ``performance`` = (name, expr) names the level
         the LMIs are stated at, e.g. ('gamma', γ) for a prescribed γ parameter."""
         self.objective = None
+        self._set_performance(performance)
+
+    def _set_performance(self, performance):
         if performance is not None:
-            self.performance = (performance[0], sp.sympify(performance[1]))
+            name, expr = performance[0], sp.sympify(performance[1])
+            check_conformance(expr, where=f"{self.id}: performance {name}")
+            self.performance = (name, expr)
 
     def report(self, **values):
         """Named scalar values evaluated at the solution, e.g. ``gamma_1=sqrt(rho_1)``.
@@ -249,10 +262,7 @@ class Theorem:
     def recover(self, **formulas):
         """Recovery formulas, e.g. ``Af=V2.I * Af_hat``: evaluated after the solve, in order."""
         for name, expr in formulas.items():
-            try:
-                check_conformance(expr)
-            except ShapeMismatchError as exc:
-                raise ShapeMismatchError(f"{self.id}: recovery of {name}: {exc}") from None
+            check_conformance(expr, where=f"{self.id}: recovery of {name}")
             self.recovery[name] = expr
             self.recovery_steps.append(("formula", name))
 
@@ -266,10 +276,7 @@ class Theorem:
         later recovery formulas (``Af = R.I * Af_hat * ...``).
         """
         names = names.split()
-        try:
-            shapes = [check_conformance(a) for a in args]
-        except ShapeMismatchError as exc:
-            raise ShapeMismatchError(f"{self.id}: factor {' '.join(names)}: {exc}") from None
+        shapes = [check_conformance(a, where=f"{self.id}: factor {' '.join(names)}") for a in args]
         out = factorization.shapes(*shapes)
         if len(out) != len(names):
             raise TheoremDefinitionError(
@@ -300,11 +307,9 @@ class Theorem:
         """Positive definite expressions the recovery inverts (e.g. Z and X − Z); the back-off
         (:mod:`lmidsl.backoff`) improves their conditioning at a γ slightly above the optimum."""
         for expr in exprs:
-            try:
-                check_conformance(expr)
-                check_affine(expr)
-            except LmidslError as exc:
-                raise type(exc)(f"{self.id}: well_conditioned {expr}: {exc}") from None
+            at = f"{self.id}: well_conditioned {expr}"
+            check_conformance(expr, where=at)
+            check_affine(expr, where=at)
             self.conditioned.append(expr)
 
     def linearise(self, **updates):
@@ -316,7 +321,7 @@ class Theorem:
         for name, expr in updates.items():
             if name not in self.data_decl:
                 raise TheoremDefinitionError(f"{self.id}: linearisation point {name} is not declared data")
-            check_conformance(expr)
+            check_conformance(expr, where=f"{self.id}: linearisation of {name}")
             self.linearisation[name] = expr
 
     def certified_by(self, theorem, design: tuple, gamma_tolerance: float = 1e-3):

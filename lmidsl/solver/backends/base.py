@@ -64,9 +64,14 @@ class BackendCompiler(ExpressionWalker):
         if not has_decision:
             if not has_param:
                 return self.constants.visit(expr)
-            if not isinstance(expr, sp.MatrixExpr):
-                return self.model.parameter_for(expr)
+            if not isinstance(expr, sp.MatrixExpr) and not expr.has(sp.MatrixSymbol):
+                return self.model.parameter_for(expr)  # a scalar of parameters only (not r·tr(W))
         return super()._dispatch(expr)
+
+    def context(self) -> str:
+        theorem = self.model.instance.theorem.id
+        lmi = self.model.current_lmi
+        return f"{theorem}: LMI {lmi[0]}" if lmi else theorem
 
     def data(self, symbol):
         return self.constants.data(symbol)
@@ -118,14 +123,14 @@ class CompiledModel:
             negative = lmi.negative_form()
             for scenario in scenarios(instance, lmi):  # polytope vertices x uncertainty points
                 v = scenario.vertex
+                key = (lmi.label, v, scenario.label)
+                self.current_lmi = key
                 compiler = self.compiler_class(self, v)
                 lower = [[compiler.visit(scenario.apply(b)) for b in row] for row in negative.lower]
                 rows = [[lower[i][j] if j <= i else compiler.transpose(lower[j][i])
                          for j in range(negative.nblocks)] for i in range(negative.nblocks)]
                 size = sum(compiler.size(s) for s in negative.sizes)
                 eps = self._margin_parameter if lmi.strict else None
-                key = (lmi.label, v, scenario.label)
-                self.current_lmi = key
                 N = self.assemble(rows)
                 self.lmi_matrices.append((key, N))
                 self.constraints.append((key, self.lmi_constraint(N, size, eps)))

@@ -1,8 +1,8 @@
 """The cvxpy backend: a bound theorem as a ``cvxpy.Problem`` with parameters kept as Parameters.
 
 Node mapping (the rest is in :mod:`lmidsl.backends.base`): a block matrix is ``cp.bmat``, an
-LMI ``N ⪯ −εI`` is ``N << -ε I``, variables are ``cp.Variable`` with ``symmetric=True`` or
-``diag=True`` as declared, scalar parameter expressions are ``cp.Parameter``.  The problem is
+LMI ``N ⪯ −εI`` is ``N << -ε I``, a trace is ``cp.trace``, variables are ``cp.Variable`` with
+``symmetric=True`` or ``diag=True`` as declared, scalar parameter expressions are ``cp.Parameter``.  The problem is
 DPP-compliant, so changing parameters and re-solving reuses cvxpy's compiled form.
 """
 from __future__ import annotations
@@ -13,7 +13,7 @@ import cvxpy as cp
 import numpy as np
 
 from ...errors import SolverUnavailableError
-from .base import CompiledModel
+from .base import BackendCompiler, CompiledModel
 
 DEFAULT_SOLVER = "CLARABEL"
 
@@ -54,8 +54,16 @@ def resolve_solver(name: str | None) -> str:
         f"unknown solver {name!r} for backend cvxpy; installed SDP solvers: {', '.join(available)}")
 
 
+class CvxpyCompiler(BackendCompiler):
+    """The shared compiling walk with cvxpy's spelling of the trace."""
+
+    def trace(self, a):
+        return cp.trace(a) if isinstance(a, cp.Expression) else super().trace(a)
+
+
 class CvxpyModel(CompiledModel):
     backend = "cvxpy"
+    compiler_class = CvxpyCompiler
 
     def new_variable(self, name, shape, kind):
         if kind == "symmetric":

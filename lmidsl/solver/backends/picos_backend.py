@@ -1,11 +1,11 @@
 """The PICOS backend: a bound theorem as a ``picos.Problem``.
 
 Node mapping (the rest is the shared walk of :mod:`lmidsl.backends.base`): a block matrix is
-``picos.block``, an LMI ``N ⪯ −εI`` is ``N << -ε I``, variables are ``picos.RealVariable`` /
-``picos.SymmetricVariable`` (a diagonal variable is ``picos.diag`` of a vector), and a matrix
-product is PICOS's ``*`` (in PICOS ``@`` is the Kronecker product, so the walk's ``@`` must not
-reach a PICOS expression).  PICOS refuses an LMI whose matrix is not structurally symmetric;
-that refusal is turned into an error naming the theorem and the LMI.
+``picos.block``, an LMI ``N ⪯ −εI`` is ``N << -ε I``, a trace is ``picos.trace``, variables are
+``picos.RealVariable`` / ``picos.SymmetricVariable`` (a diagonal variable is ``picos.diag`` of a
+vector), and a matrix product is PICOS's ``*`` (in PICOS ``@`` is the Kronecker product, so the
+walk's ``@`` must not reach a PICOS expression).  PICOS refuses an LMI whose matrix is not
+structurally symmetric; that refusal is turned into an error naming the theorem and the LMI.
 
 Parameters: PICOS 2.6 has no parameter object whose value can change inside a built problem
 (its ``Constant`` is immutable, and a ``RealVariable`` frozen with ``frozen()`` gives a *new*
@@ -76,12 +76,15 @@ def _is_picos(x) -> bool:
 
 
 class PicosCompiler(BackendCompiler):
-    """The shared compiling walk with PICOS's spelling of the matrix product."""
+    """The shared compiling walk with PICOS's spelling of the matrix product and trace."""
 
     def matmul(self, a, b):
         if _is_picos(a) or _is_picos(b):
             return a * b  # PICOS: * is the matrix product, @ the Kronecker product
         return a @ b
+
+    def trace(self, a):
+        return picos.trace(a) if _is_picos(a) else super().trace(a)
 
 
 class PicosModel(CompiledModel):
