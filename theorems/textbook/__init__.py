@@ -6,7 +6,8 @@ Theorem ids ``textbook.<name>``; one data convention for all of them (:mod:`.pla
 from .brl import THEOREMS as _BRL
 from .hinf_sf import THEOREMS as _HINF_SF
 from .hinf_of import THEOREMS as _HINF_OF
+from .h2 import THEOREMS as _H2
 
-THEOREMS = [*_BRL, *_HINF_SF, *_HINF_OF]
+THEOREMS = [*_BRL, *_HINF_SF, *_HINF_OF, *_H2]
 
 __all__ = ["THEOREMS"]
