@@ -7,7 +7,8 @@ from .brl import THEOREMS as _BRL
 from .hinf_sf import THEOREMS as _HINF_SF
 from .hinf_of import THEOREMS as _HINF_OF
 from .h2 import THEOREMS as _H2
+from .kyp import THEOREMS as _KYP
 
-THEOREMS = [*_BRL, *_HINF_SF, *_HINF_OF, *_H2]
+THEOREMS = [*_BRL, *_HINF_SF, *_HINF_OF, *_H2, *_KYP]
 
 __all__ = ["THEOREMS"]

@@ -26,7 +26,7 @@ from .plants import first_order_dt, random_system, second_order
 
 BOYD = ("Boyd, El Ghaoui, Feron, Balakrishnan, Linear Matrix Inequalities in System and "
         "Control Theory, SIAM 1994")
-SOURCE_CT = Source("Boyd et al. 1994", "§2.7.3, bounded-real lemma", BOYD)
+SOURCE_CT = Source("Boyd et al. 1994", "Sec. 2.7.3, bounded-real lemma", BOYD)
 SOURCE_DT = Source("Gahinet & Apkarian 1994", "discrete-time bounded real lemma",
                    "Gahinet, Apkarian, A linear matrix inequality approach to H∞ control, "
                    "Int. J. Robust Nonlinear Control 4:421-448, 1994")

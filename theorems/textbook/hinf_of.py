@@ -54,7 +54,7 @@ def generalized_plant(thm: Theorem):
 
 def _analysis(name: str, time: str) -> Theorem:
     thm = Theorem(f"textbook.{name}", f"H∞ norm of the output-feedback closed loop ({time} time)",
-                  Source("Boyd et al. 1994", "§2.7.3 applied to the closed loop of the plant and (AK, BK, CK, DK)",
+                  Source("Boyd et al. 1994", "Sec. 2.7.3 applied to the closed loop of the plant and (AK, BK, CK, DK)",
                          "Boyd, El Ghaoui, Feron, Balakrishnan, Linear Matrix Inequalities in "
                          "System and Control Theory, SIAM 1994"),
                   time=time, description="the bounded real lemma of the closed loop with the controller given")

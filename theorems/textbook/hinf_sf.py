@@ -44,7 +44,7 @@ def sf_plant(thm: Theorem):
 
 def _analysis(name: str, time: str) -> Theorem:
     thm = Theorem(f"textbook.{name}", f"H∞ norm of the state-feedback closed loop ({time} time)",
-                  Source("Boyd et al. 1994", "§2.7.3 applied to the closed loop (A + B2K, B1, C1 + D12K, D11)",
+                  Source("Boyd et al. 1994", "Sec. 2.7.3 applied to the closed loop (A + B2K, B1, C1 + D12K, D11)",
                          "Boyd, El Ghaoui, Feron, Balakrishnan, Linear Matrix Inequalities in "
                          "System and Control Theory, SIAM 1994"),
                   time=time, description="the bounded real lemma of the closed loop with the gain K given")
