@@ -401,3 +401,28 @@ def test_kyp_passivity_index_matches_frequency_sweep(time, case):
     assert sol.gamma <= ref + 1e-9 * max(1.0, abs(ref)), (sol.gamma, ref)    # certified: ν is below the index
     _check(abs(sol.gamma - ref) <= KYP_TOL * max(1.0, abs(ref)), KYP_KNOWN.get((time, case)),
            (sol.gamma, ref, sol.gamma - ref))
+
+
+# -- pole placement in LMI regions -----------------------------------------------------------
+REGION_CASES = {f"region-{k}": (c, dict(alpha=(0.2, 0.5, 1.0)[k % 3], q=(0.0, 1.0)[k % 2],
+                                        r=(10.0, 20.0)[k % 2], theta=(np.pi / 4, np.pi / 3)[(k // 2) % 2]))
+                for k, c in enumerate(SF_CASES["continuous"])}
+
+
+@pytest.mark.parametrize("case", list(REGION_CASES))
+def test_pole_region_eigenvalues_in_region(case):
+    """Half-plane ∩ disk ∩ sector: lmidsl finds X, W; the eigenvalues of A + B2 K (python-control
+    ``poles`` of the closed loop) lie in every region, each with the margin the LMI guarantees > 0."""
+    plant, region = REGION_CASES[case]
+    d = subset(_cases("hinf", "continuous")[plant], ("A", "B2"))
+    sol = lmidsl.solve("textbook.pole_region_sf_ct", data=d, overrides=region)
+    assert sol.ok and sol.certified and "K" in sol.recovered, (sol.status, sol.message)
+    cl = lmidsl.closed_loop(dict(d, B1=np.zeros((len(d["A"]), 1)), C1=np.zeros((1, len(d["A"])))),
+                            sol.design)
+    lam = cl.poles()
+    half = float(np.max(lam.real + region["alpha"]))                 # < 0
+    disk = float(np.max(np.abs(lam + region["q"]) - region["r"]))   # < 0
+    sector = float(np.max(lam.real * np.sin(region["theta"]) + np.abs(lam.imag) * np.cos(region["theta"])))
+    _record("textbook.pole_region_sf_ct", case, plant=plant, region=region, half_plane=half, disk=disk,
+            sector=sector, poles=[str(complex(x)) for x in lam])
+    assert half < 0 and disk < 0 and sector < 0, (half, disk, sector, lam)

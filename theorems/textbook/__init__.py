@@ -8,7 +8,8 @@ from .hinf_sf import THEOREMS as _HINF_SF
 from .hinf_of import THEOREMS as _HINF_OF
 from .h2 import THEOREMS as _H2
 from .kyp import THEOREMS as _KYP
+from .regions import THEOREMS as _REGIONS
 
-THEOREMS = [*_BRL, *_HINF_SF, *_HINF_OF, *_H2, *_KYP]
+THEOREMS = [*_BRL, *_HINF_SF, *_HINF_OF, *_H2, *_KYP, *_REGIONS]
 
 __all__ = ["THEOREMS"]
