@@ -33,6 +33,7 @@ from lmidsl.theorems.textbook.brl import _first_norm, _resonant_norm
 from lmidsl.theorems.textbook.h2 import SF_DATA as H2_SF_DATA
 from lmidsl.theorems.textbook.kyp import passive_example
 from lmidsl.theorems.textbook.hinf_sf import SF_DATA
+from lmidsl.theorems.textbook.polytopic import interval_polytope
 from lmidsl.theorems.textbook.plants import brl_cases, plant_cases, subset
 
 control = pytest.importorskip("control")
@@ -426,3 +427,37 @@ def test_pole_region_eigenvalues_in_region(case):
     _record("textbook.pole_region_sf_ct", case, plant=plant, region=region, half_plane=half, disk=disk,
             sector=sector, poles=[str(complex(x)) for x in lam])
     assert half < 0 and disk < 0 and sector < 0, (half, disk, sector, lam)
+
+
+# -- polytopic robust stability --------------------------------------------------------------
+POLY_CASES = {t: {f"poly-{seed}": interval_polytope(seed, spread=0.35, time=t) for seed in range(60, 80)}
+              for t in TIMES}
+
+
+def _grid_worst(v: dict, time: str) -> float:
+    """Worst spectral abscissa (continuous) or radius (discrete) of λA1 + (1 − λ)A2 on 401 points."""
+    A1, A2 = (np.array(x["A"]) for x in v["vertices"])
+    eig = [np.linalg.eigvals(lam * A1 + (1 - lam) * A2) for lam in np.linspace(0.0, 1.0, 401)]
+    return float(max(max(e.real) if time == "continuous" else max(abs(e)) for e in eig))
+
+
+@pytest.mark.parametrize("time, case", [(t, c) for t in TIMES for c in POLY_CASES[t]])
+def test_polytopic_stability_is_sound(time, case):
+    """A certified quadratic-stability (or dilated) certificate implies that the gridded polytope
+    is stable; quadratic stability implies the dilated condition (Pᵢ = G = P)."""
+    v = POLY_CASES[time][case]
+    worst = _grid_worst(v, time)
+    stable = worst < 0 if time == "continuous" else worst < 1
+    q = lmidsl.solve(f"textbook.quadstab_{SHORT[time]}", data=v)
+    row = dict(grid_worst=worst, grid_stable=stable, quadratic=q.status, quadratic_certified=q.certified)
+    if time == "discrete":
+        dil = lmidsl.solve("textbook.dilated_dt", data=v)
+        row.update(dilated=dil.status, dilated_certified=dil.certified)
+    _record("textbook.polytopic", f"{time} {case}", **row)
+    if q.certified:
+        assert stable, worst
+    if time == "discrete":
+        if dil.certified:
+            assert stable, worst
+        if q.certified:
+            assert dil.certified, (dil.status, dil.message)

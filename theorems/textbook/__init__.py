@@ -9,7 +9,8 @@ from .hinf_of import THEOREMS as _HINF_OF
 from .h2 import THEOREMS as _H2
 from .kyp import THEOREMS as _KYP
 from .regions import THEOREMS as _REGIONS
+from .polytopic import THEOREMS as _POLYTOPIC
 
-THEOREMS = [*_BRL, *_HINF_SF, *_HINF_OF, *_H2, *_KYP, *_REGIONS]
+THEOREMS = [*_BRL, *_HINF_SF, *_HINF_OF, *_H2, *_KYP, *_REGIONS, *_POLYTOPIC]
 
 __all__ = ["THEOREMS"]
