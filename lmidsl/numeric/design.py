@@ -14,7 +14,8 @@ coordinates of the data (any signal scaling undone), with
 * ``obtained``: how it was obtained (theorem, example, solver, scaling, back-off).
 
 A Design is a read-only mapping name → matrix, so ``design["Af"]`` works as on a dict.
-Certification, LaTeX, JSON and the reports consume it.
+Certification, LaTeX, JSON and the reports consume it; :meth:`Design.as_statespace` gives it
+as a python-control system (and :mod:`lmidsl.numeric.interconnection` closes the loop).
 """
 from __future__ import annotations
 
@@ -55,6 +56,14 @@ class Design(Mapping):
         """The same design with other matrices (e.g. mapped back through a scaling)."""
         return Design(self.kind, dict(matrices), self.time, self.sample_time, self.inverted,
                       {**self.obtained, **obtained})
+
+    def as_statespace(self):
+        """The design as a python-control ``StateSpace``: a controller (AK, BK, CK, DK) from y to
+        u, a filter (Af, Bf, Cf, Df) from y to ẑ, a static gain K as a D-only system; ``dt`` is
+        ``sample_time or True`` in discrete time, 0 in continuous time
+        (:func:`lmidsl.numeric.interconnection.design_statespace`)."""
+        from .interconnection import design_statespace   # python-control: heavy, only when asked
+        return design_statespace(self)
 
     def as_dict(self) -> dict:
         return {"kind": self.kind, "time": self.time, "sample_time": self.sample_time,
