@@ -16,7 +16,7 @@ from .solver.feasibility import diagnosis_needed, feasp
 from .numeric.instance import Instance, bind
 from .numeric.recovery import recover, recover_design
 from .solver.backends.base import DEFAULT_MARGIN
-from .solver.conditioning import solve_conditioned
+from .solver.conditioning import equilibrate, solve_conditioned
 from .solver.margin import solve_model
 from .numeric.scaling import apply_scaling
 from .theorem.registry import get_example, get_theorem
@@ -160,6 +160,16 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
         t0 = time.perf_counter()
         report = feasp(instance, backend=backend, solver=solver,
                        margin=solution.margin if margin is None else margin)
+        proposal = equilibrate(instance)
+        if report.verdict == "infeasible" and not proposal.trivial:
+            # an infeasibility verdict must survive the conditioning
+            conditioned = feasp(instance, backend=backend, solver=solver, detail=False,
+                                margin=solution.margin if margin is None else margin,
+                                conditioning=proposal)
+            if conditioned.verdict != "infeasible":
+                solution.notes.append(f"feasp as written said infeasible (t* = {report.tmin:.3g}); on the "
+                                      f"conditioned LMIs: {conditioned.verdict} (t* = {conditioned.tmin})")
+                report = conditioned
         solution.feasp = report
         if report.verdict in ("infeasible", "marginal"):
             solution.solver_status = solution.status

@@ -21,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 import numpy as np
+from scipy.linalg import matrix_balance
 
 from ..errors import InputError
 from .instance import Instance
@@ -91,8 +92,15 @@ def _power_of_two(x: np.ndarray) -> np.ndarray:
 
 
 def auto_factors(instance: Instance, decl) -> tuple[np.ndarray, str]:
-    """S for one declared scaling: unit-size producer rows, powers of two."""
+    """S for one declared scaling: unit-size producer rows, powers of two; for a state (a square
+    datum that both produces and consumes the signal, x(k+1) = A x or ẋ = A x), the similarity
+    that balances A (LAPACK's gebal through ``scipy.linalg.matrix_balance``, powers of two)."""
     data = instance.data
+    square = [n for n in decl.rows if n in decl.cols and _first(data[n]).shape[0] == _first(data[n]).shape[1]]
+    if square:
+        A = sum(np.abs(_first(data[n])) for n in square)
+        _, (scale, _) = matrix_balance(A, permute=False, separate=True)
+        return np.asarray(scale, dtype=float), f"matrix_balance({' + '.join(square)})"
     if decl.rows:
         norms = np.linalg.norm(_stack([data[n] for n in decl.rows], axis=1), axis=1)
         return _power_of_two(norms), f"2^round(log2 ‖row of [{' '.join(decl.rows)}]‖)"

@@ -16,6 +16,8 @@ badly scaled feasible problem may need large variables.  Verdicts:
 * "infeasible": t* ≥ −``FEASP_TOL`` (zero up to the solver's accuracy) at a point strictly inside
   the radius: the norm bound is inactive, so t* is the minimum over all x (the problem is convex)
   and no strictly feasible point exists anywhere;
+* "undecided (accuracy)": t* ≥ 0 but t* grew with the radius, which exact solves cannot do:
+  the solver is inaccurate on this problem and its t* proves nothing;
 * "undecided (radius)": t* ≥ −``FEASP_TOL`` but the point lies on the radius even at
   ``max_radius``: a feasible point may need larger variables (a badly scaled problem), so this
   is no proof of infeasibility;
@@ -50,6 +52,7 @@ MAX_RADIUS = 1e10
 """Largest radius tried before a non-negative t* is taken as the answer."""
 
 FEASP_TOL = 1e-9
+
 """|t*| below this is zero: the solvers' accuracy on these problems is about 1e-9 to 1e-8."""
 
 MAX_DETAILED = 24
@@ -95,6 +98,14 @@ class FeasibilityReport:
     point_norm: float | None = None   # ‖x‖₂ of the feasp point (all variables stacked)
 
     @property
+    def inconsistent(self) -> bool:
+        """t* grew with the radius: impossible for exact solves (a larger ball contains the
+        smaller one), so the solver is inaccurate on this problem and t* proves nothing."""
+        found = [t for _, t in self.radii if t is not None]
+        return any(later > earlier + 1e-6 * max(1.0, abs(earlier)) + FEASP_TOL
+                   for i, earlier in enumerate(found) for later in found[i + 1:])
+
+    @property
     def at_radius(self) -> bool:
         """The norm bound ‖x‖₂ ≤ R is active at the feasp point (then t* is not a global minimum)."""
         return self.point_norm is not None and self.point_norm >= 0.99 * self.radius
@@ -107,8 +118,10 @@ class FeasibilityReport:
 
     @property
     def infeasible(self) -> bool:
-        """No strictly feasible point: t* ≥ 0 up to the solver accuracy, with the radius inactive."""
-        return self.tmin is not None and self.tmin >= -FEASP_TOL and not self.at_radius
+        """No strictly feasible point: t* ≥ 0 up to the solver accuracy, with the radius inactive
+        and t* consistent across the radii tried."""
+        return (self.tmin is not None and self.tmin >= -FEASP_TOL and not self.at_radius
+                and not self.inconsistent)
 
     @property
     def verdict(self) -> str:
@@ -118,7 +131,11 @@ class FeasibilityReport:
             return "strictly feasible"
         if self.tmin >= -FEASP_TOL and self.at_radius:
             return "undecided (radius)"
-        return "infeasible" if self.infeasible else "marginal"
+        if self.infeasible:
+            return "infeasible"
+        if self.tmin >= -FEASP_TOL:
+            return "undecided (accuracy)"    # t* inconsistent across radii
+        return "marginal"
 
     @property
     def responsible(self) -> list[str]:
@@ -230,14 +247,15 @@ def stacked_norm(values: dict) -> float:
 
 def feasp(instance: Instance, backend: str = "cvxpy", solver: str | None = None,
           radius: float = DEFAULT_RADIUS, margin: float | None = None, detail: bool | None = None,
-          max_radius: float = MAX_RADIUS, **options) -> FeasibilityReport:
+          max_radius: float = MAX_RADIUS, conditioning=None, **options) -> FeasibilityReport:
     """The feasp diagnosis of ``instance`` (see the module docstring).
 
     ``detail`` (default: when there are at most :data:`MAX_DETAILED` compiled LMIs) adds the
-    per-LMI 'alone' and 'without' problems.
+    per-LMI 'alone' and 'without' problems.  ``conditioning``: solve the auxiliary problems on
+    the conditioned LMIs (:mod:`lmidsl.solver.conditioning`); t* is then in their units.
     """
 
-    model = get_backend(backend)(instance, margin=margin)
+    model = get_backend(backend)(instance, margin=margin, conditioning=conditioning)
     compiled = compiled_lmis(model)
     def point_values(tmin):
         """λ_max of every LMI at the returned point, with numpy (the certificate)."""
