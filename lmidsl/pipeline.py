@@ -170,6 +170,16 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
                 solution.notes.append(f"feasp as written said infeasible (t* = {report.tmin:.3g}); on the "
                                       f"conditioned LMIs: {conditioned.verdict} (t* = {conditioned.tmin})")
                 report = conditioned
+        if report.verdict == "infeasible" and solver is None:
+            # ... and a second solver: one solver's t* ≥ 0 is not a proof
+            for other in fallback_solvers(backend)[:1]:
+                second = feasp(instance, backend=backend, solver=other, detail=False,
+                               margin=solution.margin if margin is None else margin)
+                if second.verdict != "infeasible":
+                    solution.notes.append(f"feasp with {report.solver} said infeasible (t* = {report.tmin:.3g}); "
+                                          f"with {second.solver}: {second.verdict} (t* = {second.tmin}): "
+                                          "not a proof of infeasibility")
+                    report = second
         solution.feasp = report
         if report.verdict in ("infeasible", "marginal"):
             solution.solver_status = solution.status
