@@ -7,7 +7,7 @@ from pathlib import Path
 from ..errors import InputError
 from ..render.report import format_table
 from ..studies.sweep import format_timing, parse_grid, sweep
-from .common import add_instance_arguments, instance_spec, print_json
+from .common import add_instance_arguments, instance_spec, positive_float, print_json
 
 ORDER = 25
 
@@ -20,7 +20,7 @@ def register(sub):
                         "e.g. xi1=0.05:0.95:19 or xi1=0.1,0.5")
     p.add_argument("--solver", help="solver name (default: clarabel)")
     p.add_argument("--backend", default="cvxpy", help="modelling backend")
-    p.add_argument("--margin", type=float, help="strictness margin ε")
+    p.add_argument("--margin", type=positive_float, help="strictness margin ε")
     p.add_argument("--scaling", default="auto", choices=("auto", "none"), help="exact signal scaling")
     p.add_argument("--out", metavar="DIR", help="write sweep.csv, sweep.json and sweep.png here")
     p.add_argument("--title", help="title of the figure")

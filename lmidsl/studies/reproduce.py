@@ -137,6 +137,8 @@ def reproduce_all(solver: str | None = None, theorems: list[str] | None = None, 
     """Rows for every theorem × example (optionally only the listed theorem ids), the papers'
     own first, then corrected and guessed readings, then illustrations (:data:`PROVENANCE`)."""
     order = list(PROVENANCE)
+    for tid in theorems or []:
+        get_theorem(tid)                  # an unknown id is a one-line error, not zero rows
     jobs = [(tid, ex) for tid, thm in sorted(all_theorems().items())
             if theorems is None or tid in theorems for ex in thm.examples]
     jobs.sort(key=lambda job: order.index(row_provenance(get_theorem(job[0]), job[1])))
