@@ -244,3 +244,151 @@ def test_reproduce_interrupted_then_resumed(tmp_path):
     keys = [(r["theorem"], r["example"]) for r in after]
     assert len(keys) == len(set(keys)) == len(rows)
     assert json.loads((out / "reproduce.json").read_text())["rows"] == rows
+
+
+# -- theorem files isolated ----------------------------------------------------------------
+GOOD = '''
+from lmidsl import Theorem, Source
+thm = Theorem("{id}", "{title}", Source("test", "(1)"))
+n = thm.dim("n")
+A = thm.data("A", n, n)
+P = thm.var("P", n, kind="symmetric")
+thm.lmi("(1)", [[A.T * P * A - P]])
+thm.lmi("P > 0", [[-P]])
+thm.example("ok", {{"A": [[0.5, 0.0], [0.0, 0.2]]}})
+THEOREMS = [thm]
+'''
+
+
+def _user_env(tmp_path, folder):
+    env = _env(tmp_path)
+    env["LMIDSL_THEOREM_PATH"] = str(folder)
+    return env
+
+
+def _cli(env, *argv):
+    proc = subprocess.run([sys.executable, "-m", "lmidsl", *argv], cwd=ROOT, env=env,
+                          capture_output=True, text=True, timeout=600)
+    return proc.returncode, proc.stdout, proc.stderr
+
+
+def test_broken_user_file_is_reported_once_and_skipped(tmp_path):
+    folder = tmp_path / "thms"
+    folder.mkdir()
+    (folder / "good.py").write_text(GOOD.format(id="good.t1", title="a good one"))
+    (folder / "broken.py").write_text("from lmidsl import Theorem\nx = 1\ndef f(:\n")
+    (folder / "raises.py").write_text("import lmidsl\nx = 1\nraise RuntimeError('boom')\n")
+    env = _user_env(tmp_path, folder)
+    code, out, err = _cli(env, "list")
+    assert code == 0, err
+    assert "good.t1" in out and "wang_l2linf.thm3" in out            # built-ins keep working
+    lines = err.strip().splitlines()
+    assert len(lines) == 2, err                                      # one line per broken file
+    assert any("broken.py, line 3" in l and "SyntaxError" in l for l in lines), err
+    assert any("raises.py, line 3" in l and "RuntimeError: boom" in l for l in lines), err
+    assert "Traceback" not in err
+    # solving a theorem of another file executes neither broken file: nothing to report
+    code, out, err = _cli(env, "solve", "good.t1", "--example", "ok")
+    assert code == 0 and err.strip() == "", err
+    # asking for the broken file's theorem is that file's error, in one line
+    code, _, err = _cli(env, "solve", "raises.t1")
+    assert_one_line(code, err, "raises.py, line 3", "RuntimeError: boom")
+
+
+def test_duplicate_id_names_both_files(capsys, tmp_path, monkeypatch):
+    for name in ("dupa", "dupb"):
+        folder = tmp_path / name
+        folder.mkdir()
+    (tmp_path / "dupa" / "wang_l2linf.py").write_text(GOOD.format(id="wang_l2linf.thm3", title="shadow"))
+    monkeypatch.setenv("LMIDSL_THEOREM_PATH", str(tmp_path / "dupa"))
+    code, _, err = run_main(capsys, "solve", "wang_l2linf.thm3", "--example", "paper-full")
+    assert_one_line(code, err, "wang_l2linf.thm3", "defined twice", "lmidsl.theorems.wang_l2linf",
+                    str(tmp_path / "dupa" / "wang_l2linf.py"))
+    (tmp_path / "dupb" / "mine.py").write_text(GOOD.format(id="mine.t1", title="one"))
+    (tmp_path / "dupa" / "wang_l2linf.py").unlink()
+    (tmp_path / "dupa" / "mine.py").write_text(GOOD.format(id="mine.t1", title="two"))
+    monkeypatch.setenv("LMIDSL_THEOREM_PATH", f"{tmp_path / 'dupa'}{os.pathsep}{tmp_path / 'dupb'}")
+    code, _, err = run_main(capsys, "solve", "mine.t1", "--example", "ok")
+    assert_one_line(code, err, "mine.t1", str(tmp_path / "dupa" / "mine.py"), str(tmp_path / "dupb" / "mine.py"))
+
+
+def test_relative_theorem_path_is_refused(capsys, monkeypatch):
+    monkeypatch.setenv("LMIDSL_THEOREM_PATH", "my_theorems")
+    code, _, err = run_main(capsys, "solve", *THM3)
+    assert_one_line(code, err, "LMIDSL_THEOREM_PATH", "'my_theorems'", "relative")
+
+
+def test_only_the_file_the_id_names_is_executed(capsys, tmp_path, monkeypatch):
+    (tmp_path / "alpha.py").write_text(GOOD.format(id="alpha.t1", title="alpha"))
+    (tmp_path / "beta.py").write_text(f"open({str(tmp_path / 'beta-ran')!r}, 'w').close()\nTHEOREMS = []\n")
+    monkeypatch.setenv("LMIDSL_THEOREM_PATH", str(tmp_path))
+    code, _, err = run_main(capsys, "solve", "alpha.t1", "--example", "ok")
+    assert code == 0, err
+    assert not (tmp_path / "beta-ran").exists()
+    code, _, err = run_main(capsys, "solve", *THM3, "--no-certify")
+    assert not (tmp_path / "beta-ran").exists()
+
+
+def test_nonconforming_integer_dimensions_name_the_file_and_line(capsys, tmp_path, monkeypatch):
+    (tmp_path / "shapes.py").write_text(textwrap.dedent('''
+        from lmidsl import Theorem, Source
+        thm = Theorem("shapes.t1", "bad product", Source("test", "(1)"))
+        A = thm.data("A", 2, 3)
+        P = thm.var("P", 2, kind="symmetric")
+        thm.lmi("(1)", [[A * A.T * P + P * A]])
+        THEOREMS = [thm]
+        '''))
+    monkeypatch.setenv("LMIDSL_THEOREM_PATH", str(tmp_path))
+    code, _, err = run_main(capsys, "solve", "shapes.t1")
+    assert_one_line(code, err, "shapes.py, line 6")
+
+
+# -- start-up: only what the command needs ---------------------------------------------------
+HEAVY = ("cvxpy", "picos", "matplotlib", "scipy.optimize")
+
+PROBE = '''
+import sys
+from lmidsl.cli import main
+try:
+    main(sys.argv[1:])
+except SystemExit:
+    pass
+print("MODULES", " ".join(sorted(sys.modules)), file=sys.stderr)
+'''
+
+
+def _modules_after(env, *argv):
+    proc = subprocess.run([sys.executable, "-c", PROBE, *argv], cwd=ROOT, env=env,
+                          capture_output=True, text=True, timeout=600)
+    line = [l for l in proc.stderr.splitlines() if l.startswith("MODULES ")][-1]
+    return proc.stdout, set(line.split()[1:])
+
+
+def test_help_and_list_do_not_import_the_numerical_stack(tmp_path):
+    env = _env(tmp_path)
+    out, modules = _modules_after(env, "--help")
+    assert "solve" in out and "sweep" in out
+    assert not [m for m in modules if m.split(".")[0] in ("cvxpy", "picos", "matplotlib", "sympy", "scipy")]
+    cold, _ = _modules_after(env, "list")             # builds the index (loads the theorems)
+    warm, modules = _modules_after(env, "list")       # reads it
+    assert warm == cold and "wang_l2linf.thm3" in warm
+    assert not [m for m in modules if m.startswith(HEAVY) or m == "sympy"], \
+        sorted(m for m in modules if m.startswith(HEAVY))
+
+
+def test_list_index_is_rebuilt_when_a_file_changes(capsys, tmp_path, monkeypatch):
+    monkeypatch.setenv("LMIDSL_CACHE_DIR", str(tmp_path / "cache"))
+    (tmp_path / "thms").mkdir()
+    monkeypatch.setenv("LMIDSL_THEOREM_PATH", str(tmp_path / "thms"))
+    (tmp_path / "thms" / "mine.py").write_text(GOOD.format(id="mine.t1", title="first title"))
+    code, out, _ = run_main(capsys, "list")
+    assert code == 0 and "first title" in out
+    assert len(list((tmp_path / "cache").glob("theorem-index-*.json"))) == 1
+    (tmp_path / "thms" / "mine.py").write_text(GOOD.format(id="mine.t1", title="second title"))
+    from lmidsl.theorem import registry
+    registry._load_module.cache_clear()               # a new process would not have it loaded
+    for name in [m for m in sys.modules if m.startswith("lmidsl_user_theorems_mine")]:
+        del sys.modules[name]
+    code, out, _ = run_main(capsys, "list")
+    assert code == 0 and "second title" in out and "first title" not in out
+    assert len(list((tmp_path / "cache").glob("theorem-index-*.json"))) == 1
