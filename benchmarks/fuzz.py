@@ -64,12 +64,12 @@ def main() -> int:
         print("FAILURE", detail)
     parse_failures = 0
     if args.parse_examples:
-        from hypothesis import HealthCheck, settings
+        from hypothesis import HealthCheck, given, settings
         import test_fuzz
-        for name in ("test_set_values_are_bound_or_refused_in_one_line",
-                     "test_grid_text_is_parsed_or_refused_in_one_line"):
-            test = settings(max_examples=args.parse_examples, deadline=None,
-                            suppress_health_check=[HealthCheck.too_slow])(getattr(test_fuzz, name))
+        for name, check, strategies in (("--set values", test_fuzz.check_set_value, test_fuzz.SET_VALUES),
+                                        ("--grid texts", test_fuzz.check_grid_text, test_fuzz.GRID_TEXTS)):
+            test = settings(max_examples=args.parse_examples, deadline=None, database=None,
+                            suppress_health_check=[HealthCheck.too_slow])(given(**strategies)(check))
             try:
                 test()
                 print(f"{name}: {args.parse_examples} examples, no failure")

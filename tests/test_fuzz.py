@@ -39,9 +39,11 @@ json_values = st.recursive(
     lambda children: st.lists(children, max_size=3), max_leaves=8)
 
 
-@FAST
-@given(name=st.sampled_from(["rbar", "E", "A", "D", "L"]), value=json_values)
-def test_set_values_are_bound_or_refused_in_one_line(name, value):
+SET_VALUES = {"name": st.sampled_from(["rbar", "E", "A", "D", "L"]), "value": json_values}
+GRID_TEXTS = {"text": st.text(alphabet="rbar=0123456789.,:-naiNfe ", max_size=24)}
+
+
+def check_set_value(name, value):
     text = f"{name}={json.dumps(value)}"        # Python writes NaN / Infinity tokens: refused
     try:
         overrides = parse_overrides([text])
@@ -53,9 +55,7 @@ def test_set_values_are_bound_or_refused_in_one_line(name, value):
         assert math.isfinite(v)
 
 
-@FAST
-@given(st.text(alphabet="rbar=0123456789.,:-naiNfe ", max_size=24))
-def test_grid_text_is_parsed_or_refused_in_one_line(text):
+def check_grid_text(text):
     try:
         name, values = parse_grid(text, max_points=1000)
     except LmidslError as exc:
@@ -63,3 +63,15 @@ def test_grid_text_is_parsed_or_refused_in_one_line(text):
         return
     assert name and values and len(values) <= 1000
     assert all(math.isfinite(v) for v in values)
+
+
+@FAST
+@given(**SET_VALUES)
+def test_set_values_are_bound_or_refused_in_one_line(name, value):
+    check_set_value(name, value)
+
+
+@FAST
+@given(**GRID_TEXTS)
+def test_grid_text_is_parsed_or_refused_in_one_line(text):
+    check_grid_text(text)

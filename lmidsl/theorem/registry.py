@@ -197,7 +197,11 @@ def theorem_files() -> list[Path]:
                 package = importlib.util.find_spec(BUILTIN_PACKAGE).submodule_search_locations[0]
                 where = Path(package) / where
             where = Path(where)
-            files += sorted(where.rglob("*.py")) if where.is_dir() else [where]
+            if where.is_dir():     # a package: its modules and any data files it reads
+                files += sorted(f for f in where.rglob("*") if f.is_file() and "__pycache__" not in f.parts
+                                and not f.name.startswith(".") and f.suffix not in (".pyc", ".pyo"))
+            else:
+                files.append(where)
     return files
 
 
