@@ -26,30 +26,36 @@ The public face, by use:
 A theorem file imports only ``lmidsl`` (and its own paper's modules).  The layers below are in
 ``docs/architecture.md``.
 """
-from .certify import AnalysisCertificate, ErrorSystem
 from .errors import (InputError, LmidslError, NoResultError, NonlinearityError, ShapeMismatchError,
                      SolverUnavailableError, TheoremDefinitionError)
-from .numeric.changes_of_variables import (closed_loop_matrices, filter_blocks, filter_error_matrices,
-                                           full_order_filter, loop_shift, mn_split, output_feedback,
-                                           output_feedback_blocks, state_feedback_closed_loop,
-                                           state_feedback_gain)
-from .numeric.design import Design
-from .numeric.factorization import balanced_split, rs_split
-from .solver.solution import Solution
-from .symbolic.blocks import I, He, block_matrix, congruence, diag, schur
-from .symbolic.sprocedure import NormBounded, sprocedure
-from .theorem.checks import CheckResult, reported_agree
-from .theorem.family import Family, SubsystemFamily, TheoremFamily, member_label
-from .theorem.registry import all_theorems, get_theorem
-from .theorem.theorem import Theorem
-from .theorem.values import Example, SimulationTable, Source
 
 __version__ = "0.1.0"
 
-_RUNNING = {"solve": "pipeline", "make_instance": "pipeline", "solve_instance": "pipeline",
-            "verify": "studies.verify", "Verification": "studies.verify",
-            "closed_loop": "numeric.interconnection", "filtering_error": "numeric.interconnection",
-            "generalized_plant": "numeric.interconnection"}
+#: every public name, by the module that defines it: imported when first used (PEP 562), so
+#: ``lmidsl --help`` and ``lmidsl list`` do not pay for sympy, cvxpy, scipy or matplotlib, and a
+#: theorem file, which imports only the authoring vocabulary, does not pay for the running stack
+_LAZY = {
+    "AnalysisCertificate": "certify", "ErrorSystem": "certify",
+    "Design": "numeric.design", "balanced_split": "numeric.factorization", "rs_split": "numeric.factorization",
+    "Solution": "solver.solution",
+    "I": "symbolic.blocks", "He": "symbolic.blocks", "block_matrix": "symbolic.blocks",
+    "congruence": "symbolic.blocks", "diag": "symbolic.blocks", "schur": "symbolic.blocks",
+    "NormBounded": "symbolic.sprocedure", "sprocedure": "symbolic.sprocedure",
+    "CheckResult": "theorem.checks", "reported_agree": "theorem.checks",
+    "Family": "theorem.family", "SubsystemFamily": "theorem.family", "TheoremFamily": "theorem.family",
+    "member_label": "theorem.family",
+    "all_theorems": "theorem.registry", "get_theorem": "theorem.registry",
+    "Theorem": "theorem.theorem",
+    "Example": "theorem.values", "SimulationTable": "theorem.values", "Source": "theorem.values",
+    "solve": "pipeline", "make_instance": "pipeline", "solve_instance": "pipeline",
+    "verify": "studies.verify", "Verification": "studies.verify",
+    "closed_loop": "numeric.interconnection", "filtering_error": "numeric.interconnection",
+    "generalized_plant": "numeric.interconnection",
+}
+_LAZY.update({name: "numeric.changes_of_variables" for name in (
+    "closed_loop_matrices", "filter_blocks", "filter_error_matrices", "full_order_filter", "loop_shift",
+    "mn_split", "output_feedback", "output_feedback_blocks", "state_feedback_closed_loop",
+    "state_feedback_gain")})
 
 __all__ = ["Theorem", "Source", "Example", "I", "He", "diag", "schur", "congruence",
            "block_matrix", "NormBounded", "sprocedure", "TheoremFamily", "SubsystemFamily",
@@ -65,9 +71,13 @@ __all__ = ["Theorem", "Source", "Example", "I", "He", "diag", "schur", "congruen
 
 
 def __getattr__(name):
-    # PEP 562: running pulls in the whole numerical stack (backends, certification, studies);
-    # a theorem file, which imports only the authoring vocabulary, does not pay for it
-    if name in _RUNNING:
+    if name in _LAZY:
         import importlib
-        return getattr(importlib.import_module(f".{_RUNNING[name]}", __name__), name)
+        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        globals()[name] = value
+        return value
     raise AttributeError(f"module 'lmidsl' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))

@@ -41,3 +41,9 @@ class NoResultError(LmidslError):
     """The computation ran, but its verdict leaves nothing to give (infeasible, not solved)."""
 
     exit_code = 1
+
+
+class Interrupted(LmidslError):
+    """A long run stopped by the user (Ctrl-C); the message says where the finished work is."""
+
+    exit_code = 130

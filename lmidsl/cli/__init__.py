@@ -2,18 +2,22 @@
 
 Each sub-command lives in its own module ``lmidsl/cli/<name>_cmd.py`` with a ``register``
 function that adds its parser and sets ``run``; modules are discovered, so a new command is a
-new file.  Every :class:`~lmidsl.errors.LmidslError` becomes one line ``error: ...`` on stderr
+new file.  Only the module of the command being run is imported: the others are listed from
+their source (``ORDER`` and the literal ``sub.add_parser(NAME, help=...)``), so that
+``lmidsl --help`` and ``lmidsl list`` start without cvxpy, matplotlib or scipy.  Every :class:`~lmidsl.errors.LmidslError` becomes one line ``error: ...`` on stderr
 and exit code 2; argument errors too.
 """
 from __future__ import annotations
 
 import argparse
+import ast
 import importlib
 import os
-import pkgutil
 import sys
+from pathlib import Path
 
 from ..errors import LmidslError
+from ..theorem.registry import load_problems
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -24,26 +28,91 @@ class OneLineParser(argparse.ArgumentParser):
 
 
 def command_modules():
-    package = importlib.import_module(__name__)
-    names = sorted(m.name for m in pkgutil.iter_modules(package.__path__) if m.name.endswith("_cmd"))
-    return [importlib.import_module(f"{__name__}.{name}") for name in names]
+    """Every command module, imported (each imports what its command needs: slow)."""
+    return [importlib.import_module(f"{__name__}.{entry.module}") for entry in command_index()]
 
 
-def build_parser() -> argparse.ArgumentParser:
+class CommandEntry:
+    """A command as its module's source states it, read without importing the module."""
+
+    def __init__(self, module: str, name: str | None, help: str | None, order: int):
+        self.module, self.name, self.help, self.order = module, name, help, order
+
+
+def _read_command(path) -> CommandEntry:
+    """ORDER and the literal ``sub.add_parser(NAME, help=...)`` of a command module, by ``ast``
+    (no import); a module that computes them is imported when the parser is built."""
+    name = help_text = None
+    order = 50
+    try:
+        tree = ast.parse(path.read_text())
+    except (OSError, SyntaxError, ValueError):
+        return CommandEntry(path.stem, None, None, order)
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "ORDER" for t in node.targets) \
+                and isinstance(node.value, ast.Constant) and isinstance(node.value.value, int):
+            order = node.value.value
+        if isinstance(node, ast.FunctionDef) and node.name == "register":
+            for call in ast.walk(node):
+                if isinstance(call, ast.Call) and getattr(call.func, "attr", None) == "add_parser" \
+                        and call.args and isinstance(call.args[0], ast.Constant):
+                    name = call.args[0].value
+                    keywords = {k.arg: k.value for k in call.keywords}
+                    if set(keywords) - {"help"}:
+                        name = None           # aliases etc.: import it to be exact
+                    elif isinstance(keywords.get("help"), ast.Constant):
+                        help_text = keywords["help"].value
+                    elif "help" in keywords:
+                        name = None
+                    break
+    return CommandEntry(path.stem, name, help_text, order)
+
+
+def command_index() -> list[CommandEntry]:
+    """The command modules ``<name>_cmd.py`` of this package, in ``ORDER``, read without importing."""
+    folder = Path(__file__).parent
+    entries = [_read_command(path) for path in sorted(folder.glob("*_cmd.py"))]
+    return sorted(entries, key=lambda e: e.order)
+
+
+def _requested(argv) -> str | None:
+    """The sub-command named on the command line (the first word that is not an option)."""
+    for word in (sys.argv[1:] if argv is None else argv):
+        if not word.startswith("-"):
+            return word
+    return None
+
+
+def build_parser(argv=None) -> argparse.ArgumentParser:
+    """The parser; only the module of the command being run is imported (``lmidsl --help`` and
+    ``lmidsl list`` do not pay for cvxpy, matplotlib or scipy), the others are listed from their
+    source (``argv=None``: the process's own arguments)."""
     parser = OneLineParser(prog="lmidsl", description="LMI theorems stated once: solve, recover, certify.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=OneLineParser,
                                 metavar="COMMAND")
-    for module in sorted(command_modules(), key=lambda m: getattr(m, "ORDER", 50)):
-        module.register(sub)
+    wanted = _requested(argv)
+    for entry in command_index():
+        if entry.name is None or entry.name == wanted:
+            importlib.import_module(f"{__name__}.{entry.module}").register(sub)
+        else:
+            sub.add_parser(entry.name, help=entry.help)    # listed; never run in this process
     return parser
 
 
+def _warn_skipped_theorem_files() -> None:
+    """One line per user theorem file that failed to load and was skipped (each once)."""
+    for problem in load_problems():
+        print(f"warning: {problem} (file skipped)", file=sys.stderr)
+
+
 def main(argv=None) -> int:
-    parser = build_parser()
+    parser = build_parser(argv)
     args = parser.parse_args(argv)
     try:
         code = args.run(args)
+        _warn_skipped_theorem_files()
     except LmidslError as exc:
+        _warn_skipped_theorem_files()
         print(f"error: {exc}", file=sys.stderr)
         return exc.exit_code
     except KeyboardInterrupt:

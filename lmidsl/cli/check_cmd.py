@@ -10,7 +10,7 @@ import json
 from ..studies.cross_check import DEFAULT_TOLERANCE, check
 from ..errors import InputError
 from ..render.report import format_table
-from .common import add_instance_arguments, instance_spec, print_json
+from .common import add_instance_arguments, instance_spec, positive_float, print_json
 
 ORDER = 25
 
@@ -26,9 +26,9 @@ def register(sub):
                    metavar="[BACKEND:]SOLVER:KEY=VALUE",
                    help="an option for one solver's rows, VALUE as JSON (e.g. clarabel:max_iter=5, "
                         "picos:cvxopt:max_iterations=3); repeatable")
-    p.add_argument("--tolerance", type=float, default=DEFAULT_TOLERANCE,
+    p.add_argument("--tolerance", type=positive_float, default=DEFAULT_TOLERANCE,
                    help=f"relative tolerance on gamma among trusted rows (default {DEFAULT_TOLERANCE:g})")
-    p.add_argument("--margin", type=float, help="strictness margin ε (N <= -ε I); default 1e-7")
+    p.add_argument("--margin", type=positive_float, help="strictness margin ε (N <= -ε I); default 1e-7")
     p.add_argument("--no-certify", action="store_true", help="skip the analysis certificate")
     p.add_argument("--json", action="store_true", help="one JSON object on stdout")
     p.set_defaults(run=run)

@@ -10,6 +10,7 @@ from pathlib import Path
 from ..errors import InputError, LmidslError
 from ..pipeline import solve
 from ..render.latex_document import theorem_latex
+from ..studies.store import atomic_write_text, check_output_file
 from ..theorem.registry import get_example, get_theorem
 
 ORDER = 40
@@ -63,6 +64,10 @@ def run(args):
         get_example(theorem, args.example)
     settings = {"star": r"\star" if args.star == "star" else "*", "he": args.he,
                 "relation": args.relation}
+    if args.output is not None:      # an unwritable -o is found before any solve
+        if Path(args.output).suffix != ".tex":
+            raise InputError(f"-o {args.output}: the output file must end in .tex")
+        check_output_file(args.output, "-o")
     if args.pdf and shutil.which("pdflatex") is None and args.output is None:
         raise PdflatexMissing("--pdf: pdflatex is not installed (apt-get install texlive-latex-base)")
     solution = None
@@ -78,9 +83,9 @@ def run(args):
     path = Path(out)
     if path.suffix != ".tex":
         raise InputError(f"-o {out}: the output file must end in .tex")
+    check_output_file(path, "-o")
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(text)
+        atomic_write_text(path, text)
     except OSError as exc:
         raise InputError(f"-o {out}: {exc.strerror}") from None
     print(f"wrote {path}")

@@ -1,11 +1,12 @@
 """``lmidsl list``: theorems (id, title, source) and their examples.
 
 By default only the papers' own theorems and examples; ``--all`` adds corrected and guessed
-readings and illustrations, marked with their provenance."""
+readings and illustrations, marked with their provenance.  Reads the cached index of
+:mod:`lmidsl.theorem.index` (rebuilt when a theorem file changes), so no theorem file runs."""
 from __future__ import annotations
 
 from ..render.report import format_table
-from ..theorem.registry import all_theorems
+from ..theorem.index import theorem_index
 from .common import print_json
 
 ORDER = 10
@@ -20,21 +21,22 @@ def register(sub):
 
 
 def run(args):
-    everything = [t for _, t in sorted(all_theorems().items())]
-    theorems = everything if args.all else [t for t in everything if t.provenance == "paper"]
+    everything = theorem_index()      # cached: no theorem file runs when none has changed
+    theorems = everything if args.all else [t for t in everything if t["provenance"] == "paper"]
     if args.json:
-        print_json({"theorems": [t.summary() for t in theorems]})
+        keys = ("origin", "source_paper", "source_equations")
+        print_json({"theorems": [{k: v for k, v in t.items() if k not in keys} for t in theorems]})
         return 0
     rows = []
     hidden_examples = 0
     for t in theorems:
-        examples = [e for e in t.examples.values() if args.all or e.provenance == "paper"]
-        hidden_examples += len(t.examples) - len(examples)
-        names = ", ".join(e.name + ("" if e.provenance == "paper" else f" [{e.provenance}]")
-                          for e in examples)
-        row = [t.id, t.title, f"{t.source.paper}, {t.source.equations}", names]
+        examples = [(name, t["example_provenance"][name]) for name in t["examples"]]
+        shown = [(name, prov) for name, prov in examples if args.all or prov == "paper"]
+        hidden_examples += len(examples) - len(shown)
+        names = ", ".join(name + ("" if prov == "paper" else f" [{prov}]") for name, prov in shown)
+        row = [t["id"], t["title"], f"{t['source_paper']}, {t['source_equations']}", names]
         if args.all:
-            row.insert(1, t.provenance)
+            row.insert(1, t["provenance"])
         rows.append(row)
     headers = ["theorem", "title", "source", "examples"]
     if args.all:

@@ -7,7 +7,9 @@ from collections import Counter
 from ..studies.reproduce import REPRODUCED_TOLERANCE, reproduce_all
 from ..render.report import format_table
 from ..theorem.values import PROVENANCE
-from .common import print_json
+from ..errors import InputError
+from ..studies.store import atomic_write_text, ensure_writable_dir, strict_json
+from .common import check_solver_argument, print_json
 
 ORDER = 30
 
@@ -16,6 +18,10 @@ def register(sub):
     p = sub.add_parser("reproduce", help="reproduce every example of every theorem")
     p.add_argument("--solver", help="solver name (default: clarabel)")
     p.add_argument("--theorem", action="append", help="only this theorem id (repeatable)")
+    p.add_argument("--out", metavar="DIR",
+                   help="write reproduce.jsonl (each row as it is done) and reproduce.json here")
+    p.add_argument("--resume", action="store_true",
+                   help="keep the rows already in DIR/reproduce.jsonl and run only the rest")
     p.add_argument("--json", action="store_true", help="one JSON object on stdout")
     p.set_defaults(run=run)
 
@@ -32,9 +38,17 @@ def run(args):
     if not args.json and sys.stderr.isatty():
         from tqdm import tqdm
         progress = lambda jobs: tqdm(jobs, desc="reproducing", file=sys.stderr)  # noqa: E731
-    rows = reproduce_all(args.solver, args.theorem, progress)
+    if args.resume and not args.out:
+        raise InputError("reproduce: --resume needs --out DIR (the folder of the interrupted run)")
+    out = ensure_writable_dir(args.out, "--out") if args.out else None   # before the first solve
+    check_solver_argument(args)
+    rows = reproduce_all(args.solver, args.theorem, progress,
+                         store=out / "reproduce.jsonl" if out else None, resume=args.resume)
+    document = {"tolerance": REPRODUCED_TOLERANCE, "rows": [r.as_dict() for r in rows]}
+    if out:
+        atomic_write_text(out / "reproduce.json", strict_json(document))
     if args.json:
-        print_json({"tolerance": REPRODUCED_TOLERANCE, "rows": [r.as_dict() for r in rows]})
+        print_json(document)
     else:
         headers = ["theorem", "example", "printed γ", "computed γ", "rel. diff",
                    "max eig", "certified γ", "exact γ", "verdict"]

@@ -5,7 +5,7 @@ from ..pipeline import make_instance
 from ..errors import InputError
 from ..studies.search import OBJECTIVES, format_result, scalar_search
 from ..studies.sweep import parse_grid
-from .common import add_instance_arguments, instance_spec, print_json
+from .common import add_instance_arguments, instance_spec, positive_float, positive_int, print_json
 
 ORDER = 25
 
@@ -18,11 +18,11 @@ def register(sub):
     p.add_argument("--refine", action="store_true", help="Nelder-Mead refinement from the best grid point")
     p.add_argument("--objective", choices=OBJECTIVES,
                    help="gamma (optimal level; default when the theorem minimises) or tmin (feasp t*)")
-    p.add_argument("--workers", type=int, help="worker processes (default: number of CPUs; 1 = serial)")
-    p.add_argument("--maxfev", type=int, default=80, help="refinement evaluations (default 80)")
+    p.add_argument("--workers", type=positive_int, help="worker processes (default: number of CPUs; 1 = serial)")
+    p.add_argument("--maxfev", type=positive_int, default=80, help="refinement evaluations (default 80)")
     p.add_argument("--solver", help="solver name (default: clarabel)")
     p.add_argument("--backend", default="cvxpy", help="modelling backend")
-    p.add_argument("--margin", type=float, help="strictness margin ε (N <= -ε I); default 1e-7")
+    p.add_argument("--margin", type=positive_float, help="strictness margin ε (N <= -ε I); default 1e-7")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="one JSON object on stdout")
     p.set_defaults(run=run)

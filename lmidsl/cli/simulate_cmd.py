@@ -9,7 +9,7 @@ from __future__ import annotations
 from ..errors import InputError, NoResultError
 from ..pipeline import make_instance, solve_instance
 from ..render.report import format_table
-from .common import add_instance_arguments, instance_spec, print_json
+from .common import add_instance_arguments, instance_spec, nonnegative_int, positive_int, print_json
 
 ORDER = 40
 
@@ -20,9 +20,9 @@ def register(sub):
     p.add_argument("--scenario", "--impulses", dest="scenario", action="append", default=[],
                    metavar="KIND", help="a scenario of the theorem's simulator (repeatable), e.g. "
                    "impulse sequences none, all[:K], periodic:P, random:p, explicit:k1,k2,...")
-    p.add_argument("--horizon", type=int, default=200, help="number of samples (default 200)")
+    p.add_argument("--horizon", type=positive_int, default=200, help="number of samples (default 200)")
     p.add_argument("--disturbance", default="noise", help="test disturbance, e.g. pulse, noise, sine, step")
-    p.add_argument("--seed", type=int, default=0, help="seed of random scenarios and noise")
+    p.add_argument("--seed", type=nonnegative_int, default=0, help="seed of random scenarios and noise")
     p.add_argument("--solver", help="solver for a synthesis theorem (default: clarabel)")
     p.add_argument("--json", action="store_true", help="one JSON object on stdout")
     p.set_defaults(run=run)

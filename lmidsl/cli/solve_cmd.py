@@ -6,7 +6,7 @@ import argparse
 from ..pipeline import solve
 from ..solver.backends import BACKENDS
 from ..render.report import format_solution
-from .common import add_instance_arguments, instance_spec, print_json
+from .common import add_instance_arguments, instance_spec, positive_float, print_json
 
 ORDER = 20
 
@@ -17,7 +17,7 @@ def register(sub):
     p.add_argument("--solver", help="solver name (default: clarabel on cvxpy, cvxopt on picos); "
                    "any installed SDP solver of the backend")
     p.add_argument("--backend", default="cvxpy", help=f"modelling backend ({', '.join(BACKENDS)})")
-    p.add_argument("--margin", type=float, help="strictness margin ε (N <= -ε I); default 1e-7")
+    p.add_argument("--margin", type=positive_float, help="strictness margin ε (N <= -ε I); default 1e-7")
     p.add_argument("--scaling", default="auto", choices=("auto", "none"),
                    help="exact signal rescaling declared by the theorem, applied and undone by lmidsl "
                         "(default auto)")

@@ -4,7 +4,8 @@ from __future__ import annotations
 import json
 
 from ..errors import InputError
-from .common import add_instance_arguments, instance_spec, print_json
+from ..symbolic.numbers import finite_matrix
+from .common import add_instance_arguments, instance_spec, nonnegative_int, positive_float, positive_int, print_json, probability, strict_loads
 from .solve_cmd import backoff_argument
 from ..studies.verify import verify
 
@@ -17,14 +18,14 @@ def register(sub):
     p.add_argument("--design", "--filter", dest="design", metavar="FILE.json|printed",
                    help="certify these matrices instead of a fresh design: a JSON object of name -> "
                         "matrix (or the JSON of `solve`/`verify`), or 'printed' for the example's printed filter")
-    p.add_argument("--gamma", type=float, help="the level γ claimed for the filter (default: synthesis or printed γ)")
-    p.add_argument("--runs", type=int, default=10000, help="Monte Carlo runs (0: no simulation; default 10000)")
-    p.add_argument("--seed", type=int, default=0, help="random seed of the simulation (default 0)")
-    p.add_argument("--confidence", type=float, default=0.95, help="confidence level of the interval (default 0.95)")
+    p.add_argument("--gamma", type=positive_float, help="the level γ claimed for the filter (default: synthesis or printed γ)")
+    p.add_argument("--runs", type=nonnegative_int, default=10000, help="Monte Carlo runs (0: no simulation; default 10000)")
+    p.add_argument("--seed", type=nonnegative_int, default=0, help="random seed of the simulation (default 0)")
+    p.add_argument("--confidence", type=probability, default=0.95, help="confidence level of the interval (default 0.95)")
     p.add_argument("--disturbance", default="worst", metavar="worst|impulse|FILE.json",
                    help="simulated disturbance: the exact worst case (default), a unit impulse, or a "
                         "JSON list of w(k) rows")
-    p.add_argument("--horizon", type=int, default=50, help="steps simulated with an impulse (default 50)")
+    p.add_argument("--horizon", type=positive_int, default=50, help="steps simulated with an impulse (default 50)")
     p.add_argument("--backoff", type=backoff_argument, metavar="DELTA|auto",
                    help="design only: recover the filter at objective <= (1+DELTA)*optimum with the best "
                         "conditioning (see `solve --backoff`); 'auto': only when the optimum's filter "
@@ -38,7 +39,7 @@ def register(sub):
 def _load_json(path: str, option: str):
     try:
         with open(path) as fh:
-            return json.load(fh)
+            return strict_loads(fh.read(), f"{option} {path}")
     except OSError as exc:
         raise InputError(f"{option} {path}: {exc.strerror}") from None
     except json.JSONDecodeError as exc:
@@ -53,12 +54,19 @@ def load_design(arg: str | None):
     if isinstance(data, dict):
         design = data.get("design")
         if isinstance(design, dict) and isinstance(design.get("matrices"), dict):
-            return design["matrices"]            # the JSON of `solve`
+            return _checked(design["matrices"], arg)            # the JSON of `solve`
         for key in ("design", "filter", "recovered"):   # of `verify`, and of older versions
             if isinstance(data.get(key), dict) and data[key]:
-                return data[key]
-        return data
+                return _checked(data[key], arg)
+        return _checked(data, arg)
     raise InputError(f"--design {arg}: expected a JSON object of the design's matrices by name")
+
+
+def _checked(matrices: dict, arg: str) -> dict:
+    """Every matrix of a design file is a rectangular array of finite numbers (one line if not)."""
+    for name, value in matrices.items():
+        finite_matrix(value, f"--design {arg}: matrix {name}")
+    return matrices
 
 
 def load_disturbance(arg: str):
@@ -69,7 +77,9 @@ def load_disturbance(arg: str):
         data = data["w"]
     if not isinstance(data, list) or not data:
         raise InputError(f"--disturbance {arg}: expected a JSON list of w(k) (numbers or rows)")
-    return [[x] if not isinstance(x, list) else x for x in data]
+    rows = [[x] if not isinstance(x, list) else x for x in data]
+    finite_matrix(rows, f"--disturbance {arg}")
+    return rows
 
 
 def run(args):

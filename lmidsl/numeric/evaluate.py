@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InputError
 from ..symbolic.walker import ExpressionWalker
 
 
@@ -53,7 +54,13 @@ class NumericEvaluator(ExpressionWalker):
         name = str(expr)
         if all(entry["matrix"] != name for entry in self.inverted):
             self.inverted.append({"matrix": name, "cond": float(np.linalg.cond(a))})
-        return np.linalg.inv(a)
+        try:
+            inv = np.linalg.inv(a)
+        except np.linalg.LinAlgError:
+            raise InputError(f"the inverse of {name} is taken but {name} is singular here") from None
+        if not np.all(np.isfinite(inv)):
+            raise InputError(f"the inverse of {name} is taken but {name} is not invertible here")
+        return inv
 
     def scale(self, c, a):
         return c * np.asarray(a)

@@ -15,6 +15,7 @@ import sympy as sp
 
 from ..errors import InputError, ShapeMismatchError, TheoremDefinitionError
 from .evaluate import NumericEvaluator, asymmetry
+from ..symbolic.numbers import finite_matrix, finite_number, positive_integer
 from ..symbolic.shapes import fmt_shape
 from ..symbolic.symbols import Dim, ScalarVariable, expand_derived
 from ..theorem.theorem import Theorem
@@ -49,19 +50,7 @@ class Instance:
 
 
 def _as_matrix(theorem: Theorem, name: str, value) -> np.ndarray:
-    if isinstance(value, (int, float)) and not isinstance(value, bool):
-        return np.array([[float(value)]])
-    try:
-        arr = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{theorem.id}: data {name} is not a numeric matrix: {value!r}") from None
-    if arr.ndim != 2:
-        raise InputError(
-            f"{theorem.id}: data {name} must be a matrix given as nested lists (got {arr.ndim}-d "
-            f"{list(arr.shape)}); write a column as [[0],[1]]")
-    if not np.all(np.isfinite(arr)):
-        raise InputError(f"{theorem.id}: data {name} has non-finite entries")
-    return arr
+    return finite_matrix(value, f"{theorem.id}: data {name}")
 
 
 def _evaluate_params(theorem: Theorem, base: dict) -> dict:
@@ -70,8 +59,7 @@ def _evaluate_params(theorem: Theorem, base: dict) -> dict:
         value = base.get(name, decl.extra.get("default"))
         if value is None:
             raise InputError(f"{theorem.id}: missing parameter {name}")
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise InputError(f"{theorem.id}: parameter {name} must be a number, got {value!r}")
+        value = finite_number(value, f"{theorem.id}: parameter {name}")
         domain = decl.extra.get("domain")
         if domain is not None:
             is_open = decl.extra.get("open", False)
@@ -174,9 +162,7 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None) -> Instance
     for name in theorem.dims:
         if name in inputs:
             value = inputs[name]
-            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-                raise InputError(f"{theorem.id}: dimension {name} must be a positive integer, got {value!r}")
-            given_dims[name] = value
+            given_dims[name] = positive_integer(value, f"{theorem.id}: dimension {name}")
     data, matrices = {}, {}
     for name, decl in theorem.data_decl.items():
         if name in per_vertex:

@@ -30,7 +30,8 @@ import warnings
 from dataclasses import dataclass, field
 
 from ..pipeline import make_instance, solve_instance
-from ..solver.backends import BACKENDS, backend_sdp_solvers, is_first_order, resolve_solver
+from ..solver.backends import (BACKENDS, SOLVER_INFO, backend_sdp_solvers, is_first_order,
+                               resolve_solver)
 from ..errors import InputError, LmidslError
 
 DEFAULT_TOLERANCE = 1e-3
@@ -217,6 +218,10 @@ def plan_rows(solvers=None) -> list[tuple[str, str, str | None]]:
                 if match:
                     add(b, match[0])
                     found = True
+            if not found and name.lower() not in SOLVER_INFO:
+                known = sorted({s.lower() for b in BACKENDS for s in _backend_solvers(b)[0]})
+                raise InputError(f"--solvers {name}: no backend knows a solver {name!r}; installed: "
+                                 f"{', '.join(known) or 'none'} (or a backend: {', '.join(BACKENDS)})")
             if not found:
                 errors = []
                 for b in BACKENDS:

@@ -10,13 +10,14 @@ which must not exceed the computed γ; otherwise the row is not certified.
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields
 
 from ..pipeline import solve
-from ..errors import LmidslError
+from ..errors import Interrupted, LmidslError
 from ..solver.status import solved
 from ..theorem.registry import all_theorems, get_theorem
 from ..theorem.values import OUTCOMES, PROVENANCE
+from .store import JsonLinesStore
 from .verify import figures_for_solution, worst_index
 
 REPRODUCED_TOLERANCE = 5e-3
@@ -133,14 +134,44 @@ def _exact(sol):
     return None if not figures else figures[worst_index(figures)]
 
 
-def reproduce_all(solver: str | None = None, theorems: list[str] | None = None, progress=None):
+def reproduce_all(solver: str | None = None, theorems: list[str] | None = None, progress=None,
+                  store=None, resume: bool = False):
     """Rows for every theorem × example (optionally only the listed theorem ids), the papers'
-    own first, then corrected and guessed readings, then illustrations (:data:`PROVENANCE`)."""
+    own first, then corrected and guessed readings, then illustrations (:data:`PROVENANCE`).
+
+    ``store``: a JSON Lines file each row is appended to when it is done; with ``resume`` the rows
+    already there (same solver and theorem selection) are kept, not run again.  Ctrl-C ends the
+    job with :class:`~lmidsl.errors.Interrupted` saying how many rows are kept where."""
     order = list(PROVENANCE)
+    for tid in theorems or []:
+        get_theorem(tid)                  # an unknown id is a one-line error, not zero rows
     jobs = [(tid, ex) for tid, thm in sorted(all_theorems().items())
             if theorems is None or tid in theorems for ex in thm.examples]
     jobs.sort(key=lambda job: order.index(row_provenance(get_theorem(job[0]), job[1])))
+    done = {}
+    jsonl = None
+    if store is not None:
+        jsonl = JsonLinesStore(store)
+        header = {"kind": "reproduce", "solver": solver, "theorems": sorted(theorems) if theorems else None}
+        names = {f.name for f in fields(ReproductionRow)}
+        for record in jsonl.open(header, resume=resume):
+            row = ReproductionRow(**{k: v for k, v in record.items() if k in names})
+            done[(row.theorem, row.example)] = row
     rows = []
-    for tid, ex in (progress(jobs) if progress else jobs):
-        rows.append(reproduce_one(tid, ex, solver))
+    try:
+        for tid, ex in (progress(jobs) if progress else jobs):
+            if (tid, ex) in done:
+                rows.append(done[(tid, ex)])
+                continue
+            row = reproduce_one(tid, ex, solver)
+            rows.append(row)
+            if jsonl is not None:
+                jsonl.append(row.as_dict())
+    except KeyboardInterrupt:
+        where = (f"; they are in {jsonl.path} (run again with --resume to go on)" if jsonl is not None
+                 else " and lost (give --out DIR to keep them)")
+        raise Interrupted(f"reproduce interrupted after {len(rows)} of {len(jobs)} rows{where}") from None
+    finally:
+        if jsonl is not None:
+            jsonl.close()
     return rows

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import csv
 import itertools
-import json
 import math
 import time
 from dataclasses import dataclass, field
@@ -26,12 +25,18 @@ from ..numeric.proof import PROVED
 from ..solver.margin import solve_model
 from ..solver.solution import lmi_certificate
 from ..solver.backends import get_backend
-from ..errors import InputError
+from ..errors import InputError, Interrupted
+from .store import JsonLinesStore, atomic_path, atomic_write_text, strict_json
 from ..numeric.scaling import apply_scaling
 
 
-def parse_grid(text: str) -> tuple[str, list[float]]:
-    """'xi1=0.05:0.95:19' (start:stop:count, inclusive) or 'xi1=0.1,0.5,0.9' → (name, values)."""
+#: the largest grid a sweep runs unless told otherwise (``--max-points``)
+MAX_POINTS = 100_000
+
+
+def parse_grid(text: str, max_points: int = MAX_POINTS) -> tuple[str, list[float]]:
+    """'xi1=0.05:0.95:19' (start:stop:count, inclusive) or 'xi1=0.1,0.5,0.9' → (name, values);
+    finite numbers only, at most ``max_points`` values."""
     name, sep, spec = text.partition("=")
     name = name.strip()
     if not sep or not name or not spec:
@@ -42,12 +47,29 @@ def parse_grid(text: str) -> tuple[str, list[float]]:
             count = int(count)
             if count < 1:
                 raise ValueError
-            values = np.linspace(float(start), float(stop), count).tolist()
+            ends = [float(start), float(stop)]
+            if not all(math.isfinite(v) for v in ends):
+                raise InputError(f"--grid {text!r}: START and STOP must be finite numbers")
+            if count > max_points:
+                raise InputError(f"--grid {text!r}: {count} points exceed the maximum of {max_points} "
+                                 f"(raise it with --max-points)")
+            values = np.linspace(ends[0], ends[1], count).tolist()
         else:
             values = [float(v) for v in spec.split(",")]
+            if not all(math.isfinite(v) for v in values):
+                raise InputError(f"--grid {text!r}: values must be finite numbers (no nan, inf)")
     except ValueError:
         raise InputError(f"--grid {text!r}: expected NAME=START:STOP:COUNT (COUNT ≥ 1) or NAME=V1,V2,...") from None
     return name, [round(v, 12) for v in values]
+
+
+def grid_size(grids: list) -> int:
+    return math.prod(len(values) for _, values in grids)
+
+
+def _ratio(a: float, b: float) -> float:
+    """a / b, NaN when b is zero or not a number (no ZeroDivisionError on a sweep that failed)."""
+    return a / b if b and math.isfinite(b) else float("nan")
 
 
 @dataclass
@@ -78,6 +100,8 @@ class SweepResult:
     first_solve: float = 0.0
     scaling: dict | None = None
     labels: dict = field(default_factory=dict)   # parameter name → LaTeX name (figure axes)
+    resumed: int = 0                             # points taken from the store (--resume)
+    solved: int = 0                              # points solved by this run
 
     @classmethod
     def from_dict(cls, d: dict) -> "SweepResult":
@@ -99,17 +123,18 @@ class SweepResult:
         total = float(np.mean([p.total for p in pts])) if pts else float("nan")
         call = float(np.mean(calls)) if calls else float("nan")
         out = {"points_timed": len(pts), "total_per_point": total, "solver_call_per_point": call,
-               "overhead_per_point": total - call, "overhead_ratio": (total - call) / call,
+               "overhead_per_point": total - call, "overhead_ratio": _ratio(total - call, call),
                "compile": self.compile_time, "first_point": self.first_solve}
         if internal:
             own = float(np.mean(internal))
-            out.update(solver_internal_per_point=own, overhead_vs_solver_internal=(total - own) / own)
+            out.update(solver_internal_per_point=own, overhead_vs_solver_internal=_ratio(total - own, own))
         return out
 
     def as_dict(self) -> dict:
         return {"theorem": self.theorem, "example": self.example, "solver": self.solver,
                 "grid": self.grid, "labels": self.labels, "scaling": self.scaling,
                 "timing": self.timing(), "certified": self.certified_count(),
+                "resumed": self.resumed, "solved": self.solved,
                 "points": [p.as_dict() for p in self.points]}
 
     def certified_count(self) -> int:
@@ -122,8 +147,9 @@ class SweepResult:
         return np.array([np.nan if p.gamma is None else p.gamma for p in self.points]).reshape(shape)
 
     def write_csv(self, path) -> None:
+        """The points as CSV, written atomically (a reader never sees half a file)."""
         names = list(self.grid)
-        with open(path, "w", newline="") as fh:
+        with atomic_path(path) as tmp, open(tmp, "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(names + ["status", "gamma", "objective", "worst_eig", "solver_call_s",
                                 "solver_internal_s", "total_s"])
@@ -132,7 +158,8 @@ class SweepResult:
                                                             p.solver_call, p.solver_internal, p.total])
 
     def write_json(self, path) -> None:
-        Path(path).write_text(json.dumps(self.as_dict(), indent=2, default=float))
+        """The result as strict JSON, written atomically."""
+        atomic_write_text(path, strict_json(self.as_dict()))
 
     def figure(self, path, title: str | None = None) -> None:
         """γ over the grid: a line for one parameter, a surface and contour map for two."""
@@ -168,14 +195,26 @@ class SweepResult:
             raise InputError("a figure needs one or two grid parameters")
         fig.suptitle(title)
         fig.tight_layout()
-        fig.savefig(path, dpi=120)
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=120, format=Path(path).suffix.lstrip(".") or "png")
         plt.close(fig)
 
 
 def sweep(theorem, grids: list, example: str | None = None, data: dict | None = None,
           overrides: dict | None = None, solver: str | None = None, backend: str = "cvxpy",
-          margin: float | None = None, scaling="auto", progress=None, **options) -> SweepResult:
-    """Solve ``theorem`` at every point of the product of ``grids`` = [(name, values), ...]."""
+          margin: float | None = None, scaling="auto", progress=None, store=None,
+          resume: bool = False, max_points: int = MAX_POINTS, **options) -> SweepResult:
+    """Solve ``theorem`` at every point of the product of ``grids`` = [(name, values), ...].
+
+    ``store``: a JSON Lines file (:class:`~lmidsl.studies.store.JsonLinesStore`) to which each
+    point is appended as soon as it is solved; with ``resume`` the points already in it (same
+    theorem, example, data and grid) are taken from it, not solved again.  Ctrl-C ends the sweep
+    with :class:`~lmidsl.errors.Interrupted`, whose message says how many points are kept where.
+    """
+    size = grid_size(grids)
+    if size > max_points:
+        raise InputError(f"--grid: {size} points exceed the maximum of {max_points} "
+                         f"(raise it with --max-points)")
     instance = make_instance(theorem, example, data, overrides)
     thm = instance.theorem
     for name, _ in grids:
@@ -187,36 +226,66 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
     for name, values in grids:  # check domains before compiling
         for v in (min(values), max(values)):
             instance.with_params(**{name: v})
-    applied = apply_scaling(instance, scaling)
-    base = applied.scaled
-    model_class = get_backend(backend)  # imports the backend: not part of the compile time
-    t0 = time.perf_counter()
-    model = model_class(base, margin=margin, reuse=True)  # parameters stay backend parameters
-    result = SweepResult(thm.id, instance.example, model.solver_name(solver),
-                         {n: list(v) for n, v in grids}, compile_time=time.perf_counter() - t0,
-                         scaling=applied.as_dict(),
-                         labels={n: thm.param_decl[n].latex for n, _ in grids})
     names = [n for n, _ in grids]
-    combos = list(itertools.product(*[v for _, v in grids]))
-    for k, combo in enumerate(progress(combos) if progress else combos):
-        params = dict(zip(names, combo))
-        t1 = time.perf_counter()
-        model.update(base.with_params(**params))
-        # with margin escalation, as a single solve: a point must satisfy the strict LMIs
-        sol = solve_model(model, solver, restore_margin=True, **options)
-        total = time.perf_counter() - t1
-        if k == 0:
-            result.first_solve = total
-        internal = sol.times.get("solver")
-        call = sol.times["solver_calls"]
-        t2 = time.perf_counter()
-        proved = sol.ok and sol.certified and all(
-            r.proof == PROVED for r in lmi_certificate(sol.instance, {**sol.instance.data, **sol.values},
-                                                       prove=True))
-        result.points.append(SweepPoint(params, sol.status, sol.gamma, sol.objective, sol.worst_eig,
-                                        call, internal if internal != call else None, total,
-                                        proved, time.perf_counter() - t2))
+    done: dict = {}
+    jsonl = None
+    if store is not None:
+        jsonl = JsonLinesStore(store)
+        header = {"kind": "sweep", "theorem": thm.id, "example": instance.example, "data": data,
+                  "overrides": overrides, "grid": {n: list(v) for n, v in grids}, "backend": backend,
+                  "solver": solver, "margin": margin, "scaling": scaling}
+        for record in jsonl.open(header, resume=resume):
+            point = SweepPoint(**record)
+            done[tuple(point.params[n] for n in names)] = point
+    try:
+        applied = apply_scaling(instance, scaling)
+        base = applied.scaled
+        model_class = get_backend(backend)  # imports the backend: not part of the compile time
+        t0 = time.perf_counter()
+        model = model_class(base, margin=margin, reuse=True)  # parameters stay backend parameters
+        result = SweepResult(thm.id, instance.example, model.solver_name(solver),
+                             {n: list(v) for n, v in grids}, compile_time=time.perf_counter() - t0,
+                             scaling=applied.as_dict(),
+                             labels={n: thm.param_decl[n].latex for n, _ in grids})
+        result.resumed = len(done)
+        combos = list(itertools.product(*[v for _, v in grids]))
+        try:
+            for combo in (progress(combos) if progress else combos):
+                if combo in done:
+                    result.points.append(done[combo])
+                    continue
+                point = _solve_point(model, base, dict(zip(names, combo)), solver, options)
+                if result.solved == 0:
+                    result.first_solve = point.total
+                result.solved += 1
+                result.points.append(point)
+                if jsonl is not None:
+                    jsonl.append(point.as_dict())
+        except KeyboardInterrupt:
+            kept = len(result.points)
+            where = (f"; they are in {jsonl.path} (run again with --resume to go on)" if jsonl is not None
+                     else " and lost (give --out DIR to keep them)")
+            raise Interrupted(f"sweep interrupted after {kept} of {len(combos)} points{where}") from None
+    finally:
+        if jsonl is not None:
+            jsonl.close()
     return result
+
+
+def _solve_point(model, base, params: dict, solver, options) -> SweepPoint:
+    t1 = time.perf_counter()
+    model.update(base.with_params(**params))
+    # with margin escalation, as a single solve: a point must satisfy the strict LMIs
+    sol = solve_model(model, solver, restore_margin=True, **options)
+    total = time.perf_counter() - t1
+    internal = sol.times.get("solver")
+    call = sol.times["solver_calls"]
+    t2 = time.perf_counter()
+    proved = sol.ok and sol.certified and all(
+        r.proof == PROVED for r in lmi_certificate(sol.instance, {**sol.instance.data, **sol.values},
+                                                   prove=True))
+    return SweepPoint(params, sol.status, sol.gamma, sol.objective, sol.worst_eig, call,
+                      internal if internal != call else None, total, proved, time.perf_counter() - t2)
 
 
 def format_timing(t: dict) -> str:

@@ -24,11 +24,13 @@ The substitution Δ → c·bound is symbolic, so a bound that is a parameter exp
 from __future__ import annotations
 
 import itertools
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
 
+from .numbers import finite_matrix, is_real_number
 from ..errors import InputError, TheoremDefinitionError
 from .blocks import BlockMatrixSpec
 from .symbols import _TaggedMatrix, _TaggedScalar, _meta_property
@@ -110,7 +112,7 @@ def parse_points(theorem, decl, value) -> list:
         items = value if isinstance(value, (list, tuple)) else [value]
         points = []
         for c in items:
-            if isinstance(c, bool) or not isinstance(c, (int, float)):
+            if not is_real_number(c) or not math.isfinite(c):
                 raise InputError(f"{theorem.id}: uncertain {name}: points are numbers in units of the bound, "
                                  f"e.g. [-1, 1], got {c!r}")
             if abs(c) > 1 + 1e-12:
@@ -121,10 +123,7 @@ def parse_points(theorem, decl, value) -> list:
             isinstance(value[0][0], list) else [value]
         points = []
         for C in items:
-            try:
-                C = np.array(C, dtype=float)
-            except (TypeError, ValueError):
-                raise InputError(f"{theorem.id}: uncertain {name}: a point must be a matrix") from None
+            C = finite_matrix(C, f"{theorem.id}: uncertain {name}: a point")
             if C.shape != symbol.pattern.shape:
                 raise InputError(f"{theorem.id}: uncertain {name}: point is {C.shape}, must be {symbol.pattern.shape}")
             if np.any(np.abs(C) > 1 + 1e-12) or np.any((symbol.pattern == 0) & (C != 0)):

@@ -231,11 +231,12 @@ class ExpressionWalker(Walker):
         base, exp = expr.args
         if exp == -1:
             return self.inverse(self.visit(base), base)
-        if not (exp.is_Integer and exp >= 1):
+        if not (exp.is_Integer and exp != 0):
             raise self.error(TheoremDefinitionError, f"{type(self).__name__} cannot evaluate the power "
-                             f"{expr}: only the inverse (exponent -1) and positive integer powers")
-        value = self.visit(base)
-        return reduce(self.matmul, [value] * int(exp))
+                             f"{expr}: only integer powers (A.I*A.I is A**-2)")
+        # sympy folds A.I*A.I into A**-2: the inverse, then its power
+        value = self.inverse(self.visit(base), base) if exp < 0 else self.visit(base)
+        return reduce(self.matmul, [value] * abs(int(exp)))
 
     def _visit_Identity(self, expr):
         return self.identity(self.size(expr.rows))

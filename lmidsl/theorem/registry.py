@@ -9,9 +9,17 @@ models and simulators beside its theorem file).  Theorem modules are looked for 
 2. every folder listed in the environment variable ``LMIDSL_THEOREM_PATH``
    (``os.pathsep``-separated), so users keep their own theorem files outside the project.
 
-A theorem id is ``<module>.<name>``; :func:`get_theorem` loads only the module its id names
-(and everything only when that module does not define it), so solving one theorem does not
-execute every theorem file.  When two modules define the same id the built-in one wins.
+A theorem id is ``<module>.<name>``; :func:`get_theorem` executes only the modules called
+``<module>`` (and every module only when none of them defines the id), so solving one theorem does
+not execute every theorem file.
+
+A theorem file is code and runs with the user's rights; lmidsl isolates one file from another
+but does not sandbox it.  A user file that fails to load (a syntax error, an exception) is
+skipped, its problem recorded once (file, line, exception: :func:`load_problems`, which the
+command line prints as one warning line) so that the built-in theorems and the other files keep
+working; asking for a theorem that only a broken file could define is that file's error.  Two
+modules defining the same id is an error naming both files.  Entries of ``LMIDSL_THEOREM_PATH``
+must be absolute folders (a relative one would depend on the current directory).
 """
 from __future__ import annotations
 
@@ -20,22 +28,70 @@ import importlib.util
 import os
 import pkgutil
 import sys
+import traceback
 from functools import lru_cache
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..errors import InputError, LmidslError
-from .theorem import Theorem
+
+if TYPE_CHECKING:       # the registry itself never builds a theorem: `lmidsl list` reads an index
+    from .theorem import Theorem
 
 BUILTIN_PACKAGE = "lmidsl.theorems"
 
 
 def theorem_dirs() -> list[Path]:
-    """The user folders on ``LMIDSL_THEOREM_PATH`` that exist."""
+    """The user folders on ``LMIDSL_THEOREM_PATH`` that exist (a relative entry is an error)."""
     dirs = []
     for entry in os.environ.get("LMIDSL_THEOREM_PATH", "").split(os.pathsep):
-        if entry and Path(entry).is_dir() and Path(entry).resolve() not in dirs:
+        if not entry:
+            continue
+        if not os.path.isabs(entry):
+            raise InputError(f"LMIDSL_THEOREM_PATH entry {entry!r} is relative; give absolute folders "
+                             f"(e.g. {os.path.abspath(entry)})")
+        if Path(entry).is_dir() and Path(entry).resolve() not in dirs:
             dirs.append(Path(entry).resolve())
     return dirs
+
+
+class TheoremFileError(InputError):
+    """A user theorem file that cannot be loaded (syntax error, exception while it runs)."""
+
+    def __init__(self, message: str, path: str):
+        super().__init__(message)
+        self.path = path
+
+
+_PROBLEMS: dict[str, TheoremFileError] = {}    # file -> why it was skipped
+_REPORTED: set = set()
+
+
+def load_problems(unreported: bool = True) -> list[TheoremFileError]:
+    """The user theorem files skipped because they failed to load (each reported once: with
+    ``unreported``, those not yet returned, which are then marked reported)."""
+    if not _PROBLEMS:
+        return []
+    current = {str(where) for places in _module_locations(_dirs_key()).values() for _, where in places}
+    out = [e for path, e in _PROBLEMS.items() if path in current and (not unreported or path not in _REPORTED)]
+    if unreported:
+        _REPORTED.update(e.path for e in out)
+    return out
+
+
+def _file_error(exc: BaseException, where: Path, kind: str) -> TheoremFileError:
+    """One line: the file, the line in it, the exception."""
+    root = where if kind == "package" else where.parent
+    if isinstance(exc, SyntaxError) and exc.filename:
+        path, line = exc.filename, exc.lineno
+    else:
+        frames = [f for f in traceback.extract_tb(exc.__traceback__)
+                  if Path(f.filename).resolve().is_relative_to(root.resolve())
+                  and (kind == "package" or Path(f.filename).resolve() == where.resolve())]
+        path, line = (frames[-1].filename, frames[-1].lineno) if frames else (str(where), None)
+    at = f"{path}" + (f", line {line}" if line else "")
+    what = str(exc) if isinstance(exc, LmidslError) else f"{type(exc).__name__}: {exc}"
+    return TheoremFileError(f"theorem file {at}: {what}", str(where))
 
 
 @lru_cache(maxsize=None)
@@ -78,33 +134,75 @@ def _import(kind: str, where):
     return module
 
 
+def _label(kind: str, where) -> str:
+    return f"{BUILTIN_PACKAGE}.{where}" if kind == "builtin" else str(where)
+
+
 @lru_cache(maxsize=None)
-def _load_module(module_name: str, dirs: tuple) -> dict[str, Theorem]:
-    """The theorems of every module called ``module_name``, by id (the first definition wins)."""
-    found: dict[str, Theorem] = {}
+def _load_module(module_name: str, dirs: tuple) -> dict[str, tuple]:
+    """The theorems of every module called ``module_name``: id -> (Theorem, file).  A user file
+    that fails to load is skipped and recorded (:func:`load_problems`); an id defined twice is
+    an error naming both files."""
+    found: dict[str, tuple] = {}
     for kind, where in _module_locations(dirs).get(module_name, []):
         try:
             module = _import(kind, where)
-        except LmidslError as exc:
-            label = where if kind == "builtin" else Path(where).name
-            raise type(exc)(f"theorem file {label}: {exc}") from None
+        except (KeyboardInterrupt, SystemExit):
+            raise
+        except BaseException as exc:
+            if kind == "builtin":
+                if isinstance(exc, LmidslError):
+                    raise type(exc)(f"theorem file {where}: {exc}") from None
+                raise
+            _PROBLEMS.setdefault(str(where), _file_error(exc, Path(where), kind))
+            continue
         for thm in getattr(module, "THEOREMS", []):
-            found.setdefault(thm.id, thm)
+            _add(found, thm, _label(kind, where))
     return found
+
+
+def _add(found: dict, thm, origin: str) -> None:
+    if thm.id in found and found[thm.id][1] != origin:
+        raise InputError(f"theorem id {thm.id!r} is defined twice: in {found[thm.id][1]} and in {origin}; "
+                         f"rename one")
+    found.setdefault(thm.id, (thm, origin))
 
 
 def _dirs_key() -> tuple:
     return tuple(str(d) for d in theorem_dirs())
 
 
-def all_theorems() -> dict[str, Theorem]:
-    """Every theorem found, by id."""
+def theorem_origins() -> dict[str, tuple]:
+    """Every theorem found, by id: (Theorem, the file or package that defines it)."""
     dirs = _dirs_key()
-    found: dict[str, Theorem] = {}
+    found: dict[str, tuple] = {}
     for module_name in _module_locations(dirs):
-        for tid, thm in _load_module(module_name, dirs).items():
-            found.setdefault(tid, thm)
+        for tid, (thm, origin) in _load_module(module_name, dirs).items():
+            _add(found, thm, origin)
     return found
+
+
+def all_theorems() -> dict[str, Theorem]:
+    """Every theorem found, by id (user files that fail to load are skipped: :func:`load_problems`)."""
+    return {tid: thm for tid, (thm, _) in theorem_origins().items()}
+
+
+def theorem_files() -> list[Path]:
+    """Every file whose content decides what the theorems are (for the cached index of ``list``)."""
+    dirs = _dirs_key()
+    files = []
+    for places in _module_locations(dirs).values():
+        for kind, where in places:
+            if kind == "builtin":
+                package = importlib.util.find_spec(BUILTIN_PACKAGE).submodule_search_locations[0]
+                where = Path(package) / where
+            where = Path(where)
+            if where.is_dir():     # a package: its modules and any data files it reads
+                files += sorted(f for f in where.rglob("*") if f.is_file() and "__pycache__" not in f.parts
+                                and not f.name.startswith(".") and f.suffix not in (".pyc", ".pyo"))
+            else:
+                files.append(where)
+    return files
 
 
 def get_theorem(theorem_id: str) -> Theorem:
@@ -114,9 +212,21 @@ def get_theorem(theorem_id: str) -> Theorem:
     if module_name in _module_locations(dirs):
         theorems = _load_module(module_name, dirs)
         if theorem_id in theorems:
-            return theorems[theorem_id]
+            return theorems[theorem_id][0]
+        for _, where in _module_locations(dirs)[module_name]:   # the file named by the id is broken
+            if str(where) in _PROBLEMS:
+                _REPORTED.add(str(where))
+                raise _PROBLEMS[str(where)]
     theorems = all_theorems()
     if theorem_id not in theorems:
+        problems = load_problems(unreported=False)
+        if len(problems) == 1:          # the broken file may be the one that defines it
+            _REPORTED.add(problems[0].path)
+            raise problems[0]
+        if problems:
+            _REPORTED.update(p.path for p in problems)
+            raise InputError(f"unknown theorem {theorem_id!r}; theorem files that failed to load: "
+                             + "; ".join(str(p) for p in problems))
         raise InputError(f"unknown theorem {theorem_id!r}; known: {', '.join(sorted(theorems))}")
     return theorems[theorem_id]
 
@@ -135,4 +245,5 @@ def get_example(theorem: Theorem, name: str):
     return theorem.examples[name]
 
 
-__all__ = ["all_theorems", "get_theorem", "get_example", "linked_analysis", "theorem_dirs"]
+__all__ = ["all_theorems", "get_theorem", "get_example", "linked_analysis", "theorem_dirs",
+           "theorem_origins", "theorem_files", "load_problems", "TheoremFileError"]

@@ -1,0 +1,164 @@
+"""Durable outputs of long runs: strict JSON, atomic files, an append-only JSON Lines store.
+
+A long run (a sweep, ``reproduce``) appends each finished point or row to ``<out>/<name>.jsonl``
+as soon as it is done (one JSON object a line, flushed and fsynced), so an interrupt or a crash
+loses at most the point being solved; ``--resume`` reads the store back and skips what is done.
+The first line of a store is a header that says what run it belongs to (e.g. the theorem, the
+example, the grid): a store is resumed only by the same run.  Final files (CSV, JSON, PNG) are
+written to a temporary file beside the target and renamed over it (``os.replace``), so a reader
+never sees half a file, and the output folder is checked writable before the first solve.
+
+JSON written is strict (``allow_nan=False``): a non-finite number becomes ``null`` and the
+object says so under ``"notes"``.
+"""
+from __future__ import annotations
+
+import contextlib
+import json
+import math
+import os
+import tempfile
+from pathlib import Path
+
+from ..errors import InputError
+
+
+def _json_default(obj):
+    value = float(obj)
+    return value if math.isfinite(value) else None
+
+
+def _finite(obj, path: str, notes: list):
+    """``obj`` with every non-finite float replaced by None (its path noted)."""
+    if isinstance(obj, dict):
+        return {k: _finite(v, f"{path}.{k}" if path else str(k), notes) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_finite(v, f"{path}[{i}]", notes) for i, v in enumerate(obj)]
+    if hasattr(obj, "tolist") and not isinstance(obj, (str, bytes)):   # numpy arrays and scalars
+        return _finite(obj.tolist(), path, notes)
+    if isinstance(obj, float) and not math.isfinite(obj):
+        notes.append(f"{path or 'value'} = {obj} written as null")
+        return None
+    return obj
+
+
+def strict_json(obj, indent: int | None = 2, note: bool = True) -> str:
+    """Strict JSON text of ``obj``: non-finite numbers become null, listed under ``"notes"``
+    (with ``note``) when ``obj`` is an object."""
+    notes: list = []
+    clean = _finite(obj, "", notes)
+    if notes and note:
+        if isinstance(clean, dict):
+            previous = clean.get("notes")
+            key = "notes" if previous is None or isinstance(previous, list) else "json_notes"
+            clean = {**clean, key: list(previous or []) + notes if key == "notes" else notes}
+        else:
+            clean = {"value": clean, "notes": notes}
+    return json.dumps(clean, indent=indent, default=_json_default, allow_nan=False)
+
+
+def _describe(exc: OSError) -> str:
+    return exc.strerror or type(exc).__name__
+
+
+def ensure_writable_dir(path, option: str = "--out") -> Path:
+    """Create ``path`` if needed and check a file can be written in it, before any work."""
+    out = Path(path)
+    where = option if option.endswith(":") else f"{option} {path}:"
+    for parent in [out, *out.parents]:
+        if parent.exists():
+            if not parent.is_dir():
+                raise InputError(f"{where} {parent} is not a directory")
+            break
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=out, prefix=".lmidsl-write-test-"):
+            pass
+    except OSError as exc:
+        raise InputError(f"{where} {out} is not writable ({_describe(exc)})") from None
+    return out
+
+
+def check_output_file(path, option: str = "-o") -> Path:
+    """Check that the file ``path`` can be written (its folder is created if needed)."""
+    target = Path(path)
+    if target.is_dir():
+        raise InputError(f"{option} {path}: is a directory")
+    ensure_writable_dir(target.parent, option=f"{option} {path}:")
+    return target
+
+
+@contextlib.contextmanager
+def atomic_path(path):
+    """A temporary path beside ``path``, renamed over it when the block succeeds."""
+    target = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.stem}-", suffix=target.suffix)
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        os.replace(tmp, target)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+
+
+def atomic_write_text(path, text: str) -> None:
+    """Write ``text`` to ``path`` atomically (temporary file, fsync, rename)."""
+    with atomic_path(path) as tmp:
+        with open(tmp, "w") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+
+
+class JsonLinesStore:
+    """An append-only JSON Lines file: a header line, then one record a line.
+
+    ``open(header, resume)``: without ``resume`` a previous store is replaced; with ``resume`` its
+    header must equal ``header`` (same run) and its records are returned.  A last line cut short
+    by an interrupt is dropped.
+    """
+
+    def __init__(self, path):
+        self.path = Path(path)
+        self._fh = None
+
+    def open(self, header: dict, resume: bool = False) -> list[dict]:
+        header = json.loads(strict_json(header, indent=None, note=False))
+        records: list[dict] = []
+        if resume and self.path.exists():
+            lines = self.path.read_text().splitlines()
+            parsed = []
+            for line in lines:
+                try:
+                    parsed.append(json.loads(line))
+                except json.JSONDecodeError:
+                    break                      # a line cut short by an interrupt: drop it and the rest
+            if not parsed or parsed[0].get("header") != header:
+                raise InputError(f"--resume: {self.path} belongs to another run (different theorem, "
+                                 f"example, data or grid); remove it or drop --resume")
+            records = [r["record"] for r in parsed[1:] if "record" in r]
+            # rewrite without a torn last line, then append
+            atomic_write_text(self.path, "".join(strict_json(r, indent=None, note=False) + "\n"
+                                                 for r in parsed[:1 + len(records)]))
+        else:
+            atomic_write_text(self.path, strict_json({"header": header}, indent=None, note=False) + "\n")
+        self._fh = open(self.path, "a")
+        return records
+
+    def append(self, record: dict) -> None:
+        self._fh.write(strict_json({"record": record}, indent=None, note=False) + "\n")
+        self._fh.flush()
+        os.fsync(self._fh.fileno())
+
+    def close(self) -> None:
+        if self._fh is not None:
+            self._fh.close()
+            self._fh = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
