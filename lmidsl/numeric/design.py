@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..theorem.values import DESIGN_KINDS
+from .interconnection import design_statespace
 
 
 @dataclass(frozen=True)
@@ -62,7 +63,6 @@ class Design(Mapping):
         u, a filter (Af, Bf, Cf, Df) from y to ẑ, a static gain K as a D-only system; ``dt`` is
         ``sample_time or True`` in discrete time, 0 in continuous time
         (:func:`lmidsl.numeric.interconnection.design_statespace`)."""
-        from .interconnection import design_statespace   # python-control: heavy, only when asked
         return design_statespace(self)
 
     def as_dict(self) -> dict:
