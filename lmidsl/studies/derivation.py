@@ -236,6 +236,10 @@ def check_derivation(theorem, d: Derivation, *, points: int = 3, seed: int = 0,
                 result.verdict = UNDECIDED
                 result.message = f"not exactly evaluable: {exc}"
                 return result
+            except (TypeError, ValueError, KeyError) as exc:   # e.g. a dimension no example fixes
+                result.verdict = UNDECIDED
+                result.message = f"cannot evaluate at {result.dims[-1]}: {type(exc).__name__}: {exc}"
+                return result
             done += 1
             result.points += 1
     result.recovery = list(recovery.values())
