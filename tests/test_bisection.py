@@ -85,3 +85,14 @@ def test_cli_solve_bisects(capsys):
     assert "bisection on alpha" in out and "CERTIFIED" in out
     assert main(["solve", "decay_rate.quadratic", "--example", "single", "--set", "alpha=0.5"]) == 0
     assert "bisection" not in capsys.readouterr().out
+
+
+def test_any_parameter_can_be_bisected_without_a_declaration():
+    """``parameter=`` bisects a parameter the theorem does not declare for bisection."""
+    result = bis.bisect(make_instance("decay_rate.quadratic", "single"), parameter="alpha",
+                        lower=0.0, upper=2.0, tol=1e-3)
+    lo, hi = result.interval
+    assert lo <= 1.0 <= hi and hi - lo <= 1e-3 and result.holds
+    assert all("tried" in s for s in result.steps)
+    with pytest.raises(InputError, match="not a parameter"):
+        bis.bisect(make_instance("decay_rate.quadratic", "single"), parameter="beta", lower=0, upper=1)

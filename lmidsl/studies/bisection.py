@@ -19,10 +19,10 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field, replace
 
-from ..errors import InputError
+from ..errors import InputError, LmidslError
 from ..numeric.instance import Instance
 from ..pipeline import finish_solution
-from ..solver.backends import get_backend
+from ..solver.backends import fallback_solvers, get_backend
 from ..solver.backends.base import DEFAULT_MARGIN
 from ..solver.margin import solve_model
 from ..solver.solution import Solution
@@ -76,23 +76,47 @@ class _Stepper:
         self.compile_time = time.perf_counter() - t0
         self.backend, self.solver, self.margin, self.options = backend, solver, margin, options
         self.steps: list = []
+        self.decided_by: str | None = None     # the solver of the last certified step
 
-    def solve_at(self, value: float) -> Solution:
+    def solve_at(self, value: float, solver: str | None = None) -> Solution:
         self.model.update(self.instance.with_params(**{self.parameter: float(value)}))
         self.model.set_margin(DEFAULT_MARGIN if self.margin is None else self.margin)  # undo escalations
-        solution = solve_model(self.model, self.solver, **self.options)
-        return solution
+        return solve_model(self.model, solver or self.solver, **self.options)
 
     def feasible(self, value: float) -> bool:
+        """A certified point at ``value``?  Without a solver named, the backend's other solvers
+        are tried before "no": a solver's failure is not a verdict (and a bisection that takes
+        one for infeasibility brackets the wrong value)."""
         solution = self.solve_at(value)
+        tried = [f"{solution.solver}: {solution.status}"]
+        if self.solver is None and not (solution.ok and solution.certified):
+            for name in fallback_solvers(self.backend):
+                if name.lower() == (solution.solver or "").lower():
+                    continue
+                try:
+                    other = self.solve_at(value, name)
+                except LmidslError:            # not installed here
+                    continue
+                tried.append(f"{other.solver}: {other.status}")
+                if other.ok and other.certified:
+                    solution = other
+                    break
         ok = bool(solution.ok and solution.certified)
         self.steps.append({"value": float(value), "feasible": ok, "status": solution.status,
-                           "worst_eig": solution.worst_eig})
+                           "solver": solution.solver, "tried": tried, "worst_eig": solution.worst_eig})
+        if ok:
+            self.decided_by = solution.solver
         return ok
 
 
-def _spec(theorem, lower, upper, tol, goal) -> Bisection:
+def _spec(theorem, lower, upper, tol, goal, parameter=None) -> Bisection:
     spec = theorem.bisection
+    if parameter is not None:            # any scalar parameter, given here rather than declared
+        if parameter not in theorem.param_decl:
+            raise InputError(f"{theorem.id}: {parameter} is not a parameter of the theorem")
+        if lower is None or upper is None:
+            raise InputError(f"{theorem.id}: bisection on {parameter} needs lower and upper")
+        spec = Bisection(parameter, lower, upper, tol or 1e-4, goal or "max")
     if spec is None:
         raise InputError(f"{theorem.id} declares no bisection parameter (Theorem.bisect)")
     spec = replace(spec, **{k: v for k, v in {"lower": lower, "upper": upper, "tol": tol,
@@ -104,12 +128,14 @@ def _spec(theorem, lower, upper, tol, goal) -> Bisection:
 
 
 def bisect(instance: Instance, *, lower: float | None = None, upper: float | None = None,
-           tol: float | None = None, goal: str | None = None, solver: str | None = None,
-           backend: str = "cvxpy", margin: float | None = None, **options) -> BisectionResult:
-    """Bisect the theorem's declared parameter on ``instance`` (see the module docstring)."""
+           tol: float | None = None, goal: str | None = None, parameter: str | None = None,
+           solver: str | None = None, backend: str = "cvxpy", margin: float | None = None,
+           **options) -> BisectionResult:
+    """Bisect the theorem's declared parameter (or ``parameter``) on ``instance`` (see the
+    module docstring); ``lower``, ``upper``, ``tol``, ``goal`` override the declaration."""
     t0 = time.perf_counter()
     theorem = instance.theorem
-    spec = _spec(theorem, lower, upper, tol, goal)
+    spec = _spec(theorem, lower, upper, tol, goal, parameter)
     stepper = _Stepper(instance, spec.parameter, backend, solver, margin, options)
     result = BisectionResult(theorem.id, instance.example, spec.parameter, spec.goal, spec.lower,
                              spec.upper, spec.tol, compile_time=stepper.compile_time)
@@ -131,8 +157,13 @@ def bisect(instance: Instance, *, lower: float | None = None, upper: float | Non
                 bad = mid
         result.feasible_end, result.infeasible_end = good, bad
     result.steps = stepper.steps
+    contradictions = [st["value"] for st in stepper.steps if st["feasible"] and result.infeasible_end is not None
+                      and (st["value"] - result.infeasible_end) * (1 if spec.goal == "max" else -1) >= 0]
+    if contradictions:
+        result.message += (f" feasibility is not monotone in the steps (certified at {contradictions} beyond "
+                           f"the infeasible end): the bracket is not trustworthy")
     if result.feasible_end is not None:
-        solution = stepper.solve_at(result.feasible_end)
+        solution = stepper.solve_at(result.feasible_end, solver or stepper.decided_by)
         solution.notes.append(f"bisection on {spec.parameter}: {len(stepper.steps)} solves of one compiled "
                               f"model; certificate at the feasible end {result.feasible_end:.10g}")
         result.solution = finish_solution(solution, solver=solver, backend=backend, certify=True,
@@ -141,13 +172,14 @@ def bisect(instance: Instance, *, lower: float | None = None, upper: float | Non
     return result
 
 
-def grid(instance: Instance, values, *, solver: str | None = None, backend: str = "cvxpy",
-         margin: float | None = None, **options) -> list[dict]:
-    """The certificate at each value of the declared bisection parameter (compiled once)."""
+def grid(instance: Instance, values, *, parameter: str | None = None, solver: str | None = None,
+         backend: str = "cvxpy", margin: float | None = None, **options) -> list[dict]:
+    """The certificate at each value of the declared bisection parameter (or ``parameter``),
+    compiled once."""
     spec = instance.theorem.bisection
-    if spec is None:
+    if parameter is None and spec is None:
         raise InputError(f"{instance.theorem.id} declares no bisection parameter (Theorem.bisect)")
-    stepper = _Stepper(instance, spec.parameter, backend, solver, margin, options)
+    stepper = _Stepper(instance, parameter or spec.parameter, backend, solver, margin, options)
     for v in values:
         stepper.feasible(float(v))
     return stepper.steps
