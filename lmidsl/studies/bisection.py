@@ -84,12 +84,14 @@ class _Stepper:
         return solve_model(self.model, solver or self.solver, **self.options)
 
     def feasible(self, value: float) -> bool:
-        """A certified point at ``value``?  Without a solver named, the backend's other solvers
-        are tried before "no": a solver's failure is not a verdict (and a bisection that takes
-        one for infeasibility brackets the wrong value)."""
+        """A certified point at ``value``?  Without a solver named, when the solver fails (any
+        status but a certified point or "infeasible") the backend's other solvers are tried
+        before "no": a solver's failure is not a verdict (and a bisection that takes one for
+        infeasibility brackets the wrong value)."""
         solution = self.solve_at(value)
         tried = [f"{solution.solver}: {solution.status}"]
-        if self.solver is None and not (solution.ok and solution.certified):
+        failed = not (solution.ok and solution.certified) and solution.status != "infeasible"
+        if self.solver is None and failed:     # an infeasibility claim stands; a failure does not
             for name in fallback_solvers(self.backend):
                 if name.lower() == (solution.solver or "").lower():
                     continue
