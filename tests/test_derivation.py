@@ -101,3 +101,20 @@ def test_cli_exit_codes(capsys):
     assert "exact" in capsys.readouterr().out
     assert main(["derive-check", "wang_l2linf.thm1"]) == 2
     assert main(["derive-check", "wang_l2linf.thm3", "--dims", "n=x"]) == 2
+
+
+def test_seed_001_printed_9_congruence_is_exact():
+    """li_delay_dropout: thm1's (9) is the printed (9) (N = P⁻¹) under diag(I, I, P, P, P, P, I, I);
+    σ1..σ4 (square roots) are drawn as free scalars; no example: generic dimension sets."""
+    (r,) = check_theorem("li_delay_dropout.thm1")
+    assert r.verdict == "exact" and r.holds, r.as_dict()
+    assert r.free == ["sigma1", "sigma2", "sigma3", "sigma4"] and len(r.dims) == 2
+
+
+def test_seed_001_wrong_congruence_is_named():
+    from dataclasses import replace
+    thm1 = get_theorem("li_delay_dropout.thm1")
+    P = thm1.var_decl["P"].symbol
+    bad = replace(thm1.derivations[0], congruence=(I, I, P, P, P, I, I, I))   # no P on block 6
+    r = check_derivation(thm1, bad)
+    assert r.verdict == "differs" and r.block == (6, 1) and r.target_expr.startswith("sigma3*P*")

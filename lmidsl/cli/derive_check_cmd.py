@@ -57,6 +57,9 @@ def run(args):
         for rec in r.recovery:
             print(f"    recovery {rec['name']}: {rec['verdict']}" +
                   (f" ({rec.get('formula', '')} = {rec['expected']})" if rec["expected"] else ""))
+        if r.free:
+            print(f"    ({', '.join(r.free)}: irrational definitions, drawn as free scalars — "
+                  f"an identity for all their values)")
         if r.note:
             print(f"    ({r.note})")
     return code

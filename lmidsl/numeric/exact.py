@@ -59,9 +59,11 @@ def to_matrix(value) -> fmpq_mat:
 class ExactEvaluator(ExpressionWalker):
     """Evaluate expressions exactly over the rationals; leaves come from ``lookup(symbol)``."""
 
-    def __init__(self, dims: dict, lookup):
+    def __init__(self, dims: dict, lookup, free_irrational: bool = False):
         super().__init__(dims)
         self.lookup = lookup
+        self.free_irrational = free_irrational
+        self.freed: set = set()     # derived scalars with an irrational definition, taken as free
 
     def data(self, symbol):
         return self.lookup(symbol)
@@ -70,8 +72,16 @@ class ExactEvaluator(ExpressionWalker):
     scalar_variable = data
 
     def parameter(self, symbol):
+        """A derived scalar from its definition; with ``free_irrational``, one whose definition is
+        not rational (σ = √(ξ(1 − ξ))) is looked up as a free symbol instead: an identity that
+        holds for every value of it holds for the defined one."""
         if isinstance(symbol, DerivedParam):
-            return self.visit(symbol.definition)
+            try:
+                return self.visit(symbol.definition)
+            except NotRational:
+                if not self.free_irrational:
+                    raise
+                self.freed.add(symbol.name)
         return self.lookup(symbol)
 
     def matmul(self, a, b):

@@ -51,6 +51,7 @@ class DerivationResult:
     recovery: list = field(default_factory=list)   # [{name, verdict, expected}]
     message: str = ""
     note: str = ""
+    free: list = field(default_factory=list)       # derived scalars with irrational definitions, drawn freely
 
     @property
     def holds(self) -> bool:
@@ -84,7 +85,7 @@ class _Point:
         self.rng = rng
         self.values: dict = {}
         self.resolving: set = set()
-        self.evaluator = ExactEvaluator(dims, self.lookup)
+        self.evaluator = ExactEvaluator(dims, self.lookup, free_irrational=True)
 
     def lookup(self, symbol):
         key = _key(symbol)
@@ -105,7 +106,9 @@ class _Point:
         return value
 
 
-def _dimension_sets(theorem, given: dict | None) -> list[dict]:
+def _dimension_sets(theorem, source, given: dict | None) -> list[dict]:
+    """The dimensions to check at: ``given``; else every example's; else (no example) two
+    generic sets, every dimension 2, and 3, 1, 3, ... in declaration order."""
     if given:
         return [{Dim(n): int(v) for n, v in given.items()}]
     sets = []
@@ -114,7 +117,8 @@ def _dimension_sets(theorem, given: dict | None) -> list[dict]:
         if dims not in sets:
             sets.append(dims)
     if not sets:
-        raise InputError(f"{theorem.id}: no example to read dimensions from; give --dims n=2,k=1")
+        names = list(dict.fromkeys([*theorem.dims, *source.dims]))
+        sets = [{Dim(n): 2 for n in names}, {Dim(n): (3 if i % 2 == 0 else 1) for i, n in enumerate(names)}]
     return sets
 
 
@@ -176,7 +180,7 @@ def check_derivation(theorem, d: Derivation, *, points: int = 3, seed: int = 0,
     factored = {n for step in theorem.recovery_steps if isinstance(step, FactorStep) for n in step.names}
     rng = random.Random(seed)
     recovery = {}
-    for dimset in _dimension_sets(theorem, dims):
+    for dimset in _dimension_sets(theorem, d.source, dims):
         result.dims.append({str(k): v for k, v in dimset.items()})
         done, attempts = 0, 0
         while done < points:
@@ -242,6 +246,7 @@ def check_derivation(theorem, d: Derivation, *, points: int = 3, seed: int = 0,
                 return result
             done += 1
             result.points += 1
+            result.free = sorted(set(result.free) | point.evaluator.freed)
     result.recovery = list(recovery.values())
     return result
 

@@ -137,6 +137,25 @@ thm1.lmi("(9)", [
     [_w["s4"] * G1, _w["s4"] * F1, 0, 0, 0, 0, 0, -I],
 ], description="(9) congruent with diag(I, I, P, P, P, P, I, I)")
 thm1.positive(P)
+
+# (9) as printed, with N = P⁻¹ on the diagonal: not an LMI in P, so not solved (and not listed);
+# it is the source of the congruence above, checked by `lmidsl derive-check li_delay_dropout.thm1`
+printed9 = Theorem("li_delay_dropout.thm1_printed", "Theorem 1, (9) as printed (N = P⁻¹)",
+                   Source(PAPER, "Theorem 1, (9)", CITATION),
+                   description="(9) with N as a symbol; thm1 is its congruence with diag(I, I, P, P, P, P, I, I)")
+N9 = printed9.var("N", 2 * _na, kind="symmetric", latex="N", description="N = P⁻¹")
+printed9.lmi("(9)", [
+    [-P],
+    [0, -g1 * I],
+    [Abar, Bbar, -N9],
+    [_w["s1"] * A1, _w["s1"] * B1, 0, -N9],
+    [_w["s2"] * A2, _w["s2"] * B2, 0, 0, -N9],
+    [_w["s3"] * (A1 - A2), _w["s3"] * (B1 - B2), 0, 0, 0, -N9],
+    [Gbar, Fbar, 0, 0, 0, 0, -I],
+    [_w["s4"] * G1, _w["s4"] * F1, 0, 0, 0, 0, 0, -I],
+])
+thm1.derived_from(printed9, "(9)", "(9)", congruence=[I, I, P, P, P, P, I, I], substitute={N9: P.I},
+                  note="the printed (9) (N = P⁻¹) and the form solved: congruence diag(I, I, P, P, P, P, I, I)")
 thm1.minimize(g1, performance=("gamma", sqrt(g1)))
 thm1.scale_signal("y", rows=("C1", "C2"), cols=("Bf", "Df"),
                   description="received measurement y = s·y' (exact: similarity of the augmentation)")
