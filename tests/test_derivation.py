@@ -118,3 +118,20 @@ def test_seed_001_wrong_congruence_is_named():
     bad = replace(thm1.derivations[0], congruence=(I, I, P, P, P, I, I, I))   # no P on block 6
     r = check_derivation(thm1, bad)
     assert r.verdict == "differs" and r.block == (6, 1) and r.target_expr.startswith("sigma3*P*")
+
+
+def test_seed_001_theorem_2_from_printed_9_is_exact_with_identity_recovery():
+    """(15) = (TD)ᵀ (9) (TD), T = diag(Σ2, I, Σ1, Σ1, Σ1, Σ1, I, I), D = diag(I, Z) per Λ block, with
+    Âf = RAfSᵀZ, B̂f = RBf, Ĉf = CfSᵀZ, D̂f = Df: exact, and the recovery (with R, S defined by
+    the derivation instead of rs_split) gives back Af, Bf, Cf, Df."""
+    (r,) = check_theorem("li_delay_dropout.thm2")
+    assert r.verdict == "exact" and r.holds, r.as_dict()
+    assert {rec["name"]: rec["verdict"] for rec in r.recovery} == dict.fromkeys(["Af", "Bf", "Cf", "Df"], "exact")
+    from dataclasses import replace
+    thm2 = get_theorem("li_delay_dropout.thm2")
+    d = thm2.derivations[0]
+    bf_hat = thm2.var_decl["Bf_hat"].symbol
+    wrong = dict(d.substitute)
+    wrong[bf_hat] = 2 * wrong[bf_hat]                  # B̂f = 2RBf: the first Θ block with B̂f differs
+    bad = check_derivation(thm2, replace(d, substitute=wrong))
+    assert bad.verdict == "differs" and bad.block == (3, 1)

@@ -236,4 +236,28 @@ thm2.example("paper", dict(UPS), params={"xi1": 0.7, "xi2": 0.8},
              printed={"gamma": 0.3813}, printed_note=PRINTED_AT,
              description="UPS model, on time 0.7, one-step delay 0.072, loss 0.228")
 
+
+def _state_theorem2_proof():
+    """The proof of Theorem 2, (16)-(19): with RSᵀ = I − XZ⁻¹, Y = Z⁻¹, Σ1 = [[X, I], [Rᵀ, 0]],
+    Σ2 = [[I, Y], [0, Sᵀ]], P = Σ1Σ2⁻¹, the congruence diag(Σ2, I, Σ1, Σ1, Σ1, Σ1, I, I) of the
+    printed (9) is (19) = (18), and diag(I, Z) on each Π block turns (18) into (15), with
+    Âf = RAfSᵀZ, B̂f = RBf, Ĉf = CfSᵀZ, D̂f = Df (so the recovery of Theorem 2 is the identity)."""
+    I_na, O_na = Identity(na), ZeroMatrix(na, na)
+    R_ = thm2.auxiliary("R", na, na, description="R of RSᵀ = I − XZ⁻¹ (17), drawn at random")
+    Y = Z.I
+    S_ = (I_na - Y * X) * R_.I.T                       # then R Sᵀ = I − XZ⁻¹
+    Sigma1 = BlockMatrix([[X, I_na], [R_.T, O_na]])
+    Sigma2 = BlockMatrix([[I_na, Y], [O_na, S_.T]])
+    D = BlockMatrix([[I_na, O_na], [O_na, Z]])
+    substitute = {P: Sigma1 * Sigma2.I, N9: (Sigma1 * Sigma2.I).I,
+                  Af_hat: R_ * Af * S_.T * Z, Bf_hat: R_ * Bf, Cf_hat: Cf * S_.T * Z, Df_hat: Df,
+                  beta: g1, R: R_, S: S_}
+    T1, T2 = Sigma2 * D, Sigma1 * D
+    thm2.derived_from(printed9, "(9)", "(15)", congruence=[T1, I, T2, T2, T2, T2, I, I],
+                      substitute=substitute,
+                      note="proof of Theorem 2: (9) -> (19) by diag(Σ2, I, Σ1, ...), (18) -> (15) by diag(I, Z)")
+
+
+_state_theorem2_proof()
+
 THEOREMS = [thm1, thm2]
