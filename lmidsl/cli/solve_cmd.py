@@ -3,10 +3,9 @@ from __future__ import annotations
 
 import argparse
 
-from ..pipeline import solve
+from ..pipeline import make_instance, solve
 from ..solver.backends import BACKENDS
 from ..render.report import format_solution
-from ..pipeline import make_instance
 from ..render.bisection import format_bisection
 from ..studies.bisection import bisect
 from ..theorem.registry import get_theorem
@@ -47,8 +46,8 @@ def backoff_argument(text):
 
 
 def run(args):
-    theorem = get_theorem(args.theorem)
-    if theorem.bisection is not None and theorem.bisection.parameter not in parse_overrides(args.overrides):
+    spec = getattr(get_theorem(args.theorem), "bisection", None)     # a family has none
+    if spec is not None and spec.parameter not in parse_overrides(args.overrides):
         return run_bisection(args)     # a GEVP: bisect on the declared parameter (--set it to solve at one value)
     sol = solve(args.theorem, solver=args.solver, backend=args.backend, margin=args.margin,
                 certify=not args.no_certify, scaling=args.scaling, backoff=args.backoff,
