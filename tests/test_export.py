@@ -48,3 +48,10 @@ def test_cli_export_check(tmp_path, capsys):
     assert "same" in capsys.readouterr().out
     assert main(["export", "wang_l2linf.thm3", "--example", "paper-full", "--format", "sdpa",
                  "-o", str(tmp_path / "w.txt")]) == 2
+
+
+def test_feasibility_problem_check(tmp_path, capsys):
+    """A feasibility problem (decay rate at the example's α = 0.5): both routes find a point."""
+    assert main(["export", "decay_rate.quadratic", "--example", "single", "--format", "sdpa",
+                 "-o", str(tmp_path / "d.dat-s"), "--check"]) == 0
+    assert "a certified point" in capsys.readouterr().out
