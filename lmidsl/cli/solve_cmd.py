@@ -3,10 +3,13 @@ from __future__ import annotations
 
 import argparse
 
-from ..pipeline import solve
+from ..pipeline import make_instance, solve
 from ..solver.backends import BACKENDS
 from ..render.report import format_solution
-from .common import add_instance_arguments, instance_spec, positive_float, print_json
+from ..render.bisection import format_bisection
+from ..studies.bisection import bisect
+from ..theorem.registry import get_theorem
+from .common import add_instance_arguments, instance_spec, parse_overrides, positive_float, print_json
 
 ORDER = 20
 
@@ -43,6 +46,9 @@ def backoff_argument(text):
 
 
 def run(args):
+    spec = getattr(get_theorem(args.theorem), "bisection", None)     # a family has none
+    if spec is not None and spec.parameter not in parse_overrides(args.overrides):
+        return run_bisection(args)     # a GEVP: bisect on the declared parameter (--set it to solve at one value)
     sol = solve(args.theorem, solver=args.solver, backend=args.backend, margin=args.margin,
                 certify=not args.no_certify, scaling=args.scaling, backoff=args.backoff,
                 **instance_spec(args))
@@ -54,3 +60,13 @@ def run(args):
     else:
         print(format_solution(sol))
     return 0 if sol.verdict()[0] else 1
+
+
+def run_bisection(args):
+    result = bisect(make_instance(args.theorem, **instance_spec(args)), solver=args.solver,
+                    backend=args.backend, margin=args.margin)
+    if args.json:
+        print_json(result.as_dict())
+    else:
+        print(format_bisection(result))
+    return 0 if result.holds else 1

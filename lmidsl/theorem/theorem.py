@@ -25,8 +25,8 @@ from ..symbolic.uncertainty import uncertain_symbol
 from ..symbolic.symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, RecoveredMatrix,
                       ScalarVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
                       Variable)
-from .values import (DESIGN_KINDS, FIGURES, LMI, TIME_DOMAINS, AnalysisLink,
-                     Declaration, ErrorSystemLink, Example, FactorStep, SignalScaling, Source,
+from .values import (DESIGN_KINDS, FIGURES, LMI, TIME_DOMAINS, AnalysisLink, Bisection,
+                     Declaration, Derivation, ErrorSystemLink, Example, FactorStep, SignalScaling, Source,
                      check_provenance)
 
 
@@ -386,3 +386,71 @@ class Theorem:
                 "time": self.time, "designs": self.designs, "provenance": self.provenance,
                 "provenance_note": self.provenance_note, "examples": list(self.examples),
                 "example_provenance": {n: e.provenance for n, e in self.examples.items()}}
+
+    # -- research declarations: derivations, bisection ---------------------------------------
+    derivations: tuple = ()
+    bisection: Bisection | None = None
+
+    def auxiliary(self, name: str, rows, cols=None, *, latex: str | None = None,
+                  description: str = "") -> DataMatrix:
+        """A matrix that only a derivation mentions (M, G22 of a slack's structure): drawn at
+        random by ``lmidsl derive-check``, never bound, compiled or solved."""
+        symbol = DataMatrix(name, rows, rows if cols is None else cols, f"{self.id}#derivation")
+        return self._describe(symbol, latex, description)
+
+    def derived_from(self, source, source_label: str, label: str, *, congruence=None,
+                     substitute: dict | None = None, schur=(), recovers: dict | None = None,
+                     note: str = "") -> Derivation:
+        """State that LMI ``label`` of this theorem is Tᵀ·schur(``source_label``)·T of ``source``
+        after ``substitute`` (see :class:`~lmidsl.theorem.values.Derivation`); ``congruence`` is
+        the list of T's diagonal blocks (``I`` sized from the block), ``schur`` 1-based source
+        blocks to eliminate, ``recovers`` what each recovery formula must give."""
+        where = f"{self.id}: derivation of {label} from {getattr(source, 'id', source)} {source_label}"
+        if not isinstance(source, Theorem):
+            raise TheoremDefinitionError(f"{where}: the source must be a Theorem object")
+        labels = {l.label: l for l in source.lmis}
+        if source_label not in labels:
+            raise TheoremDefinitionError(f"{where}: {source.id} has no LMI {source_label}")
+        if not any(l.label == label for l in self.lmis):
+            raise TheoremDefinitionError(f"{where}: no LMI {label} in {self.id}")
+        substitute = dict(substitute or {})
+        for key, expr in substitute.items():
+            if not isinstance(key, (sp.MatrixSymbol, sp.Symbol)):
+                raise TheoremDefinitionError(f"{where}: substitute keys are symbols, got {key}")
+            shape = check_conformance(sp.sympify(expr), where=f"{where}: substitute {key}")
+            if isinstance(key, sp.MatrixSymbol) and not (dims_equal(shape[0], key.shape[0])
+                                                          and dims_equal(shape[1], key.shape[1])):
+                raise TheoremDefinitionError(f"{where}: {key} is {fmt_shape(key.shape)}, "
+                                             f"its substitute {expr} is {fmt_shape(shape)}")
+        schur = tuple(int(k) for k in schur)
+        nsource = labels[source_label].spec.nblocks
+        if any(not 1 <= k <= nsource for k in schur):
+            raise TheoremDefinitionError(f"{where}: schur blocks must be in 1..{nsource}")
+        if congruence is not None:
+            congruence = tuple(congruence)
+            for t in congruence:
+                if isinstance(t, sp.MatrixExpr):
+                    check_conformance(t, where=f"{where}: congruence block {t}")
+        recovers = dict(recovers or {})
+        unknown = [n for n in recovers if n not in self.recovery]
+        if unknown:
+            raise TheoremDefinitionError(f"{where}: recovers {unknown}: not recovered by {self.id}")
+        d = Derivation(label, source, source_label, congruence, substitute, schur, recovers, note)
+        self.derivations = (*self.derivations, d)
+        return d
+
+    def bisect(self, parameter: str, *, lower: float, upper: float, tol: float = 1e-4,
+               goal: str = "max", performance: str = "") -> Bisection:
+        """Solve by bisection on the scalar parameter ``parameter`` (it may multiply decision
+        variables: a generalised eigenvalue problem, LMI Lab's ``gevp``): ``lmidsl solve`` finds
+        the largest (``goal="max"``) or smallest (``"min"``) value in [lower, upper] at which the
+        LMIs have a certified point, to ``tol`` (:mod:`lmidsl.studies.bisection`)."""
+        if parameter not in self.param_decl:
+            raise TheoremDefinitionError(f"{self.id}: bisect: {parameter} is not a declared parameter")
+        if goal not in ("max", "min"):
+            raise TheoremDefinitionError(f"{self.id}: bisect: goal must be 'max' or 'min'")
+        if not (lower < upper and tol > 0):
+            raise TheoremDefinitionError(f"{self.id}: bisect: need lower < upper and tol > 0")
+        self.bisection = Bisection(parameter, float(lower), float(upper), float(tol), goal, performance)
+        return self.bisection
+

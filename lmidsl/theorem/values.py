@@ -212,3 +212,44 @@ class SimulationTable:
 
     def as_dict(self) -> dict:
         return {"columns": self.columns, "rows": self.rows, "notes": self.notes}
+
+
+@dataclass
+class Derivation:
+    """How the LMI ``label`` of a theorem derives from LMI ``source_label`` of ``source``
+    (``Theorem.derived_from``; checked by ``lmidsl derive-check``, :mod:`lmidsl.studies.derivation`).
+
+    Stated: ``label`` ≡ Tᵀ · schur(source LMI) · T with T = diag(``congruence``), once the symbols
+    in ``substitute`` are replaced by their definitions.  Symbols of the same name in the two
+    theorems are the same object (the plant data, γ²); ``substitute`` maps a symbol of either
+    theorem (or an auxiliary one, ``Theorem.auxiliary``) to an expression of the others — the
+    change of variables (Âf = MᵀAf G22⁻¹M) and the structure of a slack (G = [[V1, ...], ...]).
+    ``schur``: 1-based blocks of the source LMI eliminated by Schur complements, before the
+    congruence.  ``recovers``: what the theorem's recovery formulas must give on the substituted
+    point (default: the source's symbol of the same name — recover ∘ substitute = identity; a
+    realisation may legitimately differ by a similarity, which is then stated here).
+    """
+
+    label: str
+    source: Any
+    source_label: str
+    congruence: tuple | None = None
+    substitute: dict = field(default_factory=dict)
+    schur: tuple = ()
+    recovers: dict = field(default_factory=dict)
+    note: str = ""
+
+
+@dataclass
+class Bisection:
+    """A scalar parameter on which the theorem is bisected (a GEVP / quasi-convex problem):
+    the LMIs are feasible for ``parameter`` on one side of a threshold, which the bisection
+    brackets within ``tol`` inside [``lower``, ``upper``].  ``goal`` "max" (the default: the
+    largest feasible value, e.g. a decay rate) or "min" (the smallest)."""
+
+    parameter: str
+    lower: float
+    upper: float
+    tol: float = 1e-4
+    goal: str = "max"
+    performance: str = ""

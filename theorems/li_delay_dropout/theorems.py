@@ -137,6 +137,25 @@ thm1.lmi("(9)", [
     [_w["s4"] * G1, _w["s4"] * F1, 0, 0, 0, 0, 0, -I],
 ], description="(9) congruent with diag(I, I, P, P, P, P, I, I)")
 thm1.positive(P)
+
+# (9) as printed, with N = P⁻¹ on the diagonal: not an LMI in P, so not solved (and not listed);
+# it is the source of the congruence above, checked by `lmidsl derive-check li_delay_dropout.thm1`
+printed9 = Theorem("li_delay_dropout.thm1_printed", "Theorem 1, (9) as printed (N = P⁻¹)",
+                   Source(PAPER, "Theorem 1, (9)", CITATION),
+                   description="(9) with N as a symbol; thm1 is its congruence with diag(I, I, P, P, P, P, I, I)")
+N9 = printed9.var("N", 2 * _na, kind="symmetric", latex="N", description="N = P⁻¹")
+printed9.lmi("(9)", [
+    [-P],
+    [0, -g1 * I],
+    [Abar, Bbar, -N9],
+    [_w["s1"] * A1, _w["s1"] * B1, 0, -N9],
+    [_w["s2"] * A2, _w["s2"] * B2, 0, 0, -N9],
+    [_w["s3"] * (A1 - A2), _w["s3"] * (B1 - B2), 0, 0, 0, -N9],
+    [Gbar, Fbar, 0, 0, 0, 0, -I],
+    [_w["s4"] * G1, _w["s4"] * F1, 0, 0, 0, 0, 0, -I],
+])
+thm1.derived_from(printed9, "(9)", "(9)", congruence=[I, I, P, P, P, P, I, I], substitute={N9: P.I},
+                  note="the printed (9) (N = P⁻¹) and the form solved: congruence diag(I, I, P, P, P, P, I, I)")
 thm1.minimize(g1, performance=("gamma", sqrt(g1)))
 thm1.scale_signal("y", rows=("C1", "C2"), cols=("Bf", "Df"),
                   description="received measurement y = s·y' (exact: similarity of the augmentation)")
@@ -216,5 +235,29 @@ thm2.well_conditioned(Z, X - Z)
 thm2.example("paper", dict(UPS), params={"xi1": 0.7, "xi2": 0.8},
              printed={"gamma": 0.3813}, printed_note=PRINTED_AT,
              description="UPS model, on time 0.7, one-step delay 0.072, loss 0.228")
+
+
+def _state_theorem2_proof():
+    """The proof of Theorem 2, (16)-(19): with RSᵀ = I − XZ⁻¹, Y = Z⁻¹, Σ1 = [[X, I], [Rᵀ, 0]],
+    Σ2 = [[I, Y], [0, Sᵀ]], P = Σ1Σ2⁻¹, the congruence diag(Σ2, I, Σ1, Σ1, Σ1, Σ1, I, I) of the
+    printed (9) is (19) = (18), and diag(I, Z) on each Π block turns (18) into (15), with
+    Âf = RAfSᵀZ, B̂f = RBf, Ĉf = CfSᵀZ, D̂f = Df (so the recovery of Theorem 2 is the identity)."""
+    I_na, O_na = Identity(na), ZeroMatrix(na, na)
+    R_ = thm2.auxiliary("R", na, na, description="R of RSᵀ = I − XZ⁻¹ (17), drawn at random")
+    Y = Z.I
+    S_ = (I_na - Y * X) * R_.I.T                       # then R Sᵀ = I − XZ⁻¹
+    Sigma1 = BlockMatrix([[X, I_na], [R_.T, O_na]])
+    Sigma2 = BlockMatrix([[I_na, Y], [O_na, S_.T]])
+    D = BlockMatrix([[I_na, O_na], [O_na, Z]])
+    substitute = {P: Sigma1 * Sigma2.I, N9: (Sigma1 * Sigma2.I).I,
+                  Af_hat: R_ * Af * S_.T * Z, Bf_hat: R_ * Bf, Cf_hat: Cf * S_.T * Z, Df_hat: Df,
+                  beta: g1, R: R_, S: S_}
+    T1, T2 = Sigma2 * D, Sigma1 * D
+    thm2.derived_from(printed9, "(9)", "(15)", congruence=[T1, I, T2, T2, T2, T2, I, I],
+                      substitute=substitute,
+                      note="proof of Theorem 2: (9) -> (19) by diag(Σ2, I, Σ1, ...), (18) -> (15) by diag(I, Z)")
+
+
+_state_theorem2_proof()
 
 THEOREMS = [thm1, thm2]

@@ -19,7 +19,7 @@ complement then weighs A_cl1ᵀPA_cl1 by a²/a = a, as the variance computation 
 """
 import numpy as np
 from lmidsl import ErrorSystem, I, Source, Theorem
-from sympy import BlockMatrix, ZeroMatrix, sqrt
+from sympy import BlockMatrix, Identity, ZeroMatrix, sqrt
 
 PAPER = "Wang et al., l2-l∞ filtering with missing measurements"
 CITATION = "Wang, Cai, Lin, Yang, l2-l∞ filtering for networked systems with missing measurements"
@@ -146,6 +146,45 @@ thm1.example("paper-reduced-printed", {**PLANT, **REDUCED_FILTER}, params={"rbar
              printed={"gamma_bound": 2.0103}, printed_note=PRINTED_AT,
              description="the reduced-order filter the paper prints, analysed by Theorem 1")
 
+# -- Theorem 2: analysis with a slack G (the step from Theorem 1 to Theorem 3) -----------
+thm2 = Theorem("wang_l2linf.thm2", "Energy-to-peak analysis with a slack matrix G (Theorem 2)",
+               Source(PAPER, "Theorem 2, (28)-(29)", CITATION),
+               description="min γ² over P > 0 and G such that (28) and (29) hold for a given filter; "
+                           "equivalent to Theorem 1 (the paper cites its ref. [9]).")
+(_n2, _m2, _ny2, _p2, _k2), _d2, _rbar2, _a2 = _plant(thm2)
+Af2 = thm2.data("Af", _k2, _k2, latex="A_f", description="filter state matrix")
+Bf2 = thm2.data("Bf", _k2, _ny2, latex="B_f", description="filter input matrix")
+Cf2 = thm2.data("Cf", _p2, _k2, latex="C_f", description="filter output matrix")
+A_cl0_2 = thm2.define("A_cl0", BlockMatrix([[_d2["A"], ZeroMatrix(_n2, _k2)],
+                                            [_rbar2 * Bf2 * _d2["C"], Af2]]), latex="A_{cl0}")
+A_cl1_2 = thm2.define("A_cl1", BlockMatrix([[ZeroMatrix(_n2, _n2), ZeroMatrix(_n2, _k2)],
+                                            [Bf2 * _d2["C"], ZeroMatrix(_k2, _k2)]]), latex="A_{cl1}")
+B_cl2 = thm2.define("B_cl", BlockMatrix([[_d2["B"]], [Bf2 * _d2["D"]]]), latex="B_{cl}")
+C_cl2 = thm2.define("C_cl", BlockMatrix([[_d2["L"], -Cf2]]), latex="C_{cl}")
+P_2 = thm2.var("P", _n2 + _k2, kind="symmetric", latex="P")
+G_2 = thm2.var("G", _n2 + _k2, _n2 + _k2, latex="G", description="slack matrix")
+g2 = thm2.scalar("g", latex=r"\gamma^2", description="squared l2-l∞ level")
+thm2.lmi("(28)", [
+    [-P_2],
+    [0, -I],
+    [G_2.T * A_cl0_2, G_2.T * B_cl2, P_2 - G_2 - G_2.T],
+    [_a2 * G_2.T * A_cl1_2, 0, 0, _a2 * (P_2 - G_2 - G_2.T)],
+])
+thm2.lmi("(29)", [
+    [-P_2],
+    [C_cl2, -g2 * I],
+])
+thm2.positive(P_2)
+thm2.minimize(g2, performance=("gamma", sqrt(g2)))
+thm2.example("paper-full-printed", {**PLANT, **FULL_FILTER}, params={"rbar": 0.8},
+             printed={"gamma_bound": 0.3373}, printed_note=PRINTED_AT,
+             description="the full-order filter the paper prints, analysed by Theorem 2")
+# (10) => (28): G = P is one slack (the converse, (28) => (10), is the slack lemma of the paper's
+# ref. [9]: P - G - G^T <= -G^T P^-1 G, an inequality that no identity check can state)
+thm2.derived_from(thm1, "(10)", "(28)", substitute={G_2: P},
+                  note="(28) at G = P is (10): the direction (10) => (28) of the equivalence")
+thm2.derived_from(thm1, "(11)", "(29)", note="(29) is (11)")
+
 # -- Theorem 3: synthesis -----------------------------------------------------------------
 thm3 = Theorem("wang_l2linf.thm3", "Full- and reduced-order l2-l∞ filter synthesis (Theorem 3)",
                Source(PAPER, "Theorem 3, (30)-(32)", CITATION),
@@ -175,4 +214,37 @@ cor1.example("two-vertex", {"E": [[1.0, 0.0], [0.0, 1.0]]}, params={"rbar": 0.8}
              provenance="illustration", provenance_note="not from the paper: A's second row varied by ±0.05 around the paper's plant",
              description="not from the paper: A's second row varied by ±0.05 around the paper's plant")
 
-THEOREMS = [thm1, thm3, cor1]
+
+# -- the proof of Theorem 3: congruence of (28)-(29) and the change of variables (33)-(34) ---
+def _state_theorem3_proof(thm3: Theorem, source: Theorem, labels=("(30)", "(31)")):
+    """(30) = T1ᵀ (28) T1, T1 = diag(J, I, J, J), and (31) = T2ᵀ (29) T2, T2 = diag(J, I), with
+    G = [[V1, V3 M⁻¹G22], [M Eᵀ, G22]] (33), J = diag(I, G22⁻¹M), JᵀPJ = [[P1, P2], [P2ᵀ, P3]],
+    V2 = MᵀG22⁻¹M (34), Âf = MᵀAf G22⁻¹M, B̂f = MᵀBf, Ĉf = Cf G22⁻¹M; recovery (32) returns the
+    filter in the coordinates x̂' = (G22⁻¹M)⁻¹x̂: Af' = S⁻¹AfS, Bf' = S⁻¹Bf, Cf' = CfS, S = G22⁻¹M."""
+    n, k = source.dims["n"], source.dims["k"]
+    v = {name: decl.symbol for name, decl in thm3.var_decl.items()}
+    E = thm3.data_decl["E"].symbol
+    src = {name: decl.symbol for name, decl in {**source.var_decl, **source.data_decl}.items()}
+    M = thm3.auxiliary("M", k, k, description="invertible k x k of the slack structure (33)")
+    G22 = thm3.auxiliary("G22", k, k, latex="G_{22}", description="invertible k x k block of G (33)")
+    S = G22.I * M
+    J = BlockMatrix([[Identity(n), ZeroMatrix(n, k)], [ZeroMatrix(k, n), S]])
+    J_inv = BlockMatrix([[Identity(n), ZeroMatrix(n, k)], [ZeroMatrix(k, n), M.I * G22]])
+    Af, Bf, Cf = src["Af"], src["Bf"], src["Cf"]
+    substitute = {
+        src["G"]: BlockMatrix([[v["V1"], v["V3"] * M.I * G22], [M * E.T, G22]]),          # (33)
+        src["P"]: J_inv.T * BlockMatrix([[v["P1"], v["P2"]], [v["P2"].T, v["P3"]]]) * J_inv,  # (34)
+        v["V2"]: M.T * G22.I * M,                                                            # (34)
+        v["Af_hat"]: M.T * Af * G22.I * M, v["Bf_hat"]: M.T * Bf, v["Cf_hat"]: Cf * G22.I * M,
+    }
+    recovers = {"Af": S.I * Af * S, "Bf": S.I * Bf, "Cf": Cf * S}
+    thm3.derived_from(source, "(28)", labels[0], congruence=[J, I, J, J], substitute=substitute,
+                      recovers=recovers, note="proof of Theorem 3: T1 = diag(J, I, J, J) on (28)")
+    thm3.derived_from(source, "(29)", labels[1], congruence=[J, I], substitute=substitute,
+                      recovers=recovers, note="proof of Theorem 3: T2 = diag(J, I) on (29)")
+
+
+_state_theorem3_proof(thm3, thm2)
+_state_theorem3_proof(cor1, thm2, labels=("(37)", "(38)"))
+
+THEOREMS = [thm1, thm2, thm3, cor1]
