@@ -24,10 +24,11 @@ def register(sub):
     p.add_argument("--scaling", default="auto", choices=("auto", "none"),
                    help="exact signal rescaling declared by the theorem, applied and undone by lmidsl "
                         "(default auto)")
-    p.add_argument("--backoff", type=backoff_argument, metavar="DELTA|auto",
+    p.add_argument("--backoff", type=backoff_argument, metavar="DELTA|auto|none", default="auto",
                    help="re-solve at objective <= (1+DELTA)*optimum, minimising the condition number "
-                        "of what the recovery inverts (e.g. 1e-2); 'auto': only when the filter "
-                        "recovered at the optimum is not certified")
+                        "of what the recovery inverts (e.g. 1e-2); 'auto' (default): only when the "
+                        "design recovered at the optimum is not certified or is ill-conditioned; "
+                        "'none': never")
     p.add_argument("--no-certify", action="store_true", help="skip the analysis certificate")
     p.add_argument("--json", action="store_true", help="one JSON object on stdout")
     p.set_defaults(run=run)
@@ -36,6 +37,8 @@ def register(sub):
 def backoff_argument(text):
     if text == "auto":
         return text
+    if text == "none":
+        return None
     try:
         value = float(text)
     except ValueError:
