@@ -129,7 +129,13 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str =
     if backoff is not None and solution.ok:
         optimum = solution
         t0 = time.perf_counter()
-        solution = backoff_solution(model, optimum, backoff, solver, **options)
+        try:
+            solution = backoff_solution(model, optimum, backoff, solver, **options)
+        except LmidslError as exc:
+            if reason is None:        # a back-off the user asked for: their δ is at fault
+                raise
+            optimum.notes.append(f"automatic back-off failed: {exc}")
+            solution = optimum
         solution.times["backoff"] = time.perf_counter() - t0
         if reason and solution.backoff is not None:
             solution.backoff["reason"] = reason

@@ -78,7 +78,12 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
     name = model.solver_name(solver)
 
     t_var = cp.Variable()
-    cp.Problem(cp.Maximize(t_var), base + [E >> t_var * Id for E, Id in blocks]).solve(solver=name, **options)
+    try:
+        cp.Problem(cp.Maximize(t_var), base + [E >> t_var * Id for E, Id in blocks]).solve(solver=name, **options)
+    except (cp.error.SolverError, ArithmeticError, ValueError) as exc:
+        solution.backoff = {"delta": delta, "failed": f"{name} failed on the first conditioning solve "
+                            f"({type(exc).__name__}); try another solver or a larger δ", "solves": 1}
+        return solution
     solves = 1
     if t_var.value is None or not t_var.value > 0:
         raise LmidslError(f"{theorem.id}: back-off: no point with objective ≤ {bound:.6g} and positive "
