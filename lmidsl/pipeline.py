@@ -139,13 +139,20 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str =
         solution.times["backoff"] = time.perf_counter() - t0
         if reason and solution.backoff is not None:
             solution.backoff["reason"] = reason
-        if instance.theorem.recovery:
+        if instance.theorem.recovery and solution.backoff is not None:
             try:
                 solution.backoff["recovery_cond_before"] = recover(applied.scaled, optimum.values)[1]
             except LmidslError as exc:
                 solution.backoff["recovery_cond_before"] = f"recovery failed: {exc}"
+        if solution is optimum:
+            return solution
     finish_solution(solution, solver=solver, backend=backend, certify=certify, diagnose=diagnose,
                     margin=base_margin)
+    if reason is not None and not solution.verdict()[0] and optimum.verdict()[0]:
+        # an automatic back-off for conditioning must not cost the certificate
+        optimum.notes.append("the automatic back-off point is not certified "
+                             f"({'; '.join(solution.verdict()[1])}): the optimum's design is kept")
+        return optimum
     return solution
 
 

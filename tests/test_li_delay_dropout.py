@@ -78,8 +78,9 @@ def test_automatic_backoff_ends_certified():
     """backoff='auto' (used by `reproduce`): the returned filter passes Theorem 1 within 1 %."""
     sol = solve(THM, example="paper", solver="CVXOPT", backoff="auto")
     assert sol.analysis.passed and sol.analysis.gamma <= 1.01 * sol.gamma
-    if sol.backoff is not None:                       # CVXOPT's optimum filter is not certified
-        assert "did not certify" in sol.backoff["reason"] or "recovery failed" in sol.backoff["reason"]
+    if sol.backoff is not None:     # CVXOPT's optimum filter is not certified, or ill-conditioned
+        assert any(why in sol.backoff["reason"] for why in
+                   ("did not certify", "recovery failed", "condition number"))
         assert abs(sol.backoff["gamma_opt"] - PRINTED_GAMMA) / PRINTED_GAMMA < 5e-3
 
 
@@ -142,7 +143,7 @@ def test_sweep_small_grid_matches_single_solves():
     assert all(p.status in ("optimal", "optimal_inaccurate") and p.worst_eig < 0 for p in res.points)
     g = res.gamma_array()
     assert g.shape == (2, 1)
-    single = solve(THM, example="paper", overrides={"xi1": 0.3, "xi2": 0.5}, certify=False).gamma
+    single = solve(THM, example="paper", overrides={"xi1": 0.3, "xi2": 0.5}, certify=False, backoff=None).gamma
     assert g[0, 0] == pytest.approx(single, rel=1e-4)
     assert g[1, 0] < g[0, 0]
     t = res.timing()
