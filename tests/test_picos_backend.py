@@ -182,8 +182,8 @@ def test_picos_refuses_an_asymmetric_diagonal_block():
 def test_picos_matches_cvxpy_on_seed001_with_scaling():
     """Issue 4: li_delay_dropout.thm2 (UPS data, automatic output scaling) on both backends."""
     from lmidsl.pipeline import solve
-    cvx = solve("li_delay_dropout.thm2", example="paper", certify=False)
-    pic = solve("li_delay_dropout.thm2", example="paper", backend="picos", solver="cvxopt", certify=False)
+    cvx = solve("li_delay_dropout.thm2", example="paper", certify=False, backoff=None)
+    pic = solve("li_delay_dropout.thm2", example="paper", backend="picos", solver="cvxopt", certify=False, backoff=None)
     assert pic.status == "optimal" and pic.backend == "picos"
     assert abs(pic.gamma - cvx.gamma) / cvx.gamma < 1e-4
     assert abs(cvx.gamma - 0.3813) / 0.3813 < 5e-3

@@ -304,10 +304,6 @@ def test_hinf_of_certified_by_analysis(time, case):
 H2_TOL = 1e-5           # |√tr Z − ‖G‖₂| / ‖G‖₂, and the H2 state-feedback optimum vs LQR
 GAIN_TOL = 1e-3         # ‖K + K_lqr‖ / ‖K_lqr‖: the cost is flat in K (a γ error δ allows ~√δ in K)
 H2_KNOWN = {
-    ("continuous", "wide-scale"):
-        "√tr Z is 2.8e-4 above the H2 norm: the absolute strictness margin 1e-7 against a badly "
-        "scaled P (system entries spanning 1e-2..1e2), as for the bounded real lemma; margin "
-        "1e-9 gives 3.6e-6, 1e-10 gives 3.4e-7",
     ("discrete", "wide-scale"):
         "√tr Z is 1.3e-3 above the H2 norm: Clarabel's point misses the strict LMIs at margin "
         "1e-7, the margin is escalated to 1e-6, which is large against a badly scaled P (system "

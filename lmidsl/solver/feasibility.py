@@ -99,11 +99,13 @@ class FeasibilityReport:
 
     @property
     def inconsistent(self) -> bool:
-        """t* grew with the radius: impossible for exact solves (a larger ball contains the
-        smaller one), so the solver is inaccurate on this problem and t* proves nothing."""
-        found = [t for _, t in self.radii if t is not None]
-        return any(later > earlier + 1e-6 * max(1.0, abs(earlier)) + FEASP_TOL
-                   for i, earlier in enumerate(found) for later in found[i + 1:])
+        """t* grew with the radius by more than 10 % (and 1e-6, and 1e-14 R): impossible for exact solves (a
+        larger ball contains the smaller one), so the solver is inaccurate on this problem and
+        t* proves nothing."""
+        found = [(r, t) for r, t in self.radii if t is not None]
+        # a solve at radius R resolves t to about 1e-14 R (double precision on variables of size R)
+        return any(later > earlier + 0.1 * abs(earlier) + 1e-6 + 1e-14 * r
+                   for i, (_, earlier) in enumerate(found) for r, later in found[i + 1:])
 
     @property
     def at_radius(self) -> bool:
