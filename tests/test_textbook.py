@@ -35,7 +35,7 @@ from lmidsl.theorems.textbook.h2 import SF_DATA as H2_SF_DATA
 from lmidsl.theorems.textbook.kyp import passive_example
 from lmidsl.theorems.textbook.hinf_sf import SF_DATA
 from lmidsl.theorems.textbook.polytopic import interval_polytope
-from lmidsl.theorems.textbook.plants import brl_cases, plant_cases, subset
+from lmidsl.theorems.textbook.plants import brl_cases, filter_cases, plant_cases, subset
 
 control = pytest.importorskip("control")
 pytest.importorskip("slycot")
@@ -44,7 +44,7 @@ BRL_TOL = 1e-5          # |γ − ‖G‖∞| / ‖G‖∞
 NORM_TOL = 1e-10        # accuracy asked of control.norm (relative)
 BOUND_TOL = 1e-6        # ‖closed loop‖∞ ≤ γ (1 + BOUND_TOL)
 HINFSYN_TOL = 1e-3      # |γ − γ_hinfsyn| / γ_hinfsyn
-HINFSYN_TIMEOUT = 60.0  # seconds; SB10AD does not return on some plants
+HINFSYN_TIMEOUT = 180.0  # seconds; SB10AD does not return on some plants (and the machine is shared)
 TIMES = ("continuous", "discrete")
 SHORT = {"continuous": "ct", "discrete": "dt"}
 RESULTS: dict = {}
@@ -78,7 +78,8 @@ def _stable(sys) -> bool:
 
 @lru_cache(maxsize=None)
 def _solve(theorem: str, time: str, case: str, **kw):
-    data = _cases(theorem.split("_")[0].split(".")[1], time)[case]
+    kind = "filter" if "filter" in theorem else theorem.split("_")[0].split(".")[1]
+    data = _cases(kind, time)[case]
     return lmidsl.solve(theorem, data=data, **kw)
 
 
@@ -88,6 +89,8 @@ def _cases(kind: str, time: str) -> dict:
         return dict(brl_cases(time))
     if kind == "hinf":
         return dict(plant_cases(time))
+    if kind == "filter":
+        return dict(filter_cases(time))
     raise KeyError(kind)
 
 
@@ -165,7 +168,27 @@ def test_brl_wide_scale_small_margin_is_not_infeasible():
 
 # -- H∞ state feedback ---------------------------------------------------------------------
 SF_CASES = {t: list(_cases("hinf", t))[:10] for t in TIMES}
-SF_KNOWN: dict = {}
+# measured failures of lmidsl's certificate (a fix makes the test fail: remove the entry)
+SF_KNOWN = {
+    ('continuous', 'plant-0'):
+        "python-control confirms the gain (closed-loop norm/γ − 1 = -3.4e-07) but lmidsl's analysis returns optimal γ = 0.425088 > synthesis γ = 0.402275; max|K| = 3.3e+06, worst recovery cond = 1.0e+00",
+    ('continuous', 'plant-1'):
+        "python-control confirms the gain (closed-loop norm/γ − 1 = -9.2e-08) but lmidsl's analysis says 'infeasible' (wrong verdict); max|K| = 1.6e+07, worst recovery cond = 6.9e+07",
+    ('continuous', 'plant-3'):
+        "python-control confirms the gain (closed-loop norm/γ − 1 = -6.7e-07) but lmidsl's analysis says 'infeasible' (wrong verdict); max|K| = 2.3e+06, worst recovery cond = 2.4e+08",
+    ('continuous', 'plant-4'):
+        "python-control confirms the gain (closed-loop norm/γ − 1 = -2.8e-07) but lmidsl's analysis says 'infeasible' (wrong verdict); max|K| = 1.5e+07, worst recovery cond = 1.2e+09",
+    ('continuous', 'plant-5'):
+        "python-control confirms the gain (closed-loop norm/γ − 1 = -7.9e-06) but lmidsl's analysis ends in a solver error (no verdict); max|K| = 5.3e+05, worst recovery cond = 2.2e+08",
+    ('continuous', 'plant-6'):
+        "python-control confirms the gain (closed-loop norm/γ − 1 = -7.9e-05) but lmidsl's analysis says 'infeasible' (wrong verdict); max|K| = 3.1e+06, worst recovery cond = 8.7e+09",
+    ('continuous', 'plant-7'):
+        "python-control confirms the gain (closed-loop norm/γ − 1 = -2.5e-05) but lmidsl's analysis says 'infeasible' (wrong verdict); max|K| = 6.2e+05, worst recovery cond = 6.1e+08",
+    ('continuous', 'plant-8'):
+        "python-control confirms the gain (closed-loop norm/γ − 1 = -2.1e-07) but lmidsl's analysis returns optimal γ = 15645.2 > synthesis γ = 0.53508; max|K| = 7.5e+06, worst recovery cond = 1.0e+00",
+    ('continuous', 'plant-9'):
+        "python-control confirms the gain (closed-loop norm/γ − 1 = -1.0e-07) but lmidsl's analysis says 'infeasible' (wrong verdict); max|K| = 1.1e+07, worst recovery cond = 3.8e+08",
+}
 
 
 def _sf(time: str, case: str):
@@ -214,12 +237,17 @@ import control
 a = json.load(sys.stdin)
 P = control.ss(*(np.array(a[k]) for k in "ABCD"))
 K, CL, gam, rcond = control.hinfsyn(P, a["ny"], a["nu"])
-print(json.dumps(float(gam)))
+print(json.dumps({"gamma": float(gam), "K": [K.A.tolist(), K.B.tolist(), K.C.tolist(), K.D.tolist()]}))
 """
 
 
-def _hinfsyn_in_subprocess(P, ny: int, nu: int) -> float | None:
-    """control.hinfsyn in a fresh interpreter, killed after HINFSYN_TIMEOUT (None then)."""
+def _hinfsyn_in_subprocess(P, ny: int, nu: int) -> dict | None:
+    """control.hinfsyn in a fresh interpreter, killed after HINFSYN_TIMEOUT (None then):
+    {"gamma": its γ, "achieved": the H∞ norm of the loop its controller closes (python-control
+    LFT), "consistent": the two agree within HINFSYN_TOL}.  SB10AD's γ is an estimate of the
+    optimum (its bisection tests closed-loop stability); where its own controller does not
+    achieve it, the γ is not a valid reference and only "achieved" (an upper bound of the
+    optimum) is."""
     job = json.dumps({"A": P.A.tolist(), "B": P.B.tolist(), "C": P.C.tolist(), "D": P.D.tolist(),
                       "ny": ny, "nu": nu})
     try:
@@ -227,7 +255,11 @@ def _hinfsyn_in_subprocess(P, ny: int, nu: int) -> float | None:
                              text=True, timeout=HINFSYN_TIMEOUT, check=True)
     except subprocess.TimeoutExpired:
         return None
-    return float(json.loads(out.stdout))
+    res = json.loads(out.stdout)
+    K = control.ss(*(np.array(m) for m in res["K"]))
+    achieved = _hinf_norm(P.lft(K, nu, ny))
+    return {"gamma": res["gamma"], "achieved": achieved,
+            "consistent": abs(achieved - res["gamma"]) <= HINFSYN_TOL * res["gamma"]}
 
 
 def _d2c(P):
@@ -239,18 +271,94 @@ def _d2c(P):
 
 
 @lru_cache(maxsize=None)
-def _hinfsyn_gamma(time: str, case: str):
-    """γ of control.hinfsyn (None when SB10AD does not return within HINFSYN_TIMEOUT)."""
-    P, nu, ny = lmidsl.generalized_plant(_cases("hinf", time)[case], time)
+def _hinfsyn_reference(kind: str, time: str, case: str):
+    """control.hinfsyn on the plant of ``case`` (a filter: u = ẑ, B2 = 0, D12 = −I, D22 = 0);
+    a discrete plant is first mapped to continuous time by the bilinear transform."""
+    d = _cases(kind, time)[case]
+    if kind == "filter":
+        n, p1, p2 = len(d["A"]), len(d["C1"]), len(d["C2"])
+        d = dict(d, B2=np.zeros((n, p1)), D12=-np.eye(p1), D22=np.zeros((p2, p1)))
+    P, nu, ny = lmidsl.generalized_plant(d, time)
     if time == "discrete":
         P = _d2c(P)
     return _hinfsyn_in_subprocess(P, ny, nu)
 
 
+def _check_against_hinfsyn(name, case, sol, ref, known):
+    """γ within HINFSYN_TOL of hinfsyn's γ when hinfsyn's own controller achieves it; otherwise
+    (hinfsyn's γ is then no reference) γ at most the norm its controller achieves, + HINFSYN_TOL."""
+    _record(name, case, gamma=sol.gamma, status=sol.status, notes=sol.notes,
+            hinfsyn=ref and ref["gamma"], hinfsyn_achieved=ref and ref["achieved"],
+            hinfsyn_consistent=ref and ref["consistent"],
+            rel=None if ref is None or sol.gamma is None else (sol.gamma - ref["gamma"]) / ref["gamma"])
+    if ref is None:
+        pytest.skip(f"control.hinfsyn did not return within {HINFSYN_TIMEOUT:.0f} s")
+    if ref["consistent"]:
+        ok = sol.ok and sol.certified and abs(sol.gamma - ref["gamma"]) <= HINFSYN_TOL * ref["gamma"]
+    else:
+        ok = sol.ok and sol.certified and sol.gamma <= ref["achieved"] * (1 + HINFSYN_TOL)
+    _check(ok, known, (sol.status, sol.message, sol.notes, sol.gamma, ref))
+
+
 OF_CASES = {t: list(_cases("hinf", t)) for t in TIMES}
-OF_KNOWN_GAMMA: dict = {}
-OF_KNOWN_BOUND: dict = {}
-OF_KNOWN_CERT: dict = {}
+OF_KNOWN_GAMMA = {
+    ("continuous", "plant-5"): "γ 2.7e-3 above hinfsyn: Clarabel optimal_inaccurate, margin escalated to 1e-4 "
+                               "(PICOS/CVXOPT: 2.7e-6 at margin 1e-7)",
+    ("continuous", "plant-6"): "γ 1.0e-3 above hinfsyn: Clarabel optimal_inaccurate, margin escalated to 1e-4",
+    ("continuous", "plant-7"): "synthesis point not certified: Clarabel optimal_inaccurate, the LMIs still fail at "
+                               "margin 1e-4 (PICOS/CVXOPT: γ 1.1e-5 above hinfsyn, certified)",
+    ("continuous", "plant-12"): "γ 4.4e-3 above hinfsyn: Clarabel optimal_inaccurate, margin escalated to 1e-5 "
+                                "(PICOS/CVXOPT: 2.1e-4)",
+    ("continuous", "plant-13"): "γ 3.3e-3 above hinfsyn: Clarabel's point needs the margin escalated to 1e-4 "
+                                "(PICOS/CVXOPT: 2.9e-6)",
+    ("continuous", "plant-15"): "γ 1.3e-3 above hinfsyn: Clarabel optimal_inaccurate, margin escalated to 1e-4",
+    ("discrete", "plant-7"): "no controller: Clarabel solver error, margin escalated to 1e-4 without a certified point",
+    ("discrete", "plant-14"): "no controller: Clarabel solver error",
+}
+OF_KNOWN_BOUND = {
+    ("continuous", "plant-7"): "closed-loop norm 2.0e-6 above γ, and lmidsl says so: the synthesis point is not "
+                               "certified (Clarabel optimal_inaccurate, LMIs fail at margin 1e-4)",
+    ("discrete", "plant-7"): "no controller: Clarabel solver error",
+    ("discrete", "plant-14"): "no controller: Clarabel solver error",
+}
+OF_KNOWN_CERT = {
+    ('continuous', 'plant-3'):
+        "python-control confirms the controller (closed-loop norm/γ − 1 = -7.5e-05) but lmidsl's analysis ends in a solver error (no verdict); worst recovery cond = 3.3e+11",
+    ('continuous', 'plant-4'):
+        "python-control confirms the controller (closed-loop norm/γ − 1 = -1.5e-04) but lmidsl's analysis ends in a solver error (no verdict); worst recovery cond = 1.7e+11",
+    ('continuous', 'plant-5'):
+        "python-control confirms the controller (closed-loop norm/γ − 1 = -6.6e-04) but lmidsl's analysis says 'infeasible' (wrong verdict); worst recovery cond = 6.8e+08",
+    ('continuous', 'plant-6'):
+        "python-control confirms the controller (closed-loop norm/γ − 1 = -2.0e-04) but lmidsl's analysis says 'infeasible' (wrong verdict); worst recovery cond = 3.7e+12",
+    ('continuous', 'plant-7'):
+        "the synthesis point is not certified (Clarabel optimal_inaccurate, the LMIs still fail at "
+        "margin 1e-4) and the controller's closed-loop norm is 2.0e-6 above γ; the analysis "
+        "returns optimal_inaccurate γ = 107.213 > 106.487 (consistent: not certified)",
+    ('continuous', 'plant-10'):
+        "python-control confirms the controller (closed-loop norm/γ − 1 = -8.4e-06) but lmidsl's analysis ends in a solver error (no verdict); worst recovery cond = 7.8e+07",
+    ('continuous', 'plant-12'):
+        "python-control confirms the controller (closed-loop norm/γ − 1 = -2.2e-03) but lmidsl's analysis says 'infeasible' (wrong verdict); worst recovery cond = 1.1e+12",
+    ('continuous', 'plant-13'):
+        "python-control confirms the controller (closed-loop norm/γ − 1 = -4.5e-04) but lmidsl's analysis returns optimal_inaccurate γ = 73.4497 > synthesis γ = 73.2983; worst recovery cond = 1.8e+09",
+    ('continuous', 'plant-14'):
+        "python-control confirms the controller (closed-loop norm/γ − 1 = -3.3e-03) but lmidsl's analysis says 'infeasible' (wrong verdict); worst recovery cond = 1.6e+12",
+    ('continuous', 'plant-15'):
+        "python-control confirms the controller (closed-loop norm/γ − 1 = -5.4e-04) but lmidsl's analysis returns optimal_inaccurate γ = 28.861 > synthesis γ = 28.6481; worst recovery cond = 2.4e+10",
+    ('continuous', 'plant-18'):
+        "python-control confirms the controller (closed-loop norm/γ − 1 = -8.5e-08) but lmidsl's analysis ends in a solver error (no verdict); worst recovery cond = 1.2e+12",
+    ('continuous', 'plant-19'):
+        "python-control confirms the controller (closed-loop norm/γ − 1 = -7.9e-08) but lmidsl's analysis ends in a solver error (no verdict); worst recovery cond = 3.8e+11",
+    ('discrete', 'plant-2'):
+        "python-control confirms the controller (closed-loop norm/γ − 1 = -1.7e-04) but lmidsl's analysis ends in a solver error (no verdict); worst recovery cond = 7.7e+09",
+    ('discrete', 'plant-6'):
+        "python-control confirms the controller (closed-loop norm/γ − 1 = -1.7e-05) but lmidsl's analysis ends in a solver error (no verdict); worst recovery cond = 1.2e+10",
+    ('discrete', 'plant-7'):
+        'no controller: the synthesis fails (Clarabel solver error, margin escalated to 1e-4)',
+    ('discrete', 'plant-10'):
+        "python-control confirms the controller (closed-loop norm/γ − 1 = -2.5e-05) but lmidsl's analysis ends in a solver error (no verdict); worst recovery cond = 5.9e+08",
+    ('discrete', 'plant-14'):
+        'no controller: the synthesis fails (Clarabel solver error)',
+}
 
 
 def _of(time: str, case: str):
@@ -261,15 +369,10 @@ def _of(time: str, case: str):
 @pytest.mark.slow
 @pytest.mark.parametrize("time, case", [(t, c) for t in TIMES for c in OF_CASES[t]])
 def test_hinf_of_gamma_matches_hinfsyn(time, case):
+    """γ against control.hinfsyn (see _check_against_hinfsyn), the synthesis point certified."""
     name, d, sol = _of(time, case)
-    ref = _hinfsyn_gamma(time, case)
-    _record(name, case, hinfsyn=ref, gamma=sol.gamma, status=sol.status, notes=sol.notes,
-            rel=None if ref is None or sol.gamma is None else (sol.gamma - ref) / ref)
-    if ref is None:
-        pytest.skip(f"control.hinfsyn did not return within {HINFSYN_TIMEOUT:.0f} s")
-    ok = sol.ok and sol.certified and abs(sol.gamma - ref) <= HINFSYN_TOL * ref
-    _check(ok, OF_KNOWN_GAMMA.get((time, case)),
-           (sol.status, sol.message, sol.notes, sol.gamma, ref, sol.gamma and (sol.gamma - ref) / ref))
+    _check_against_hinfsyn(name, case, sol, _hinfsyn_reference("hinf", time, case),
+                           OF_KNOWN_GAMMA.get((time, case)))
 
 
 @pytest.mark.slow
@@ -470,3 +573,54 @@ def test_polytopic_stability_is_sound(time, case):
             assert stable, worst
         if q.certified:
             assert dil.certified, (dil.status, dil.message)
+
+
+# -- H∞ filtering --------------------------------------------------------------------------
+FILTER_CASES = {t: list(_cases("filter", t)) for t in TIMES}
+FILTER_KNOWN_GAMMA: dict = {}
+FILTER_KNOWN_CERT = {
+    ('continuous', 'filter-2'):
+        "python-control confirms the filter (error norm/γ − 1 = -8.0e-06) but lmidsl's analysis (Clarabel) returns optimal_inaccurate γ = 415.893 > synthesis γ = 2.66533: a point far from the minimum; worst recovery cond = 3.2e+06",
+    ('continuous', 'filter-3'):
+        "python-control confirms the filter (error norm/γ − 1 = -7.6e-05) but lmidsl's analysis (Clarabel) returns optimal γ = 136.598 > synthesis γ = 4.44825: a point far from the minimum; worst recovery cond = 7.5e+08",
+    ('discrete', 'filter-1'):
+        "python-control confirms the filter (error norm/γ − 1 = -3.4e-07) but lmidsl's analysis (Clarabel) returns optimal γ = 8.40263 > synthesis γ = 7.61712: a point far from the minimum; worst recovery cond = 4.6e+06",
+    ('discrete', 'filter-2'):
+        "python-control confirms the filter (error norm/γ − 1 = -7.8e-06) but lmidsl's analysis (Clarabel) returns optimal γ = 6.37158 > synthesis γ = 5.70357: a point far from the minimum; worst recovery cond = 3.9e+06 (PICOS/CVXOPT on the same analysis: 5.70353)",
+    ('discrete', 'filter-4'):
+        "python-control confirms the filter (error norm/γ − 1 = -1.8e-06) but lmidsl's analysis (Clarabel) returns optimal γ = 6.89731 > synthesis γ = 6.8903: a point far from the minimum; worst recovery cond = 4.9e+07",
+}
+
+
+def _filter(time: str, case: str):
+    name = f"textbook.hinf_filter_{SHORT[time]}"
+    return name, _cases("filter", time)[case], _solve(name, time, case)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("time, case", [(t, c) for t in TIMES for c in FILTER_CASES[t]])
+def test_hinf_filter_gamma_and_error_norm(time, case):
+    """γ against control.hinfsyn on the filtering plant (u = ẑ, B2 = 0, D12 = −I; see
+    _check_against_hinfsyn); the filtering-error system of the recovered filter (python-control
+    LFT) stable with ‖·‖∞ ≤ γ (1 + BOUND_TOL)."""
+    name, d, sol = _filter(time, case)
+    assert sol.ok and "Af" in sol.recovered, (sol.status, sol.message)
+    err = lmidsl.filtering_error(d, sol.design)
+    norm = _hinf_norm(err)
+    _record(name, case, error_norm=norm, ratio=norm / sol.gamma - 1, stable=_stable(err),
+            cond=sol.design.worst_condition)
+    assert _stable(err) and norm <= sol.gamma * (1 + BOUND_TOL), (norm, sol.gamma)
+    _check_against_hinfsyn(name, case, sol, _hinfsyn_reference("filter", time, case),
+                           FILTER_KNOWN_GAMMA.get((time, case)))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("time, case", [(t, c) for t in TIMES for c in FILTER_CASES[t]])
+def test_hinf_filter_certified_by_analysis(time, case):
+    """lmidsl's certificate: the bounded real lemma of the error system with the filter fixed."""
+    name, d, sol = _filter(time, case)
+    a = sol.analysis
+    _record(name, case, analysis_status=a and a.status, analysis_gamma=a and a.gamma,
+            certified=bool(a and a.passed))
+    _check(bool(a and a.passed), FILTER_KNOWN_CERT.get((time, case)),
+           (sol.status, a and a.status, a and a.gamma, sol.gamma))

@@ -6,11 +6,12 @@ Theorem ids ``textbook.<name>``; one data convention for all of them (:mod:`.pla
 from .brl import THEOREMS as _BRL
 from .hinf_sf import THEOREMS as _HINF_SF
 from .hinf_of import THEOREMS as _HINF_OF
+from .hinf_filter import THEOREMS as _HINF_FILTER
 from .h2 import THEOREMS as _H2
 from .kyp import THEOREMS as _KYP
 from .regions import THEOREMS as _REGIONS
 from .polytopic import THEOREMS as _POLYTOPIC
 
-THEOREMS = [*_BRL, *_HINF_SF, *_HINF_OF, *_H2, *_KYP, *_REGIONS, *_POLYTOPIC]
+THEOREMS = [*_BRL, *_HINF_SF, *_HINF_OF, *_HINF_FILTER, *_H2, *_KYP, *_REGIONS, *_POLYTOPIC]
 
 __all__ = ["THEOREMS"]

@@ -148,3 +148,21 @@ def plant_cases(time: str, count: int = 20, max_order: int = 8) -> list[tuple[st
 def subset(data: dict, names) -> dict:
     """The entries of ``data`` a theorem declares (one plant file serves every theorem)."""
     return {k: data[k] for k in names if k in data}
+
+
+def filter_cases(time: str, count: int = 10) -> list[tuple[str, dict]]:
+    """(name, plant) for the filtering tests: a stable A (orders 1..6), B1, C1 (1..2 outputs z),
+    C2 (1..2 measurements y), D11 and D21 with full row rank (m1 = p2 + 1 disturbances)."""
+    cases = []
+    for k in range(count):
+        rng = np.random.default_rng(2000 + k)
+        n, p1, p2 = 1 + k % 6, 1 + k % 2, 1 + (k // 2) % 2
+        m1 = p2 + 1
+        A = _stable_matrix(rng, n, time)
+        U, _ = np.linalg.qr(rng.standard_normal((p2, p2)))
+        V, _ = np.linalg.qr(rng.standard_normal((m1, m1)))
+        S = np.hstack([np.diag(0.5 + rng.random(p2)), np.zeros((p2, m1 - p2))])
+        cases.append((f"filter-{k}", _lists(A=A, B1=rng.standard_normal((n, m1)),
+                                            C1=rng.standard_normal((p1, n)), C2=rng.standard_normal((p2, n)),
+                                            D11=0.3 * rng.standard_normal((p1, m1)), D21=U @ S @ V.T)))
+    return cases
