@@ -170,24 +170,8 @@ def test_brl_wide_scale_small_margin_is_not_infeasible():
 SF_CASES = {t: list(_cases("hinf", t))[:10] for t in TIMES}
 # measured failures of lmidsl's certificate (a fix makes the test fail: remove the entry)
 SF_KNOWN = {
-    ('continuous', 'plant-0'):
-        "python-control confirms the gain (closed-loop norm/γ − 1 = -3.4e-07) but lmidsl's analysis returns optimal γ = 0.425088 > synthesis γ = 0.402275; max|K| = 3.3e+06, worst recovery cond = 1.0e+00",
-    ('continuous', 'plant-1'):
-        "python-control confirms the gain (closed-loop norm/γ − 1 = -9.2e-08) but lmidsl's analysis says 'infeasible' (wrong verdict); max|K| = 1.6e+07, worst recovery cond = 6.9e+07",
-    ('continuous', 'plant-3'):
-        "python-control confirms the gain (closed-loop norm/γ − 1 = -6.7e-07) but lmidsl's analysis says 'infeasible' (wrong verdict); max|K| = 2.3e+06, worst recovery cond = 2.4e+08",
-    ('continuous', 'plant-4'):
-        "python-control confirms the gain (closed-loop norm/γ − 1 = -2.8e-07) but lmidsl's analysis says 'infeasible' (wrong verdict); max|K| = 1.5e+07, worst recovery cond = 1.2e+09",
-    ('continuous', 'plant-5'):
-        "python-control confirms the gain (closed-loop norm/γ − 1 = -7.9e-06) but lmidsl's analysis ends in a solver error (no verdict); max|K| = 5.3e+05, worst recovery cond = 2.2e+08",
     ('continuous', 'plant-6'):
         "python-control confirms the gain (closed-loop norm/γ − 1 = -7.9e-05) but lmidsl's analysis says 'infeasible' (wrong verdict); max|K| = 3.1e+06, worst recovery cond = 8.7e+09",
-    ('continuous', 'plant-7'):
-        "python-control confirms the gain (closed-loop norm/γ − 1 = -2.5e-05) but lmidsl's analysis says 'infeasible' (wrong verdict); max|K| = 6.2e+05, worst recovery cond = 6.1e+08",
-    ('continuous', 'plant-8'):
-        "python-control confirms the gain (closed-loop norm/γ − 1 = -2.1e-07) but lmidsl's analysis returns optimal γ = 15645.2 > synthesis γ = 0.53508; max|K| = 7.5e+06, worst recovery cond = 1.0e+00",
-    ('continuous', 'plant-9'):
-        "python-control confirms the gain (closed-loop norm/γ − 1 = -1.0e-07) but lmidsl's analysis says 'infeasible' (wrong verdict); max|K| = 1.1e+07, worst recovery cond = 3.8e+08",
 }
 
 
