@@ -1,8 +1,8 @@
 """H2 norm by the Gramian LMIs and H2 state feedback, continuous and discrete time.
 
 References: Boyd, El Ghaoui, Feron, Balakrishnan, *Linear Matrix Inequalities in System and
-Control Theory*, SIAM 1994, §6.2 / §10.2 (the output energy / H2 cost through Lyapunov
-inequalities); Scherer & Weiland, *Linear Matrix Inequalities in Control*, lecture notes (H2
+Control Theory*, SIAM 1994 (output energy and H2-type costs through Lyapunov inequalities);
+Scherer & Weiland, *Linear Matrix Inequalities in Control*, lecture notes (H2
 nominal performance and H2 state-feedback synthesis); Feron, Balakrishnan, Boyd, El Ghaoui,
 "Numerical methods for H2 related problems", ACC 1992 (the change of variables W = K Y for H2).
 

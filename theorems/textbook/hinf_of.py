@@ -76,7 +76,7 @@ def _synthesis(name: str, time: str, analysis: Theorem) -> Theorem:
                   Source("Scherer, Gahinet, Chilali 1997", "H∞ LMI with the linearising change of variables",
                          SGC),
                   time=time, designs="controller",
-                  description="min γ² over X, Y, Â, B̂, Ĉ, D̂; controller by the SGC recovery "
+                  description="min γ over X, Y, Â, B̂, Ĉ, D̂; controller by the SGC recovery "
                               "(M Nᵀ = I − X Y), loop-shifted for D22.")
     (n, m1, m2, p1, p2), d = generalized_plant(thm)
     X = thm.var("X", n, kind="symmetric")

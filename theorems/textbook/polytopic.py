@@ -58,7 +58,7 @@ dilated_dt = Theorem("textbook.dilated_dt", "Dilated robust stability condition 
                      time="discrete",
                      description="find P_i ≻ 0 and G with [[P_i, A_iᵀGᵀ], [GA_i, G + Gᵀ − P_i]] ≻ 0 at every vertex")
 _n, _A = _polytope(dilated_dt)
-_Pi = dilated_dt.var("P", _n, kind="symmetric", per_vertex=True, latex="P_i",
+_Pi = dilated_dt.var("P", _n, kind="symmetric", per_vertex=True, latex="P",
                      description="vertex Lyapunov matrix (P(λ) = Σ λ_i P_i)")
 _G = dilated_dt.var("G", _n, _n, description="slack variable, common to the vertices")
 dilated_dt.lmi("(dOBG)", [
