@@ -21,12 +21,10 @@ import argparse
 import statistics
 import sys
 import time
-from pathlib import Path
 
 import cvxpy as cp
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from lmidsl.pipeline import make_instance  # noqa: E402
 from lmidsl.solver.backends.base import DEFAULT_MARGIN  # noqa: E402

@@ -44,7 +44,8 @@ def main() -> None:
     envs = {}
     for label, tree in trees.items():
         env = {k: v for k, v in os.environ.items() if k not in ("LMIDSL_THEOREM_PATH", "LMIDSL_DEBUG")}
-        env.update(PYTHONPATH=str(tree), LMIDSL_CACHE_DIR=cache)
+        source = tree / "src" if (tree / "src" / "lmidsl").is_dir() else tree
+        env.update(PYTHONPATH=str(source), LMIDSL_CACHE_DIR=cache)
         envs[label] = env
     cold = timed([sys.executable, "-m", "lmidsl", "list"], envs["this"])   # builds the index
     py = sys.executable

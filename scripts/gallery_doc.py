@@ -15,7 +15,6 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
 
 import lmidsl  # noqa: E402
 from lmidsl.render.latex import lmi_latex, printer_for  # noqa: E402
@@ -112,7 +111,7 @@ One naming convention serves every theorem (`theorems/textbook/plants.py`): a sy
 `A, B, C, D`; a generalized plant `A, B1, B2, C1, C2, D11, D12, D21, D22`
 (x' = Ax + B1w + B2u, z = C1x + D11w + D12u, y = C2x + D21w + D22u); a controller
 `AK, BK, CK, DK`, a state-feedback gain `K`, a filter `Af, Bf, Cf, Df`.  The changes of
-variables are written once in `lmidsl/numeric/changes_of_variables.py` (unit tests:
+variables are written once in `src/lmidsl/numeric/changes_of_variables.py` (unit tests:
 `tests/test_changes_of_variables.py`), and `Design.as_statespace()` /
 `lmidsl.closed_loop` / `lmidsl.filtering_error` close the loop with python-control's LFT for
 the checks.

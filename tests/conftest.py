@@ -19,9 +19,8 @@ def load_theorem_module(stem: str, alias: str | None = None):
 
 
 def run_cli(*argv, env=None, cwd=None):
-    """Run ``python -m lmidsl ARGV`` in a subprocess; returns (exit code, stdout, stderr)."""
+    """Run ``python -m lmidsl ARGV`` (the installed package) in a subprocess; returns (exit code, stdout, stderr)."""
     full_env = dict(os.environ)
-    full_env["PYTHONPATH"] = str(ROOT) + os.pathsep + full_env.get("PYTHONPATH", "")
     full_env.pop("LMIDSL_DEBUG", None)
     if env:
         full_env.update(env)

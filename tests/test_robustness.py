@@ -159,7 +159,6 @@ def test_inverse_squared_and_singular_inverse(capsys, tmp_path, monkeypatch):
 # -- durable, resumable long runs ------------------------------------------------------------
 def _env(tmp_path):
     env = dict(os.environ)
-    env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
     env.pop("LMIDSL_DEBUG", None)
     env["LMIDSL_CACHE_DIR"] = str(tmp_path / "cache")
     return env

@@ -18,7 +18,6 @@ import control
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parents[1]))
 sys.path.insert(0, str(HERE))
 
 import lmidsl  # noqa: E402
