@@ -158,3 +158,26 @@ def test_exit_code_reproduce_follows_the_expected_outcomes():
     rows = json.loads(out)["rows"]
     assert {r["example"]: r["outcome"] for r in rows}["paper-printed"] == "infeasible"
     assert all(r["as_expected"] for r in rows)
+
+
+def test_a_solver_panic_is_a_solver_error_and_the_next_solver_answers(monkeypatch):
+    """Clarabel (Rust) panics with pyo3's PanicException, a BaseException: it must become the
+    status "solver_error" of that solver, and `solve` must go on to the other solvers."""
+    import cvxpy as cp
+
+    class PanicException(BaseException):
+        pass
+
+    real_solve = cp.Problem.solve
+
+    def panicking(self, *args, **kwargs):
+        if kwargs.get("solver") == "CLARABEL":
+            raise PanicException("Eigval error: Eigen(1)")
+        return real_solve(self, *args, **kwargs)
+
+    monkeypatch.setattr(cp.Problem, "solve", panicking)
+    data = {"A": A3.tolist(), "B": B3.tolist(), "C": C3.tolist(), "D": D3.tolist()}
+    true = control.linfnorm(control.ss(A3, B3, C3, D3))[0]
+    sol = lmidsl.solve(BRL, data=data)
+    assert sol.solver != "CLARABEL" and sol.certified
+    assert abs(sol.gamma - true) <= 1e-4 * true

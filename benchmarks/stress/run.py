@@ -33,7 +33,11 @@ def hinf(A, B, C, D, time_domain) -> float:
 
 def analysis_case(family: str, seed: int, time_domain: str) -> dict:
     data = system(family, seed, time_domain)
-    true = hinf(data["A"], data["B"], data["C"], data["D"], time_domain)
+    # spread and io_scaled are similarity / input-output rescalings of the random family's system
+    # (same draws, same transfer function): its well-scaled realization gives the reference, since
+    # slycot itself loses digits on the badly scaled one (seed 0, discrete: 8.76772 vs 8.76824)
+    ref = system("random", seed, time_domain) if family in ("spread", "io_scaled") else data
+    true = hinf(ref["A"], ref["B"], ref["C"], ref["D"], time_domain)
     t0 = time.perf_counter()
     sol = lmidsl.solve(f"textbook.brl_{SUFFIX[time_domain]}", data=lists(data))
     certified, reasons = sol.verdict()

@@ -71,6 +71,7 @@ def _brl(name: str, time: str, source: Source) -> Theorem:
                                          "γ is the H∞ norm of (A, B, C, D).")
     (n, _, _), (A, B, C, D) = system_data(thm)
     bounded_real(thm, "(BRL)", A, B, C, D, n)
+    thm.scale_signal("x", rows=("A", "B"), cols=("A", "C"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
     return thm
 
 

@@ -81,6 +81,7 @@ def _analysis(name: str, time: str) -> Theorem:
         (n, m, p), (A, B, C, D) = system_data(thm)
     P = thm.var("P", n, kind="symmetric", description="bound on the controllability Gramian")
     h2_gramian(thm, A, B, C, D, n, p, P=P)
+    thm.scale_signal("x", rows=("A", "B"), cols=("A", "C"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
     return thm
 
 
@@ -101,6 +102,7 @@ def _state_feedback(name: str, time: str) -> Theorem:
     W = thm.var("W", m2, n, description="W = K Y")
     h2_gramian(thm, A, B1, C1, D11, n, p1, P=Y, AP=A * Y + B2 * W, CP=C1 * Y + D12 * W)
     thm.recover(K=state_feedback_gain(W, Y))
+    thm.scale_signal("x", rows=("A", "B1", "B2"), cols=("A", "C1"), recovered_cols=("K",), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
     thm.certified_by(f"textbook.h2_{'ct' if time == 'continuous' else 'dt'}_sf_cl", design=("K",))
     thm.example("random-3", subset(random_plant(11, 3, 2, 1, 2, 1, time), SF_DATA[time]),
                 provenance="illustration",
@@ -124,6 +126,7 @@ def _sf_analysis(name: str, time: str) -> Theorem:
     Ccl = thm.define("C_cl", C1 + D12 * K, latex=r"C_{cl}")
     P = thm.var("P", n, kind="symmetric")
     h2_gramian(thm, Acl, B1, Ccl, D11, n, p1, P=P)
+    thm.scale_signal("x", rows=("A", "B1", "B2"), cols=("A", "C1", "K"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
     return thm
 
 

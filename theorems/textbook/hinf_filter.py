@@ -49,6 +49,7 @@ def _analysis(name: str, time: str) -> Theorem:
     names = {"A": r"\mathcal{A}", "B": r"\mathcal{B}", "C": r"\mathcal{C}", "D": r"\mathcal{D}"}
     e = {k: thm.define(f"{k}_e", v, latex=names[k]) for k, v in e.items()}
     bounded_real(thm, "(BRL-e)", e["A"], e["B"], e["C"], e["D"], n + nf)
+    thm.scale_signal("x", rows=("A", "B1"), cols=("A", "C1", "C2"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
     return thm
 
 
@@ -90,6 +91,7 @@ def _synthesis(name: str, time: str, analysis: Theorem) -> Theorem:
     thm.minimize(g, performance=("gamma", g))
     thm.recover(**full_order_filter(thm, X, Y, Ah, Bh, Ch, Dh, d["A"], d["C2"]))
     thm.certified_by(analysis, design=FILTER)
+    thm.scale_signal("x", rows=("A", "B1"), cols=("A", "C1", "C2"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
     thm.well_conditioned(X, Y)
     thm.example("random-3", dict(filter_cases(time)[2][1]), provenance="illustration",
                 provenance_note="a random stable plant, numpy seed 2002 (theorems/textbook/plants.py)")

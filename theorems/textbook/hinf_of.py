@@ -68,6 +68,7 @@ def _analysis(name: str, time: str) -> Theorem:
     names = {"A": r"\mathcal{A}", "B": r"\mathcal{B}", "C": r"\mathcal{C}", "D": r"\mathcal{D}"}
     cl = {k: thm.define(f"{k}_cl", v, latex=names[k]) for k, v in cl.items()}
     bounded_real(thm, "(BRL-cl)", cl["A"], cl["B"], cl["C"], cl["D"], n + nk)
+    thm.scale_signal("x", rows=("A", "B1", "B2"), cols=("A", "C1", "C2"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
     return thm
 
 
@@ -111,6 +112,7 @@ def _synthesis(name: str, time: str, analysis: Theorem) -> Theorem:
     thm.minimize(g, performance=("gamma", g))
     thm.recover(**output_feedback(thm, X, Y, Ah, Bh, Ch, Dh, d["A"], d["B2"], d["C2"], d["D22"]))
     thm.certified_by(analysis, design=CONTROLLER)
+    thm.scale_signal("x", rows=("A", "B1", "B2"), cols=("A", "C1", "C2"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
     thm.well_conditioned(X, Y)
     return thm
 

@@ -50,6 +50,7 @@ def _kyp(name: str, time: str) -> Theorem:
             [B.T * P * A - C, B.T * P * B + 2 * nu * I - D - D.T],
         ])
     thm.minimize(-nu, performance=("nu", nu))
+    thm.scale_signal("x", rows=("A", "B"), cols=("A", "C"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
     return thm
 
 

@@ -100,7 +100,9 @@ def auto_factors(instance: Instance, decl) -> tuple[np.ndarray, str]:
     if square:
         A = sum(np.abs(_first(data[n])) for n in square)
         _, (scale, _) = matrix_balance(A, permute=False, separate=True)
-        return np.asarray(scale, dtype=float), f"matrix_balance({' + '.join(square)})"
+        scale = np.asarray(scale, dtype=float)
+        return scale * _equalising_factor(data, decl, square, scale), \
+            f"matrix_balance({' + '.join(square)}) × 2^k equalising the input and output matrices"
     if decl.rows:
         norms = np.linalg.norm(_stack([data[n] for n in decl.rows], axis=1), axis=1)
         return _power_of_two(norms), f"2^round(log2 ‖row of [{' '.join(decl.rows)}]‖)"
@@ -108,6 +110,22 @@ def auto_factors(instance: Instance, decl) -> tuple[np.ndarray, str]:
         norms = np.linalg.norm(_stack([data[n] for n in decl.cols], axis=0), axis=0)
         return 1.0 / _power_of_two(norms), f"2^-round(log2 ‖column of [{' '.join(decl.cols)}]‖)"
     raise InputError(f"{instance.theorem.id}: scaling of {decl.signal} names no data")
+
+
+def _equalising_factor(data: dict, decl, square: list, scale: np.ndarray) -> float:
+    """The uniform factor c (a power of two) of x = c·S x' that leaves the balanced A alone and
+    gives the other producers (B: divided by c) and consumers (C: multiplied by c) the same
+    norm: c = √(‖S⁻¹B‖ / ‖C S‖).  Without it, B ~ 100 and C ~ 0.01 after balancing make the
+    Lyapunov matrix ~1e-3 and the strictness margin, not the problem, set the last digits."""
+    producers = [np.atleast_2d(v) for n in decl.rows if n not in square
+                 for v in (data[n] if isinstance(data[n], list) else [data[n]])]
+    consumers = [np.atleast_2d(v) for n in decl.cols if n not in square
+                 for v in (data[n] if isinstance(data[n], list) else [data[n]])]
+    b = max((np.linalg.norm(v / scale[:, None]) for v in producers), default=0.0)
+    c = max((np.linalg.norm(v * scale[None, :]) for v in consumers), default=0.0)
+    if b == 0.0 or c == 0.0:
+        return 1.0
+    return float(2.0 ** np.round(0.5 * np.log2(b / c)))
 
 
 def _first(value) -> np.ndarray:

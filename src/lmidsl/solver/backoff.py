@@ -30,6 +30,7 @@ import sympy as sp
 
 from ..errors import InputError, LmidslError, SolverUnavailableError
 from ..numeric.evaluate import NumericEvaluator
+from .backends.base import solver_crashed
 
 GOLDEN = (math.sqrt(5) - 1) / 2
 
@@ -80,7 +81,9 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
     t_var = cp.Variable()
     try:
         cp.Problem(cp.Maximize(t_var), base + [E >> t_var * Id for E, Id in blocks]).solve(solver=name, **options)
-    except (cp.error.SolverError, ArithmeticError, ValueError) as exc:
+    except BaseException as exc:
+        if not solver_crashed(exc, (cp.error.SolverError, ArithmeticError, ValueError)):
+            raise
         solution.backoff = {"delta": delta, "failed": f"{name} failed on the first conditioning solve "
                             f"({type(exc).__name__}); try another solver or a larger δ", "solves": 1}
         return solution
@@ -100,7 +103,9 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
         t.value = math.exp(u)
         try:
             problem.solve(solver=name, **options)
-        except cp.error.SolverError:
+        except BaseException as exc:
+            if not solver_crashed(exc, (cp.error.SolverError, ArithmeticError, ValueError)):
+                raise
             return math.inf
         solves += 1
         if problem.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) or kappa.value is None:

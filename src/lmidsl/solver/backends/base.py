@@ -28,6 +28,13 @@ from ...symbolic.symbols import DECISION_TYPES, DerivedParam, Param, ScalarVaria
 from ...symbolic.uncertainty import scenarios
 from ...symbolic.walker import ExpressionWalker
 
+
+def solver_crashed(exc: BaseException, expected: tuple = ()) -> bool:
+    """Whether ``exc`` is a solver's own crash (a status "solver_error", not an lmidsl bug):
+    one of ``expected``, or a Rust solver's panic (Clarabel's "Eigval error"), which pyo3 raises
+    as ``PanicException``, a BaseException, so ``except Exception`` does not see it."""
+    return isinstance(exc, expected) or type(exc).__name__ == "PanicException"
+
 DEFAULT_MARGIN = 1e-7
 
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from ...errors import SolverUnavailableError
 from . import default_options
-from .base import BackendCompiler, CompiledModel
+from .base import BackendCompiler, CompiledModel, solver_crashed
 
 DEFAULT_SOLVER = "CLARABEL"
 
@@ -102,9 +102,12 @@ class CvxpyModel(CompiledModel):
                 # cvxpy warns "Solution may be inaccurate"; the status and certificate say so
                 warnings.simplefilter("ignore", UserWarning)
                 problem.solve(solver=name, **{**default_options(name), **options})
-        except (cp.error.SolverError, ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
-            # a solver's own numerical crash (CVXOPT divides by zero on badly scaled LMIs) is a
-            # failure of that solver, not of lmidsl: report it like cvxpy's SolverError
+        except BaseException as exc:
+            # a solver's own numerical crash (CVXOPT divides by zero on badly scaled LMIs,
+            # Clarabel panics) is a failure of that solver, not of lmidsl: a status
+            if not solver_crashed(exc, (cp.error.SolverError, ArithmeticError, ValueError,
+                                        np.linalg.LinAlgError)):
+                raise
             text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             return "solver_error", None, text or "solver failed", None
         status = _STATUS.get(problem.status, str(problem.status))

@@ -24,7 +24,7 @@ import numpy as np
 import picos
 
 from ...errors import InputError, SolverUnavailableError, TheoremDefinitionError
-from .base import BackendCompiler, CompiledModel
+from .base import BackendCompiler, CompiledModel, solver_crashed
 from ..status import solved
 
 DEFAULT_SOLVER = "cvxopt"
@@ -164,7 +164,9 @@ class PicosModel(CompiledModel):
                     **SOLVER_DEFAULTS.get(name, {}), **options}
         try:
             solution = problem.solve(solver=name, **settings)
-        except Exception as exc:  # any PICOS/solver failure is a status, not a crash
+        except BaseException as exc:  # any PICOS/solver failure is a status, not a crash
+            if not solver_crashed(exc, (Exception,)):
+                raise
             text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             return "solver_error", None, text, None
         primal, problem_status = solution.primalStatus, solution.problemStatus
