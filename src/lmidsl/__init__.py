@@ -22,13 +22,15 @@ The public face, by use:
   :func:`make_instance`, :func:`solve_instance`;
 * results: :class:`Solution`, :class:`Design`, :class:`AnalysisCertificate`, :class:`Verification`;
 * LaTeX: :func:`theorem_latex` (a complete document), :func:`lmi_latex` (one LMI);
-* errors: :class:`LmidslError` and its kinds.
+* errors: :class:`LmidslError` and its kinds; warnings: :class:`LmidslWarning`
+  (:class:`UnusedDataWarning`: data a theorem does not use, ignored).
 
 A theorem file imports only ``lmidsl`` (and its own paper's modules).  The layers below are in
 ``docs/architecture.md``.
 """
-from .errors import (InputError, LmidslError, NoResultError, NonlinearityError, ShapeMismatchError,
-                     SolverUnavailableError, TheoremDefinitionError)
+from .errors import (InputError, LmidslError, LmidslWarning, NoResultError, NonlinearityError,
+                     ShapeMismatchError, SolverUnavailableError, TheoremDefinitionError,
+                     UnusedDataWarning)
 
 __version__ = "0.1.0"
 
@@ -69,7 +71,8 @@ __all__ = ["Theorem", "Source", "Example", "I", "He", "diag", "schur", "congruen
            "solve", "verify", "closed_loop", "filtering_error", "generalized_plant", "get_theorem", "all_theorems", "make_instance", "solve_instance",
            "Solution", "Design", "AnalysisCertificate", "Verification", "theorem_latex", "lmi_latex",
            "LmidslError", "InputError", "ShapeMismatchError", "NonlinearityError",
-           "TheoremDefinitionError", "SolverUnavailableError", "NoResultError"]
+           "TheoremDefinitionError", "SolverUnavailableError", "NoResultError",
+           "LmidslWarning", "UnusedDataWarning"]
 
 
 def __getattr__(name):
