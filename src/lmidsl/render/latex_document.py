@@ -20,6 +20,7 @@ from ..symbolic.symbols import DiagonalVariable, StructuredVariable, SymmetricDa
 from ..errors import LmidslError
 from ..theorem.registry import get_theorem, linked_analysis
 from ..theorem.theorem import Theorem
+from ..theorem.values import FactorStep
 
 PREAMBLE = r"""\documentclass[10pt]{article}
 \usepackage{amsmath,amssymb,graphicx}
@@ -217,7 +218,6 @@ def _recovery_latex(theorem: Theorem, printer) -> str:
     """The recovery steps in order: each factorisation with the relation its matrices satisfy
     (e.g. "M, N nonsingular with M N^T = I − X Y", so M and N are defined where they are used),
     then the formulas (a formula may use a matrix recovered before it)."""
-    from ..theorem.values import FactorStep
     out, formulas = [], []
 
     def flush():
