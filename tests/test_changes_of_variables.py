@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import lmidsl
-from lmidsl import Theorem, Source
+from lmidsl import I, Theorem, Source
 from lmidsl.numeric.changes_of_variables import (closed_loop_matrices, filter_blocks, full_order_filter,
                                                  mn_split, output_feedback, output_feedback_blocks,
                                                  state_feedback_gain)
@@ -26,6 +26,13 @@ SHAPES = dict(A="n n", B1="n m1", B2="n m2", C1="p1 n", C2="p2 n", D11="p1 m1", 
               D21="p2 m1", D22="p2 m2")
 
 
+def _determined(thm, *variables):
+    """‖V‖ < 1 for each variable: LMIs that mention them (a recovery may use only variables the
+    LMIs determine); never solved here — the tests recover at chosen values."""
+    for V in variables:
+        thm.lmi(f"(bound {V.name})", [[-I], [V, -I]])
+
+
 def _theorem(tag: str, with_d22: bool = True):
     thm = Theorem(f"cov_test.{tag}", "change of variables test", Source("test", "-"))
     dims = dict(zip("n m1 m2 p1 p2".split(), thm.dim("n m1 m2 p1 p2")))
@@ -34,6 +41,7 @@ def _theorem(tag: str, with_d22: bool = True):
     v = dict(X=thm.var("X", n, kind="symmetric"), Y=thm.var("Y", n, kind="symmetric"),
              Ah=thm.var("Ah", n, n), Bh=thm.var("Bh", n, p2), Ch=thm.var("Ch", m2, n),
              Dh=thm.var("Dh", m2, p2))
+    _determined(thm, *v.values())
     return thm, d, v
 
 
@@ -130,6 +138,7 @@ def test_state_feedback_gain():
     thm.data("A", n, n)
     thm.data("B2", n, m2)
     Y, W = thm.var("Y", n, kind="symmetric"), thm.var("W", m2, n)
+    _determined(thm, Y, W)
     thm.recover(K=state_feedback_gain(W, Y))
     G = rng.standard_normal((3, 3))
     vals = dict(Y=G @ G.T + np.eye(3), W=rng.standard_normal((2, 3)))

@@ -21,13 +21,16 @@ The public face, by use:
   (:func:`closed_loop`, :func:`filtering_error`, :func:`generalized_plant`; :meth:`Design.as_statespace`), :func:`get_theorem`, :func:`all_theorems`,
   :func:`make_instance`, :func:`solve_instance`;
 * results: :class:`Solution`, :class:`Design`, :class:`AnalysisCertificate`, :class:`Verification`;
-* errors: :class:`LmidslError` and its kinds.
+* LaTeX: :func:`theorem_latex` (a complete document), :func:`lmi_latex` (one LMI);
+* errors: :class:`LmidslError` and its kinds; warnings: :class:`LmidslWarning`
+  (:class:`UnusedDataWarning`: data a theorem does not use, ignored).
 
 A theorem file imports only ``lmidsl`` (and its own paper's modules).  The layers below are in
 ``docs/architecture.md``.
 """
-from .errors import (InputError, LmidslError, NoResultError, NonlinearityError, ShapeMismatchError,
-                     SolverUnavailableError, TheoremDefinitionError)
+from .errors import (InputError, LmidslError, LmidslWarning, NoResultError, NonlinearityError,
+                     ShapeMismatchError, SolverUnavailableError, TheoremDefinitionError,
+                     UnusedDataWarning)
 
 __version__ = "0.1.0"
 
@@ -51,6 +54,7 @@ _LAZY = {
     "verify": "studies.verify", "Verification": "studies.verify",
     "closed_loop": "numeric.interconnection", "filtering_error": "numeric.interconnection",
     "generalized_plant": "numeric.interconnection",
+    "theorem_latex": "render.latex_document", "lmi_latex": "render.latex",
 }
 _LAZY.update({name: "numeric.changes_of_variables" for name in (
     "closed_loop_matrices", "filter_blocks", "filter_error_matrices", "full_order_filter", "loop_shift",
@@ -65,9 +69,10 @@ __all__ = ["Theorem", "Source", "Example", "I", "He", "diag", "schur", "congruen
            "state_feedback_closed_loop", "filter_error_matrices",
            "reported_agree", "CheckResult", "SimulationTable",
            "solve", "verify", "closed_loop", "filtering_error", "generalized_plant", "get_theorem", "all_theorems", "make_instance", "solve_instance",
-           "Solution", "Design", "AnalysisCertificate", "Verification",
+           "Solution", "Design", "AnalysisCertificate", "Verification", "theorem_latex", "lmi_latex",
            "LmidslError", "InputError", "ShapeMismatchError", "NonlinearityError",
-           "TheoremDefinitionError", "SolverUnavailableError", "NoResultError"]
+           "TheoremDefinitionError", "SolverUnavailableError", "NoResultError",
+           "LmidslWarning", "UnusedDataWarning"]
 
 
 def __getattr__(name):

@@ -47,3 +47,13 @@ class Interrupted(LmidslError):
     """A long run stopped by the user (Ctrl-C); the message says where the finished work is."""
 
     exit_code = 130
+
+
+class LmidslWarning(UserWarning):
+    """Something the user should know that does not stop the computation; the command line
+    prints it as one line ``warning: <message>`` on stderr."""
+
+
+class UnusedDataWarning(LmidslWarning):
+    """A data file has entries the theorem does not use (one plant file serving several
+    theorems): they are ignored."""

@@ -53,11 +53,15 @@ def instance_inputs(theorem: Theorem, example: str | None = None, data: dict | N
 
 def make_instance(theorem, example: str | None = None, data: dict | None = None,
                   overrides: dict | None = None) -> Instance:
-    """Bind an example (or data) with overrides to a theorem."""
+    """Bind an example (or data) with overrides to a theorem.  Entries of ``data`` the theorem
+    does not use are ignored with an :class:`~lmidsl.errors.UnusedDataWarning`; an unknown
+    name in ``overrides`` is an error."""
     thm = as_theorem(theorem)
     if example is None and data is None and thm.examples:
         example = next(iter(thm.examples))
-    return bind(thm, instance_inputs(thm, example, data, overrides), example=example)
+    optional = set(data or {}) - set(overrides or {})      # a data file may serve several theorems
+    return bind(thm, instance_inputs(thm, example, data, overrides), example=example,
+                optional=optional)
 
 
 ILL_CONDITIONED = 1e6

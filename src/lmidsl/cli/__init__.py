@@ -14,9 +14,10 @@ import ast
 import importlib
 import os
 import sys
+import warnings
 from pathlib import Path
 
-from ..errors import LmidslError
+from ..errors import LmidslError, LmidslWarning
 from ..theorem.registry import load_problems
 
 
@@ -105,9 +106,26 @@ def _warn_skipped_theorem_files() -> None:
         print(f"warning: {problem} (file skipped)", file=sys.stderr)
 
 
+def _one_line_warning(message, category, filename, lineno, file=None, line=None):
+    """lmidsl's own warnings as ``warning: <message>`` (one line); others as Python prints them."""
+    if issubclass(category, LmidslWarning):
+        print(f"warning: {message}", file=sys.stderr)
+    else:
+        _show_warning(message, category, filename, lineno, file, line)
+
+
+_show_warning = warnings.showwarning
+
+
 def main(argv=None) -> int:
     parser = build_parser(argv)
     args = parser.parse_args(argv)
+    with warnings.catch_warnings():
+        warnings.showwarning = _one_line_warning
+        return _run(args)
+
+
+def _run(args) -> int:
     try:
         code = args.run(args)
         _warn_skipped_theorem_files()

@@ -37,6 +37,8 @@ class Factorization:
     description: str
     shapes: Callable
     function: Callable
+    #: the relation the outputs satisfy, for LaTeX: ``{0}``, ``{1}`` the outputs, ``{a0}`` the argument
+    relation: str = "{0} {1}^{{T}} = {a0}"
 
     def __call__(self, *arrays):
         return self.function(*arrays)

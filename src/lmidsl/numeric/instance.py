@@ -8,12 +8,13 @@ evaluated.  The diagonal blocks of every LMI are checked to be symmetric at rand
 """
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 import sympy as sp
 
-from ..errors import InputError, ShapeMismatchError, TheoremDefinitionError
+from ..errors import InputError, ShapeMismatchError, TheoremDefinitionError, UnusedDataWarning
 from .evaluate import NumericEvaluator, asymmetry
 from ..symbolic.numbers import finite_matrix, finite_number, positive_integer
 from ..symbolic.shapes import fmt_shape
@@ -108,7 +109,8 @@ def _infer_dims(theorem: Theorem, matrices: dict, given_dims: dict) -> dict:
     return dims
 
 
-def bind(theorem: Theorem, inputs: dict, example: str | None = None) -> Instance:
+def bind(theorem: Theorem, inputs: dict, example: str | None = None, *,
+         optional: frozenset | set = frozenset()) -> Instance:
     """Check and bind ``inputs`` (data, dims, parameters, optional 'vertices') to ``theorem``.
 
     Per-vertex data go under ``vertices`` (a list of objects, one per polytope vertex); a
@@ -117,6 +119,9 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None) -> Instance
     A theorem whose block structure depends on an input (``theorem.specialise``, see
     :mod:`lmidsl.theorem.family`) is first replaced by the member that input selects.  Inputs named
     after an uncertain symbol choose its points (:mod:`lmidsl.symbolic.uncertainty`).
+    Names in ``optional`` (the entries of a data file) that the theorem does not know are
+    ignored with an :class:`~lmidsl.errors.UnusedDataWarning`, so that one plant file serves
+    several theorems; any other unknown name is an error (a typo in ``--set``).
     """
     if hasattr(theorem, "specialise"):
         theorem = theorem.specialise(inputs)
@@ -125,6 +130,13 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None) -> Instance
     vertices = inputs.pop("vertices", None)
     per_vertex = theorem.per_vertex_names
     known = set(theorem.data_decl) | set(theorem.param_decl) | set(theorem.dims)
+    unused = sorted(n for n in inputs if n in optional and n not in known
+                    and n not in theorem.derived_decl and n != "vertices")
+    if unused:
+        warnings.warn(UnusedDataWarning(f"{theorem.id}: ignoring data the theorem does not use: "
+                                        f"{', '.join(unused)}"), stacklevel=2)
+        for name in unused:
+            inputs.pop(name)
     for name in inputs:
         if name in theorem.derived_decl:
             defn = theorem.derived_decl[name].symbol.definition

@@ -105,5 +105,40 @@ def filtering_error(data: dict, design) -> control.StateSpace:
     return P.lft(F, nu, ny)
 
 
+PLANT = ("A", "B1", "B2", "C1")
+FILTER_PLANT = ("A", "B1", "C1", "C2")
+
+
+def design_loop(data: dict, design):
+    """The loop ``design`` closes with the plant in ``data`` (gallery names), or None when the data
+    are not such a plant (other names, or a polytope: per-vertex lists): the closed loop w → z of a
+    controller (needs ``C2`` too) or a state-feedback gain, the filtering error w → e of a filter."""
+    if design is None or any(isinstance(v, list) and v and isinstance(v[0], np.ndarray)
+                             for v in data.values()):
+        return None
+    is_filter = "Af" in design
+    needed = FILTER_PLANT if is_filter else PLANT + (("C2",) if "AK" in design else ())
+    if not all(k in data for k in needed) or not ("AK" in design or "K" in design or is_filter):
+        return None
+    return filtering_error(data, design) if is_filter else closed_loop(data, design)
+
+
+def loop_summary(system, signal: str = "w -> z") -> dict:
+    """What a user wants to know of a closed loop: stability (all poles in the open left
+    half-plane or the open unit disk), the largest pole real part / modulus, and the H∞ and H2
+    norms by python-control (SLICOT; ``None`` when the loop is unstable)."""
+    poles = np.linalg.eigvals(system.A) if system.nstates else np.zeros(0)
+    ct = system.isctime()
+    worst = float(np.max(poles.real if ct else np.abs(poles))) if poles.size else None
+    stable = worst is None or (worst < 0 if ct else worst < 1)
+    out = {"signal": signal, "states": int(system.nstates), "stable": bool(stable),
+           "max_pole_real" if ct else "max_pole_modulus": worst, "hinf_norm": None, "h2_norm": None}
+    if stable:
+        out["hinf_norm"] = float(control.norm(system, "inf", tol=1e-10))
+        has_feedthrough = ct and np.any(np.asarray(system.D) != 0)
+        out["h2_norm"] = None if has_feedthrough else float(control.norm(system, 2))
+    return out
+
+
 __all__ = ["timebase", "statespace", "design_statespace", "generalized_plant", "closed_loop",
-           "filtering_error"]
+           "filtering_error", "design_loop", "loop_summary"]

@@ -35,6 +35,7 @@ def recover(instance: Instance, values: dict) -> tuple[dict, list]:
         else:
             name = step[1]
             recovered[name] = np.atleast_2d(evaluator.visit(theorem.recovery[name]))
+            point[name] = recovered[name]        # a later formula may use it
     return recovered, reports + evaluator.inverted
 
 

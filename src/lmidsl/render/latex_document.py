@@ -20,6 +20,7 @@ from ..symbolic.symbols import DiagonalVariable, StructuredVariable, SymmetricDa
 from ..errors import LmidslError
 from ..theorem.registry import get_theorem, linked_analysis
 from ..theorem.theorem import Theorem
+from ..theorem.values import FactorStep
 
 PREAMBLE = r"""\documentclass[10pt]{article}
 \usepackage{amsmath,amssymb,graphicx}
@@ -190,19 +191,53 @@ def theorem_latex(theorem, solution=None, **settings) -> str:
         text = f"\\subsection*{{Objective}}\nMinimise ${obj}$ subject to the conditions above."
         if theorem.performance is not None:
             name, expr = theorem.performance
-            text += f" The performance level is ${name_to_latex(name)} = {printer.doprint(expr)}$."
+            level, value = name_to_latex(name), printer.doprint(expr)
+            if value == level or value == obj:     # no "γ = γ": say which quantity it is
+                text += f" The performance level ${level}$ is the optimal value."
+            else:
+                text += f" The performance level is ${level} = {value}$."
         out.append(text)
+    kind = _design_word(theorem)
     if theorem.recovery:
-        lines = [f"{_recovery_name(theorem, n)} = {printer.doprint(e)}"
-                 for n, e in theorem.recovery.items()]
-        out.append("\\subsection*{Filter recovery}\n\\begin{equation*}\n\\fitlmi{"
-                   + r",\quad ".join(lines) + ".}\n\\end{equation*}")
+        out.append(f"\\subsection*{{{kind.capitalize()} recovery}}\n" + _recovery_latex(theorem, printer))
     if theorem.analysis is not None:
-        out.append(f"The recovered filter is certified by the analysis theorem "
+        out.append(f"The recovered {kind} is certified by the analysis theorem "
                    f"\\texttt{{{tex_text(theorem.analysis.theorem)}}}.")
     if solution is not None:
         out.append(_solution_latex(theorem, solution, printer, settings))
     out.append("\\end{document}\n")
+    return "\n\n".join(out)
+
+
+def _design_word(theorem: Theorem) -> str:
+    """What the recovery produces, in words: 'controller', 'filter', 'gain', ... ('design')."""
+    return {"gain": "state-feedback gain"}.get(theorem.designs, theorem.designs or "design")
+
+
+def _recovery_latex(theorem: Theorem, printer) -> str:
+    """The recovery steps in order: each factorisation with the relation its matrices satisfy
+    (e.g. "M, N nonsingular with M N^T = I − X Y", so M and N are defined where they are used),
+    then the formulas (a formula may use a matrix recovered before it)."""
+    out, formulas = [], []
+
+    def flush():
+        if formulas:
+            out.append("\\begin{equation*}\n\\fitlmi{" + r",\quad ".join(formulas)
+                       + ".}\n\\end{equation*}")
+            formulas.clear()
+
+    for step in theorem.recovery_steps or [("formula", n) for n in theorem.recovery]:
+        if isinstance(step, FactorStep):
+            flush()
+            names = [printer.doprint(theorem.intermediate_decl[n].symbol) for n in step.names]
+            args = {f"a{i}": printer.doprint(a) for i, a in enumerate(step.args)}
+            relation = step.factorization.relation.format(*names, **args)
+            out.append(f"Let ${'$, $'.join(names)}$ be nonsingular with ${relation}$ "
+                       f"({tex_text(step.factorization.name)}).")
+        else:
+            name = step[1]
+            formulas.append(f"{_recovery_name(theorem, name)} = {printer.doprint(theorem.recovery[name])}")
+    flush()
     return "\n\n".join(out)
 
 
@@ -262,7 +297,7 @@ def _solution_latex(theorem: Theorem, sol, printer, settings: dict) -> str:
     out.append("\\begin{center}\n" + _table(["quantity", "value"], rows, "ll") + "\n\\end{center}")
     if sol.recovered:
         items = [f"{_recovery_name(theorem, n)} = {latex_matrix(v, 5)}" for n, v in sol.recovered.items()]
-        out.append("Recovered filter:\n" + grouped_display(items))
+        out.append(f"Recovered {_design_word(theorem)}:\n" + grouped_display(items))
         for inv in sol.inverted:
             decl = theorem.var_decl.get(str(inv["matrix"]))
             name = (f"${printer.doprint(decl.symbol)}$" if decl is not None

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..numeric.design import Design
 from ..numeric.instance import Instance
+from ..numeric.interconnection import design_loop, loop_summary
 from ..numeric.proof import PROVED, prove_block_matrix
 from ..numeric.evaluate import NumericEvaluator, eigenvalues, evaluate_block_matrix
 from ..symbolic.uncertainty import scenarios, spec_at
@@ -130,9 +131,25 @@ class Solution:
         reasons += [f"check {c.name} failed" for c in self.checks if not c.passed]
         return not reasons, reasons
 
+    def closed_loop(self):
+        """The loop the design closes with the plant of the data, as a python-control
+        ``StateSpace`` (w → z for a controller or gain, w → e for a filter, formed by
+        python-control's LFT, :func:`lmidsl.numeric.interconnection.design_loop`); None when
+        there is no design or the data are not a plant in the gallery's names."""
+        if self.design is None or self.instance is None:
+            return None
+        original = self.scaling.original if self.scaling is not None else self.instance
+        return design_loop(original.data, self.design)
+
     @property
     def worst_eig(self) -> float | None:
         return max((r.max_eig for r in self.lmis), default=None)
+
+    def _loop_dict(self) -> dict | None:
+        system = self.closed_loop()
+        if system is None:
+            return None
+        return loop_summary(system, "w -> e" if "Af" in self.design else "w -> z")
 
     def as_dict(self) -> dict:
         def listify(v):
@@ -161,6 +178,7 @@ class Solution:
             "recovered": {k: listify(v) for k, v in self.recovered.items()},
             "inverted": self.inverted,
             "design": self.design.as_dict() if self.design is not None else None,
+            "closed_loop": self._loop_dict(),
             "values": {k: listify(v) for k, v in self.values.items()},
             "times": self.times,
             "feasp": self.feasp.as_dict() if self.feasp is not None else None,

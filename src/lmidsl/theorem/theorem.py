@@ -62,6 +62,7 @@ class Theorem:
         self.objective: sp.Expr | None = None
         self.performance: tuple[str, sp.Expr] | None = None
         self.recovery: dict[str, sp.MatrixExpr] = {}
+        self.recovered_decl: dict[str, Declaration] = {}   # recovered matrices, as symbols
         self.recovery_steps: list = []          # ("formula", name) or FactorStep, in order
         self.intermediate_decl: dict[str, Declaration] = {}
         self.scalings: list[SignalScaling] = []
@@ -78,7 +79,8 @@ class Theorem:
     def _check_new(self, name: str):
         taken = (self.dims.keys() | self.data_decl.keys() | self.var_decl.keys()
                  | self.param_decl.keys() | self.derived_decl.keys() | self.notation.keys()
-                 | self.uncertain_decl.keys() | self.intermediate_decl.keys())
+                 | self.uncertain_decl.keys() | self.intermediate_decl.keys()
+                 | self.recovered_decl.keys())
         if name in taken:
             raise TheoremDefinitionError(f"{self.id}: the name {name!r} is declared twice")
 
@@ -193,6 +195,30 @@ class Theorem:
                                                 {"bound": symbol.bound, "points": points})
         return symbol
 
+    def determined(self) -> set:
+        """The decision variables the LMIs declared so far determine: every variable in an LMI
+        block (a structured variable's entries included)."""
+        seen: set = set()
+        for lmi in self.lmis:
+            for symbol in lmi.symbols():
+                seen.add(symbol)
+                if isinstance(symbol, StructuredVariable):
+                    seen |= symbol.expansion.atoms(sp.Symbol, sp.MatrixSymbol)
+        return seen
+
+    def _check_determined(self, expr, what: str):
+        """Refuse (one line) a decision variable in ``expr`` that no LMI declared so far
+        mentions: its value at the solution would be whatever the solver left there.  ``what``
+        says where the expression is used ("the recovery of Af", "the objective")."""
+        determined = self.determined()
+        for symbol in sorted(sp.sympify(expr).atoms(sp.Symbol, sp.MatrixSymbol), key=str):
+            if (isinstance(symbol, (Variable, ScalarVariable, StructuredVariable))
+                    and symbol not in determined):
+                raise TheoremDefinitionError(
+                    f"{self.id}: {what} uses the decision variable {symbol.name}, which is in no "
+                    f"LMI declared before it, so the LMIs do not determine it (declare the LMIs "
+                    f"first, or use a variable of the LMIs)")
+
     # -- conditions ---------------------------------------------------------------------
     def lmi(self, label: str, rows, *, sense: str = "<", triangle: str = "lower", sizes=None,
             strict: bool = True, description: str = "") -> LMI:
@@ -230,6 +256,7 @@ class Theorem:
             raise TheoremDefinitionError(f"{where} is {fmt_shape(shape)}, not a scalar "
                                          f"(minimise a scalar of it, e.g. Trace(...))")
         check_affine(objective, where=where)
+        self._check_determined(objective, "the objective")
         self.objective = objective
         self._set_performance(performance)
 
@@ -243,6 +270,7 @@ class Theorem:
         if performance is not None:
             name, expr = performance[0], sp.sympify(performance[1])
             check_conformance(expr, where=f"{self.id}: performance {name}")
+            self._check_determined(expr, f"the performance {name}")
             self.performance = (name, expr)
 
     def report(self, **values):
@@ -252,7 +280,9 @@ class Theorem:
         names, compared with the analysis values.
         """
         for name, expr in values.items():
-            self.reported[name] = sp.sympify(expr)
+            expr = sp.sympify(expr)
+            self._check_determined(expr, f"the report of {name}")
+            self.reported[name] = expr
 
     def verify_with(self, *checks):
         """Extra certificates run after recovery: callables ``check(solution) -> CheckResult``
@@ -260,11 +290,27 @@ class Theorem:
         self.checks.extend(checks)
 
     def recover(self, **formulas):
-        """Recovery formulas, e.g. ``Af=V2.I * Af_hat``: evaluated after the solve, in order."""
+        """Recovery formulas, e.g. ``Af=V2.I * Af_hat``: evaluated after the solve, in order.
+
+        Returns the recovered matrices as symbols (one, or a tuple in the order given), which
+        later recovery formulas may use: ``K = thm.recover(K=W * Y.I)`` then
+        ``thm.recover(F=K * C)``.  Every decision variable a formula uses must be in an LMI
+        declared before it (else the LMIs would not determine the design).
+        """
+        symbols = []
         for name, expr in formulas.items():
-            check_conformance(expr, where=f"{self.id}: recovery of {name}")
+            where = f"{self.id}: recovery of {name}"
+            shape = check_conformance(expr, where=where)
+            self._check_determined(expr, f"the recovery of {name}")
+            if name in self.recovery:
+                raise TheoremDefinitionError(f"{where}: {name} is recovered twice")
+            self._check_new(name)
+            symbol = self._describe(RecoveredMatrix(name, *shape, self.id), None, "")
+            self.recovered_decl[name] = Declaration(symbol, symbol.latex_name, "")
             self.recovery[name] = expr
             self.recovery_steps.append(("formula", name))
+            symbols.append(symbol)
+        return symbols[0] if len(symbols) == 1 else tuple(symbols)
 
     def factor(self, names: str, factorization, *args, latex: str | None = None,
                description: str = ""):
@@ -277,6 +323,8 @@ class Theorem:
         """
         names = names.split()
         shapes = [check_conformance(a, where=f"{self.id}: factor {' '.join(names)}") for a in args]
+        for a in args:
+            self._check_determined(a, f"the factorisation {' '.join(names)}")
         out = factorization.shapes(*shapes)
         if len(out) != len(names):
             raise TheoremDefinitionError(
