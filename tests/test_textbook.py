@@ -622,3 +622,23 @@ def test_hinf_filter_certified_by_analysis(time, case):
             certified=bool(a and a.passed))
     _check(bool(a and a.passed), FILTER_KNOWN_CERT.get((time, case)),
            (sol.status, a and a.status, a and a.gamma, sol.gamma))
+
+
+def test_quadstab_dt_example_is_not_quadratically_stable():
+    """The example's expected outcome "infeasible", checked independently: with P normalised to
+    I ⪯ P ⪯ 10⁴I (the LMI is homogeneous in P), min t s.t. A_iᵀPA_i − P ⪯ tI at both vertices is
+    0.239 > 0 (cvxpy, two solvers agree), so no common quadratic Lyapunov function of that
+    conditioning exists; lmidsl says infeasible."""
+    import cvxpy as cp
+    thm = lmidsl.get_theorem("textbook.quadstab_dt")
+    example = thm.examples["interval-3"]
+    assert example.expect == "infeasible"
+    vertices = [np.array(v["A"]) for v in example.data["vertices"]]
+    for solver in ("CLARABEL", "CVXOPT"):
+        P, s = cp.Variable((3, 3), symmetric=True), cp.Variable()
+        problem = cp.Problem(cp.Minimize(s), [P >> np.eye(3), P << 1e4 * np.eye(3)]
+                             + [A.T @ P @ A - P << s * np.eye(3) for A in vertices])
+        problem.solve(solver=solver)
+        assert problem.status == cp.OPTIMAL and s.value > 0.2, (solver, problem.status, s.value)
+    sol = lmidsl.solve(thm, example="interval-3")
+    assert sol.status == "infeasible"

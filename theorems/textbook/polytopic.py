@@ -91,7 +91,11 @@ quadstab_ct.example("interval-3", interval_polytope(51, time="continuous"), prov
 _INTERVAL = interval_polytope(71, spread=0.35)
 quadstab_dt.example("interval-3", _INTERVAL, provenance="illustration",
                     provenance_note="A0 ± E, numpy seed 71, spread 0.35 (theorems/textbook/polytopic.py); "
-                                    "robustly stable but not quadratically stable")
+                                    "robustly stable but not quadratically stable",
+                    expect="infeasible",
+                    expect_note="not quadratically stable: with I ⪯ P ⪯ 10⁴I, min t s.t. A_iᵀPA_i − P ⪯ tI "
+                                "at both vertices is 0.239 > 0 (Clarabel, CVXOPT and SCS agree; "
+                                "tests/test_textbook.py); feasp finds no strictly feasible point")
 dilated_dt.example("interval-3", _INTERVAL, provenance="illustration",
                    provenance_note="A0 ± E, numpy seed 71, spread 0.35 (theorems/textbook/polytopic.py); "
                                    "robustly stable, not quadratically stable, feasible here")
