@@ -234,11 +234,14 @@ def plan_rows(solvers=None) -> list[tuple[str, str, str | None]]:
 
 
 def options_for(backend: str, solver: str, options: dict | None) -> dict:
-    """Solver options of one row: keys ``solver`` or ``backend:solver`` (case-insensitive)."""
+    """Solver options of one row: keys ``solver`` or ``backend:solver`` (case-insensitive); the
+    key ``""`` holds options for every row."""
     out: dict = {}
-    for target, opts in (options or {}).items():
+    for target, opts in sorted((options or {}).items(), key=lambda item: item[0].count(":") + bool(item[0])):
         b, sep, s = target.partition(":")
-        if sep:
+        if not target.strip():
+            hit = True
+        elif sep:
             hit = b.strip().lower() == backend and s.strip().lower() == solver.lower()
         else:
             hit = target.strip().lower() == solver.lower()
@@ -327,12 +330,13 @@ def compare(rows: list[CheckRow], tolerance: float) -> CheckRow | None:
 def check(theorem, example: str | None = None, data: dict | None = None,
           overrides: dict | None = None, solvers=None, options: dict | None = None,
           tolerance: float = DEFAULT_TOLERANCE, margin: float | None = None,
-          certify: bool = True) -> CheckResult:
+          certify: bool = True, progress=None) -> CheckResult:
     """Solve one instance on every requested backend × solver and compare the answers.
 
     ``solvers``: see :func:`plan_rows`.  ``options``: ``{"clarabel": {...}}`` or
     ``{"cvxpy:clarabel": {...}}``, passed to that row's solve (backend-specific names, e.g.
-    cvxpy's ``max_iter`` for Clarabel, PICOS's ``max_iterations``).
+    cvxpy's ``max_iter`` for Clarabel, PICOS's ``max_iterations``); the key ``""`` is for every
+    row.  ``progress(plan)`` wraps the planned (backend, solver, error) rows (e.g. a progress bar).
     """
     if not tolerance > 0:
         raise InputError(f"--tolerance must be positive, got {tolerance}")
@@ -340,7 +344,8 @@ def check(theorem, example: str | None = None, data: dict | None = None,
     thm = instance.theorem
     compared = thm.performance[0] if thm.performance is not None else "objective"
     rows = []
-    for backend, solver, error in plan_rows(solvers):
+    plan = plan_rows(solvers)
+    for backend, solver, error in (progress(plan) if progress else plan):
         if error:
             rows.append(CheckRow(backend, solver, status="error", error=error, reason="error"))
             continue
