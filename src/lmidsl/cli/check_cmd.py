@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from ..studies.cross_check import DEFAULT_TOLERANCE, check
 from ..render.progress import Progress
-from ..render.terminal import format_table, wrap
+from ..render.terminal import Settings, format_table, wrap
 from .common import (add_output_arguments, add_solve_arguments, instance_spec, parse_solver_options,
                      positive_float, print_json, show_progress)
 
@@ -39,8 +39,10 @@ def format_check(result) -> str:
         for label in r.max_eig_by_label():
             if label not in labels:
                 labels.append(label)
-    headers = ["backend", "solver", "status", "objective", result.compared, "max eig", "analysis",
-               "time s", "cert", "trust", "rel diff"]
+    # the objective only at full width (--wide) when it is not the compared value itself
+    objective = Settings.wide and result.compared != "objective"
+    headers = ["backend", "solver", "status"] + (["objective"] if objective else []) + [
+        result.compared, "max eig", "analysis", "time s", "cert", "trust", "rel diff"]
     rows = []
     for r in result.rows:
         eigs = [e for e in r.max_eig_by_label().values() if e is not None]
@@ -48,15 +50,17 @@ def format_check(result) -> str:
             ("infeasible" if r.analysis_gamma is None else _fmt(r.analysis_gamma, ".6g"))
             + ("" if r.analysis_passed else " (fails)"))
         rel = "" if r.rel_diff is None else f"{r.rel_diff:+.1e}" + (" !" if r.disagrees else "")
-        rows.append([r.backend, r.solver, r.status, _fmt(r.objective, ".8g"), _fmt(r.value, ".8g"),
-                     _fmt(max(eigs) if eigs else None, ".2e"), analysis, f"{r.wall_time:.2f}",
-                     "yes" if r.certified else "no", "yes" if r.trusted else "no", rel])
+        rows.append([r.backend, r.solver, r.status] + ([_fmt(r.objective, ".8g")] if objective else [])
+                    + [_fmt(r.value, ".8g"), _fmt(max(eigs) if eigs else None, ".2e"), analysis,
+                       f"{r.wall_time:.2f}", "yes" if r.certified else "no", "yes" if r.trusted else "no", rel])
     # the largest eigenvalue of each LMI: one row per LMI, one column per solver row (a table of
     # labels x solvers stays narrow where one column per label would not)
     solved = [r for r in result.rows if r.max_eig_by_label()]
     eig_rows = [[label] + [_fmt(r.max_eig_by_label().get(label), ".2e") for r in solved] for label in labels]
     title = f"{result.theorem}" + (f" [{result.example}]" if result.example else "")
-    lines = [title, format_table(headers, rows, nowrap=(0, 1)), ""]
+    status, analysis_column = 2, len(headers) - 5           # these two wrap; ids and numbers never
+    lines = [title, format_table(headers, rows, nowrap=tuple(i for i in range(len(headers))
+                                                             if i not in (status, analysis_column))), ""]
     if eig_rows:
         lines += ["largest eigenvalue of each LMI at the returned point (N < 0 holds when negative):",
                   format_table(["LMI"] + [f"{r.backend}:{r.solver}" for r in solved], eig_rows), ""]

@@ -18,8 +18,7 @@ import json
 import math
 
 from ..errors import InputError
-from ..solver.backends import BACKENDS, resolve_solver
-from ..studies.cross_check import options_for
+from ..solver.backends import BACKENDS, options_for, resolve_solver
 from ..studies.store import strict_json
 
 #: the flags every solving command accepts (tests/test_cli_output.py checks each command)

@@ -97,12 +97,21 @@ def format_table(headers: list[str], rows: list[list], *, width: int | None = No
     the verdict words."""
     width = output_width() if width is None and not Settings.wide else width
     color = color_enabled() if color is None else color
+    cells = [[_cell(c, color) for c in row] for row in rows]
+    if width is not None and nowrap:
+        # the columns kept whole must leave the others room (4 cells each), or nothing is kept whole
+        # (a folded cell is still all there; a column rich cannot fit would be dropped)
+        whole = sum(max([Text(h).cell_len for h in headers[i].split("\n")]
+                        + [max((c.cell_len for c in r[i].split()), default=0) for r in cells])
+                    for i in nowrap if i < len(headers))
+        if whole + 4 * (len(headers) - len(nowrap)) + 2 * (len(headers) - 1) > width:
+            nowrap = ()
     table = Table(box=box.SIMPLE_HEAD if color else ASCII_HEAD, show_edge=False, pad_edge=False,
                   padding=(0, 1, 0, 0), header_style="bold" if color else "", expand=False)
     for i, header in enumerate(headers):
         table.add_column(header, overflow="fold", no_wrap=i in nowrap)
-    for row in rows:
-        table.add_row(*(_cell(c, color) for c in row))
+    for row in cells:
+        table.add_row(*row)
     buffer = io.StringIO()
     _console(width, color, buffer).print(table)
     return "\n".join(line.rstrip() for line in buffer.getvalue().rstrip("\n").splitlines())

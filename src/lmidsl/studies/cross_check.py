@@ -30,7 +30,7 @@ import warnings
 from dataclasses import dataclass, field
 
 from ..pipeline import make_instance, solve_instance
-from ..solver.backends import (BACKENDS, SOLVER_INFO, backend_sdp_solvers, is_first_order,
+from ..solver.backends import (BACKENDS, options_for, SOLVER_INFO, backend_sdp_solvers, is_first_order,
                                resolve_solver)
 from ..errors import InputError, LmidslError
 
@@ -231,23 +231,6 @@ def plan_rows(solvers=None) -> list[tuple[str, str, str | None]]:
                         errors.append(f"{b}: {exc}")
                 add(BACKENDS[0], name, "; ".join(errors) or f"no backend has solver {name!r}")
     return rows
-
-
-def options_for(backend: str, solver: str, options: dict | None) -> dict:
-    """Solver options of one row: keys ``solver`` or ``backend:solver`` (case-insensitive); the
-    key ``""`` holds options for every row."""
-    out: dict = {}
-    for target, opts in sorted((options or {}).items(), key=lambda item: item[0].count(":") + bool(item[0])):
-        b, sep, s = target.partition(":")
-        if not target.strip():
-            hit = True
-        elif sep:
-            hit = b.strip().lower() == backend and s.strip().lower() == solver.lower()
-        else:
-            hit = target.strip().lower() == solver.lower()
-        if hit:
-            out.update(opts)
-    return out
 
 
 # -- running ------------------------------------------------------------------------------
