@@ -5,7 +5,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..render.progress import Progress
-from ..render.terminal import format_table
+from ..render.terminal import echo, format_table
 from ..studies.store import ensure_writable_dir
 from ..studies.sweep import MAX_POINTS, format_timing, parse_grid, sweep
 from .common import (add_output_arguments, add_solve_arguments, instance_spec, positive_int, print_json,
@@ -63,12 +63,12 @@ def run(args):
         if len(rows) <= 40:
             print(format_table([*names, "status", "gamma", "max eig"], rows))
         ok = [p.gamma for p in result.points if p.gamma is not None]
-        print(f"{result.theorem}: {len(result.points)} points, {len(ok)} solved, "
+        echo(f"{result.theorem}: {len(result.points)} points, {len(ok)} solved, "
               f"{result.certified_count()} certified (every LMI proved at the returned point)"
               + (f", gamma from {min(ok):.6g} to {max(ok):.6g}" if ok else ""))
-        print(format_timing(result.timing()))
+        echo(format_timing(result.timing()))
         if result.resumed:
-            print(f"resumed: {result.resumed} points from {out / 'sweep.jsonl'}, {result.solved} solved now")
+            echo(f"resumed: {result.resumed} points from {out / 'sweep.jsonl'}, {result.solved} solved now")
         if args.out:
-            print(f"wrote {Path(args.out) / 'sweep.csv'}, sweep.json, sweep.png (points as solved: sweep.jsonl)")
+            echo(f"wrote {Path(args.out) / 'sweep.csv'}, sweep.json, sweep.png (points as solved: sweep.jsonl)")
     return 0 if result.points and all(p.proved for p in result.points) else 1
