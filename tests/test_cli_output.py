@@ -17,7 +17,8 @@ from conftest import ROOT, run_cli
 from lmidsl.cli import build_parser
 from lmidsl.cli.common import COMMON_FLAGS, parse_solver_options
 from lmidsl.render.reproduction import format_reproduction
-from lmidsl.render.terminal import configure, format_table
+from lmidsl.render.table import format_table
+from lmidsl.render.terminal import configure
 from lmidsl.studies.reproduce import ReproductionRow
 
 #: every command that solves (derive-check works in exact arithmetic and solves nothing)

@@ -7,7 +7,8 @@ from __future__ import annotations
 
 from ..studies.cross_check import DEFAULT_TOLERANCE, check
 from ..render.progress import Progress
-from ..render.terminal import Settings, format_table, wrap
+from ..render.table import format_table
+from ..render.terminal import Settings, wrap
 from .common import (add_output_arguments, add_solve_arguments, instance_spec, parse_solver_options,
                      positive_float, print_json, show_progress)
 

@@ -5,7 +5,8 @@ readings and illustrations, marked with their provenance.  Reads the cached inde
 :mod:`lmidsl.theorem.index` (rebuilt when a theorem file changes), so no theorem file runs."""
 from __future__ import annotations
 
-from ..render.terminal import echo, format_table
+from ..render.table import format_table
+from ..render.terminal import echo
 from ..theorem.index import theorem_index
 from .common import add_output_arguments, print_json
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from ..errors import InputError, NoResultError
 from ..pipeline import make_instance, solve_instance
-from ..render.terminal import format_table
+from ..render.table import format_table
 from .common import (add_output_arguments, add_solve_arguments, instance_spec, nonnegative_int, positive_int,
                      print_json, refuse, solve_arguments)
 

@@ -5,7 +5,8 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..render.progress import Progress
-from ..render.terminal import echo, format_table
+from ..render.table import format_table
+from ..render.terminal import echo
 from ..studies.store import ensure_writable_dir
 from ..studies.sweep import MAX_POINTS, format_timing, parse_grid, sweep
 from .common import (add_output_arguments, add_solve_arguments, instance_spec, positive_int, print_json,

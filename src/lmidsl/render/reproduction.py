@@ -6,7 +6,8 @@ from collections import Counter
 
 from ..studies.reproduce import REPRODUCED_TOLERANCE
 from ..theorem.values import PROVENANCE
-from .terminal import Settings, format_table, wrap
+from .table import format_table
+from .terminal import Settings, wrap
 
 REPORT = "docs/reproductions.md"
 """The reproduction report: per paper, what was read how, and the conclusions."""
