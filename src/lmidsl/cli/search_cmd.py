@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from ..pipeline import make_instance
 from ..errors import InputError
+from ..render.terminal import wrap
 from ..studies.search import OBJECTIVES, format_result, scalar_search
 from ..studies.sweep import parse_grid
 from .common import add_solve_arguments, instance_spec, positive_int, print_json, solve_arguments
@@ -37,5 +38,5 @@ def run(args):
     if args.json:
         print_json(result.as_dict())
     else:
-        print(format_result(result))
+        print(wrap(format_result(result)))
     return 0 if result.best is not None else 1
