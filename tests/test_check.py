@@ -141,8 +141,12 @@ def test_solver_option_parsing():
     assert options_for("cvxpy", "CLARABEL", opts) == {"max_iter": 5, "direct_solve_method": "qdldl"}
     assert options_for("cvxpy", "CVXOPT", opts) == {}
     assert options_for("picos", "cvxopt", opts) == {"rel_ipm_opt_tol": 0.5}
-    with pytest.raises(InputError):
-        parse_solver_options(["max_iter=5"])
+    # without a solver an option is for every row (the flag every solving command shares)
+    assert parse_solver_options(["max_iter=5"]) == {"": {"max_iter": 5}}
+    assert options_for("picos", "cvxopt", {"": {"max_iter": 5}, "cvxopt": {"max_iter": 7}}) == {"max_iter": 7}
+    for bad in (["max_iter"], ["clarabel:=5"]):
+        with pytest.raises(InputError):
+            parse_solver_options(bad)
 
 
 def test_bad_input_exits_2():

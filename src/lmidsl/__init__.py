@@ -75,10 +75,17 @@ __all__ = ["Theorem", "Source", "Example", "I", "He", "diag", "schur", "congruen
            "LmidslWarning", "UnusedDataWarning"]
 
 
+#: the modules whose names hand theorems to the user: with them comes the LaTeX printer, which
+#: registers itself for ``Theorem._repr_latex_`` (the theorem layer cannot import the render layer)
+_WITH_LATEX = ("theorem.", "pipeline", "studies.")
+
+
 def __getattr__(name):
     if name in _LAZY:
         import importlib
         value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        if _LAZY[name].startswith(_WITH_LATEX):
+            importlib.import_module(".render.latex", __name__)
         globals()[name] = value
         return value
     raise AttributeError(f"module 'lmidsl' has no attribute {name!r}")

@@ -6,18 +6,25 @@ new file.  Only the module of the command being run is imported: the others are 
 their source (``ORDER`` and the literal ``sub.add_parser(NAME, help=...)``), so that
 ``lmidsl --help`` and ``lmidsl list`` start without cvxpy, matplotlib or scipy.  Every :class:`~lmidsl.errors.LmidslError` becomes one line ``error: ...`` on stderr
 and exit code 2; argument errors too.
+
+Here too, for every command: ``--version``; ``--wide`` (:mod:`lmidsl.render.terminal`);
+``--timeout`` (wall time, exit 1); a reader that closes stdout early (``lmidsl list | head -1``)
+ends the command quietly with exit 0.
 """
 from __future__ import annotations
 
+import _thread
 import argparse
 import ast
 import importlib
 import os
 import sys
+import threading
 import warnings
 from pathlib import Path
 
-from ..errors import LmidslError, LmidslWarning
+from ..errors import Interrupted, LmidslError, LmidslWarning
+from ..render.terminal import configure
 from ..theorem.registry import load_problems
 
 
@@ -26,6 +33,27 @@ class OneLineParser(argparse.ArgumentParser):
 
     def error(self, message):
         self.exit(2, f"error: {self.prog}: {message}\n")
+
+
+class VersionAction(argparse.Action):
+    """``--version``: the installed distribution's version (read only when asked)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, help=None):
+        super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"lmidsl {package_version()}")
+        parser.exit(0)
+
+
+def package_version() -> str:
+    """The version of the installed ``lmidsl`` distribution (importlib.metadata), or the
+    package's own ``__version__`` when it runs from a source tree that is not installed."""
+    from importlib.metadata import PackageNotFoundError, version
+    try:
+        return version("lmidsl")
+    except PackageNotFoundError:
+        return importlib.import_module("lmidsl").__version__
 
 
 def command_modules():
@@ -89,6 +117,7 @@ def build_parser(argv=None) -> argparse.ArgumentParser:
     ``lmidsl list`` do not pay for cvxpy, matplotlib or scipy), the others are listed from their
     source (``argv=None``: the process's own arguments)."""
     parser = OneLineParser(prog="lmidsl", description="LMI theorems stated once: solve, recover, certify.")
+    parser.add_argument("--version", action=VersionAction, help="print the version of lmidsl and exit")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=OneLineParser,
                                 metavar="COMMAND")
     wanted = _requested(argv)
@@ -117,25 +146,71 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
 _show_warning = warnings.showwarning
 
 
+class Deadline:
+    """``--timeout``: after ``seconds`` of wall time the main thread is interrupted as by Ctrl-C
+    (so that long runs keep what they stored) and the command ends with exit code 1."""
+
+    def __init__(self, seconds: float | None):
+        self.seconds, self.expired, self.timer = seconds, False, None
+        if seconds:
+            self.timer = threading.Timer(seconds, self._expire)
+            self.timer.daemon = True
+            self.timer.start()
+
+    def _expire(self):
+        self.expired = True
+        _thread.interrupt_main()
+
+    def cancel(self):
+        if self.timer is not None:
+            self.timer.cancel()
+
+    def message(self, detail: str = "") -> str:
+        return f"error: --timeout {self.seconds:g}: stopped after {self.seconds:g} s" + (f" ({detail})" if detail else "")
+
+
 def main(argv=None) -> int:
+    try:
+        return _main(argv)
+    except BrokenPipeError:
+        # the reader of stdout went away (`lmidsl list | head -1`): not an error of the command;
+        # stdout goes to /dev/null so that the interpreter's final flush does not fail again
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
+
+
+def _main(argv=None) -> int:
     parser = build_parser(argv)
     args = parser.parse_args(argv)
+    configure(wide=getattr(args, "wide", False))
     with warnings.catch_warnings():
         warnings.showwarning = _one_line_warning
         return _run(args)
 
 
 def _run(args) -> int:
+    deadline = Deadline(getattr(args, "timeout", None))
     try:
         code = args.run(args)
+        deadline.cancel()
+        sys.stdout.flush()            # a closed pipe shows here, not at the interpreter's exit
         _warn_skipped_theorem_files()
+    except BrokenPipeError:
+        raise
+    except Interrupted as exc:
+        deadline.cancel()
+        print(deadline.message(str(exc)) if deadline.expired else f"error: {exc}", file=sys.stderr)
+        return 1 if deadline.expired else exc.exit_code
     except LmidslError as exc:
+        deadline.cancel()
         _warn_skipped_theorem_files()
         print(f"error: {exc}", file=sys.stderr)
         return exc.exit_code
     except KeyboardInterrupt:
-        print("error: interrupted", file=sys.stderr)
-        return 130
+        deadline.cancel()
+        print(deadline.message() if deadline.expired else "error: interrupted", file=sys.stderr)
+        return 1 if deadline.expired else 130
     except Exception as exc:  # a bug, not bad input: say so in one line unless debugging
         if os.environ.get("LMIDSL_DEBUG"):
             raise

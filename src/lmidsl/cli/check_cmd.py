@@ -5,49 +5,29 @@ input.  See :mod:`lmidsl.studies.cross_check` for what "certified" and "trusted"
 """
 from __future__ import annotations
 
-import json
-
 from ..studies.cross_check import DEFAULT_TOLERANCE, check
-from ..errors import InputError
-from ..render.report import format_table
-from .common import add_instance_arguments, instance_spec, positive_float, print_json
+from ..render.progress import Progress
+from ..render.table import format_table
+from ..render.terminal import Settings, wrap
+from .common import (add_output_arguments, add_solve_arguments, instance_spec, parse_solver_options,
+                     positive_float, print_json, show_progress)
 
 ORDER = 25
 
 
 def register(sub):
     p = sub.add_parser("check", help="solve on every backend x solver and compare (exit 1 on disagreement)")
-    add_instance_arguments(p)
+    add_solve_arguments(p, solver_help="compare only this solver (on --backend, or on every backend "
+                        "that has it); with --solvers, added to that list")
+    add_output_arguments(p, progress=True)
     p.add_argument("--solvers", metavar="LIST",
                    help="comma-separated backend:solver, backend or solver entries "
                         "(default: every backend with every installed SDP solver), e.g. "
                         "clarabel,scs,picos:cvxopt")
-    p.add_argument("--solver-option", dest="solver_options", action="append", default=[],
-                   metavar="[BACKEND:]SOLVER:KEY=VALUE",
-                   help="an option for one solver's rows, VALUE as JSON (e.g. clarabel:max_iter=5, "
-                        "picos:cvxopt:max_iterations=3); repeatable")
     p.add_argument("--tolerance", type=positive_float, default=DEFAULT_TOLERANCE,
                    help=f"relative tolerance on gamma among trusted rows (default {DEFAULT_TOLERANCE:g})")
-    p.add_argument("--margin", type=positive_float, help="strictness margin ε (N <= -ε I); default 1e-7")
     p.add_argument("--no-certify", action="store_true", help="skip the analysis certificate")
-    p.add_argument("--json", action="store_true", help="one JSON object on stdout")
     p.set_defaults(run=run)
-
-
-def parse_solver_options(items: list[str]) -> dict:
-    """``[backend:]solver:key=value`` items as ``{"[backend:]solver": {key: value}}``."""
-    out: dict = {}
-    for item in items:
-        left, sep, text = item.partition("=")
-        target, colon, key = left.rpartition(":")
-        if not sep or not colon or not target.strip() or not key.strip():
-            raise InputError(f"--solver-option {item!r}: expected [BACKEND:]SOLVER:KEY=VALUE")
-        try:
-            value = json.loads(text)
-        except json.JSONDecodeError:
-            value = text
-        out.setdefault(target.strip().lower(), {})[key.strip()] = value
-    return out
 
 
 def _fmt(x, spec=".6g"):
@@ -60,22 +40,31 @@ def format_check(result) -> str:
         for label in r.max_eig_by_label():
             if label not in labels:
                 labels.append(label)
-    headers = ["backend", "solver", "status", "objective", result.compared]
-    headers += [f"eig {label}" for label in labels]
-    headers += ["analysis", "time s", "cert", "trust", "rel diff"]
+    # the objective only at full width (--wide) when it is not the compared value itself
+    objective = Settings.wide and result.compared != "objective"
+    headers = ["backend", "solver", "status"] + (["objective"] if objective else []) + [
+        result.compared, "max eig", "analysis", "time s", "cert", "trust", "rel diff"]
     rows = []
     for r in result.rows:
-        eigs = r.max_eig_by_label()
+        eigs = [e for e in r.max_eig_by_label().values() if e is not None]
         analysis = "" if r.analysis_passed is None else (
             ("infeasible" if r.analysis_gamma is None else _fmt(r.analysis_gamma, ".6g"))
             + ("" if r.analysis_passed else " (fails)"))
         rel = "" if r.rel_diff is None else f"{r.rel_diff:+.1e}" + (" !" if r.disagrees else "")
-        rows.append([r.backend, r.solver, r.status, _fmt(r.objective, ".8g"), _fmt(r.value, ".8g")]
-                    + [_fmt(eigs.get(label), ".2e") for label in labels]
-                    + [analysis, f"{r.wall_time:.2f}", "yes" if r.certified else "no",
-                       "yes" if r.trusted else "no", rel])
+        rows.append([r.backend, r.solver, r.status] + ([_fmt(r.objective, ".8g")] if objective else [])
+                    + [_fmt(r.value, ".8g"), _fmt(max(eigs) if eigs else None, ".2e"), analysis,
+                       f"{r.wall_time:.2f}", "yes" if r.certified else "no", "yes" if r.trusted else "no", rel])
+    # the largest eigenvalue of each LMI: one row per LMI, one column per solver row (a table of
+    # labels x solvers stays narrow where one column per label would not)
+    solved = [r for r in result.rows if r.max_eig_by_label()]
+    eig_rows = [[label] + [_fmt(r.max_eig_by_label().get(label), ".2e") for r in solved] for label in labels]
     title = f"{result.theorem}" + (f" [{result.example}]" if result.example else "")
-    lines = [title, format_table(headers, rows), ""]
+    status, analysis_column = 2, len(headers) - 5           # these two wrap; ids and numbers never
+    lines = [title, format_table(headers, rows, nowrap=tuple(i for i in range(len(headers))
+                                                             if i not in (status, analysis_column))), ""]
+    if eig_rows:
+        lines += ["largest eigenvalue of each LMI at the returned point (N < 0 holds when negative):",
+                  format_table(["LMI"] + [f"{r.backend}:{r.solver}" for r in solved], eig_rows), ""]
     notes = [f"  {r.name}: {r.error or r.reason}" + (f" ({r.message})" if r.message and not r.error else "")
              for r in result.rows if not r.trusted]
     if notes:
@@ -84,13 +73,26 @@ def format_check(result) -> str:
     lines.append("(cert: every LMI's largest eigenvalue < 0 and the analysis certifies the recovered filter; "
                  "trust: cert + status optimal from a non-first-order solver; rel diff against the best "
                  f"trusted {result.compared}; '!' marks a disagreement)")
-    return "\n".join(lines)
+    return wrap("\n".join(lines))
+
+
+def requested_rows(args) -> str | None:
+    """``--solvers`` with the entry that ``--backend`` and ``--solver`` make (backend:solver, or
+    either alone); None: every backend with every installed solver."""
+    entries = [e for e in (args.solvers or "").split(",") if e.strip()]
+    if args.backend or args.solver:
+        entries.append(":".join(x for x in (args.backend, args.solver) if x))
+    return ",".join(entries) or None
 
 
 def run(args):
-    result = check(args.theorem, solvers=args.solvers,
+    def progress(plan):
+        return Progress(plan, "check", lambda row: f"{row[0]}:{row[1]}", enabled=show_progress(args))
+
+    result = check(args.theorem, solvers=requested_rows(args),
                    options=parse_solver_options(args.solver_options), tolerance=args.tolerance,
-                   margin=args.margin, certify=not args.no_certify, **instance_spec(args))
+                   margin=args.margin, certify=not args.no_certify, progress=progress,
+                   **instance_spec(args))
     if args.json:
         print_json(result.as_dict())
     else:

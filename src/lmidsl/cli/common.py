@@ -1,5 +1,11 @@
-"""Arguments shared by several sub-commands: the instance (example, data file, overrides),
-numbers that must be finite (and positive), and strict JSON in and out.
+"""Arguments shared by the sub-commands, parsed here and nowhere else: the instance (theorem,
+example, data file, overrides), THE common flags of every command that solves
+(:func:`add_solve_arguments`: ``--backend``, ``--solver``, ``--solver-option``, ``--margin``,
+``--data``, ``--set``, ``--json``, ``--timeout``), the output flags (``--wide``,
+``--no-progress``), numbers that must be finite (and positive), and strict JSON in and out.
+
+A command that cannot honour a common flag in some use refuses it with one line
+(:func:`refuse`), never ignores it.
 
 JSON read from the user (``--set``, ``--data``, design files) refuses ``NaN`` and ``Infinity``
 (Python's ``json`` accepts them by default); JSON written is strict (``allow_nan=False``): a
@@ -12,13 +18,75 @@ import json
 import math
 
 from ..errors import InputError
-from ..solver.backends import resolve_solver
+from ..solver.backends import BACKENDS, options_for, resolve_solver
 from ..studies.store import strict_json
+
+#: the flags every solving command accepts (tests/test_cli_output.py checks each command)
+COMMON_FLAGS = ("--backend", "--solver", "--solver-option", "--margin", "--data", "--set", "--json",
+                "--timeout")
+
+
+def add_solve_arguments(parser, *, theorem: bool = True, solver_help: str | None = None) -> None:
+    """The common flags of a command that solves; ``theorem``: also the theorem id and
+    ``--example`` (commands over many theorems, e.g. ``reproduce``, take neither)."""
+    if theorem:
+        parser.add_argument("theorem", help="theorem id, e.g. wang_l2linf.thm3 (see `lmidsl list`)")
+        parser.add_argument("--example", help="a named example of the theorem")
+    add_data_arguments(parser)
+    parser.add_argument("--backend", choices=list(BACKENDS),
+                        help=f"modelling backend ({', '.join(BACKENDS)}; default cvxpy)")
+    parser.add_argument("--solver", help=solver_help or "solver name (default: clarabel on cvxpy, "
+                        "cvxopt on picos); any installed SDP solver of the backend")
+    parser.add_argument("--solver-option", dest="solver_options", action="append", default=[],
+                        metavar="[[BACKEND:]SOLVER:]KEY=VALUE",
+                        help="a solver option, VALUE as JSON (e.g. max_iter=50, or clarabel:max_iter=50 "
+                             "for one solver only); repeatable")
+    parser.add_argument("--margin", type=positive_float, help="strictness margin ε (N <= -ε I); default 1e-7")
+    parser.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    parser.add_argument("--timeout", type=positive_float, metavar="SECONDS",
+                        help="stop after this many seconds of wall time (exit 1; a long run keeps "
+                             "what it stored with --out)")
+
+
+def add_output_arguments(parser, *, progress: bool = False) -> None:
+    """``--wide`` (tables at full width) and, for long commands, ``--no-progress``."""
+    parser.add_argument("--wide", action="store_true",
+                        help="print tables at full width (default: fit the terminal, or 100 columns)")
+    if progress:
+        parser.add_argument("--no-progress", action="store_true",
+                            help="no progress (a bar on a terminal, one line per item on stderr off it)")
+
+
+def show_progress(args) -> bool:
+    """Progress unless ``--no-progress`` (it goes to stderr, so ``--json`` keeps it too)."""
+    return not getattr(args, "no_progress", False)
+
+
+def refuse(args, reason: str, *flags: str) -> None:
+    """One line for a common flag the command cannot honour here, when it was given."""
+    for flag in flags:
+        value = getattr(args, flag.lstrip("-").replace("-", "_"), None)
+        if flag == "--set":
+            value = getattr(args, "overrides", None)
+        if flag == "--solver-option":
+            value = getattr(args, "solver_options", None)
+        if value:
+            raise InputError(f"{flag}: {reason}")
+
+
+def backend_of(args) -> str:
+    return getattr(args, "backend", None) or "cvxpy"
 
 
 def add_instance_arguments(parser) -> None:
+    """The theorem id, ``--example``, ``--data`` and ``--set`` (commands that bind an instance
+    without solving it)."""
     parser.add_argument("theorem", help="theorem id, e.g. wang_l2linf.thm3 (see `lmidsl list`)")
     parser.add_argument("--example", help="a named example of the theorem")
+    add_data_arguments(parser)
+
+
+def add_data_arguments(parser) -> None:
     parser.add_argument("--data", metavar="FILE.json",
                         help="all data and parameters as one JSON object (matrices as nested lists)")
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="NAME=VALUE",
@@ -60,7 +128,47 @@ def check_solver_argument(args) -> None:
     install a solver lmidsl knows, e.g. MOSEK)."""
     solver = getattr(args, "solver", None)
     if solver:
-        resolve_solver(getattr(args, "backend", None) or "cvxpy", solver)
+        resolve_solver(backend_of(args), solver)
+
+
+def parse_solver_options(items: list[str]) -> dict:
+    """``[[backend:]solver:]key=value`` items as ``{"[backend:]solver": {key: value}}``; the
+    target ``""`` holds the options for every solver."""
+    out: dict = {}
+    for item in items:
+        left, sep, text = item.partition("=")
+        target, _, key = left.rpartition(":")
+        if not sep or not key.strip():
+            raise InputError(f"--solver-option {item!r}: expected [[BACKEND:]SOLVER:]KEY=VALUE")
+        try:
+            value = json.loads(text)
+        except json.JSONDecodeError:
+            value = text
+        out.setdefault(target.strip().lower(), {})[key.strip()] = value
+    return out
+
+
+def solver_options(args) -> dict:
+    """The ``--solver-option`` values for the one backend and solver this command solves with;
+    an option aimed at another solver is a one-line error (it would be silently unused)."""
+    parsed = parse_solver_options(getattr(args, "solver_options", []))
+    if not parsed:
+        return {}
+    backend = backend_of(args)
+    solver = resolve_solver(backend, getattr(args, "solver", None))
+    options = options_for(backend, solver, parsed)
+    for target in parsed:
+        if target and not options_for(backend, solver, {target: {"hit": True}}):
+            raise InputError(f"--solver-option {target}:...: this command solves with {backend}:{solver} only")
+    return options
+
+
+def solve_arguments(args) -> dict:
+    """``solver``, ``backend``, ``margin`` and the solver options, as keyword arguments of
+    :func:`lmidsl.pipeline.solve` and the studies."""
+    check_solver_argument(args)
+    return {"solver": getattr(args, "solver", None), "backend": backend_of(args),
+            "margin": getattr(args, "margin", None), **solver_options(args)}
 
 
 def instance_spec(args) -> dict:

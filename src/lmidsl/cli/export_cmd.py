@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from ..pipeline import make_instance, solve_instance
 from ..studies.export import FORMATS, export, read_back, solve_sdpa_cvxpy
-from .common import add_instance_arguments, instance_spec, print_json
+from .common import add_solve_arguments, instance_spec, print_json, refuse, solve_arguments
 
 ORDER = 75
 RTOL = 1e-6
@@ -13,24 +13,26 @@ RTOL = 1e-6
 
 def register(sub):
     p = sub.add_parser("export", help="write the compiled SDP (SDPA sparse, CBF, or its JSON map)")
-    add_instance_arguments(p)
+    add_solve_arguments(p, solver_help="solver of --check's own solve (default: clarabel)")
     p.add_argument("--format", required=True, choices=FORMATS, help="sdpa (.dat-s), cbf, or json (the map alone)")
     p.add_argument("-o", "--output", required=True, metavar="FILE", help="output file")
-    p.add_argument("--margin", type=float, help="strictness margin ε (N <= -ε I); default 1e-7")
     p.add_argument("--check", action="store_true",
                    help=f"read the file back, solve it directly with cvxpy and compare with "
                         f"`lmidsl solve` (relative difference <= {RTOL:g}; exit 1 otherwise)")
-    p.add_argument("--json", action="store_true", help="the map (and the check) as JSON on stdout")
     p.set_defaults(run=run)
 
 
 def run(args):
     instance = make_instance(args.theorem, **instance_spec(args))
+    if not args.check:
+        refuse(args, "export writes the SDP (compiled by PICOS) and solves nothing; the backend and "
+                     "solver flags are for --check's own solve", "--backend", "--solver", "--solver-option")
+    solving = solve_arguments(args)
     mapping = export(instance, args.format, args.output, margin=args.margin)
     code = 0
     if args.check and args.format != "json":
         value, _ = solve_sdpa_cvxpy(read_back(args.output))
-        own = solve_instance(instance, margin=args.margin, certify=False, diagnose=False)
+        own = solve_instance(instance, certify=False, diagnose=False, **solving)
         ref = own.objective
         if instance.theorem.objective is None:       # feasibility: both routes find a point
             rel, holds = None, bool(own.ok and own.certified)

@@ -12,6 +12,7 @@ from ..pipeline import solve
 from ..render.latex_document import theorem_latex
 from ..studies.store import atomic_write_text, check_output_file
 from ..theorem.registry import get_example, get_theorem
+from .common import add_solve_arguments, instance_spec, print_json, refuse, solve_arguments
 
 ORDER = 40
 
@@ -22,12 +23,10 @@ class PdflatexMissing(LmidslError):
 
 def register(sub):
     p = sub.add_parser("latex", help="LaTeX document of a theorem's LMIs (optionally solved)")
-    p.add_argument("theorem", help="theorem id, e.g. wang_l2linf.thm3 (see `lmidsl list`)")
+    add_solve_arguments(p, solver_help="solver for --example, --data or --set (default: clarabel)")
     p.add_argument("-o", "--output", metavar="FILE.tex",
                    help="write the document here (default: stdout; with --pdf: THEOREM.tex)")
     p.add_argument("--pdf", action="store_true", help="also run pdflatex on the document")
-    p.add_argument("--example", help="solve this example and add the numbers (γ, filter)")
-    p.add_argument("--solver", help="solver for --example (default: clarabel)")
     p.add_argument("--star", choices=["star", "asterisk"], default="star",
                    help="symbol for the implicit triangle: \\star (default) or *")
     p.add_argument("--he", choices=["expand", "collapse"], default="expand",
@@ -71,14 +70,23 @@ def run(args):
     if args.pdf and shutil.which("pdflatex") is None and args.output is None:
         raise PdflatexMissing("--pdf: pdflatex is not installed (apt-get install texlive-latex-base)")
     solution = None
-    if args.example is not None:
-        solution = solve(theorem, example=args.example, solver=args.solver)
+    if args.example is not None or args.data is not None or args.overrides:
+        # solved: the document adds the numbers (γ, the design)
+        solution = solve(theorem, **solve_arguments(args), **instance_spec(args))
+    else:
+        refuse(args, "the document of a theorem alone solves nothing; give --example, --data or --set",
+               "--backend", "--solver", "--solver-option", "--margin")
     text = theorem_latex(theorem, solution, **settings)
     out = args.output
     if out is None and args.pdf:
         out = f"{theorem.id}.tex"
+    document = {"theorem": theorem.id, "example": solution.example if solution else None,
+                "solved": solution is not None, "latex": text}
     if out is None:
-        sys.stdout.write(text)
+        if args.json:
+            print_json(document)
+        else:
+            sys.stdout.write(text)
         return 0
     path = Path(out)
     if path.suffix != ".tex":
@@ -88,8 +96,12 @@ def run(args):
         atomic_write_text(path, text)
     except OSError as exc:
         raise InputError(f"-o {out}: {exc.strerror}") from None
-    print(f"wrote {path}")
+    written = [str(path)]
     if args.pdf:
-        pdf = compile_pdf(path.resolve())
-        print(f"wrote {os.path.relpath(pdf)}")
+        written.append(os.path.relpath(compile_pdf(path.resolve())))
+    if args.json:
+        print_json({**document, "written": written})
+    else:
+        for name in written:
+            print(f"wrote {name}")
     return 0

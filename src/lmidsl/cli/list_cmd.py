@@ -5,9 +5,10 @@ readings and illustrations, marked with their provenance.  Reads the cached inde
 :mod:`lmidsl.theorem.index` (rebuilt when a theorem file changes), so no theorem file runs."""
 from __future__ import annotations
 
-from ..render.report import format_table
+from ..render.table import format_table
+from ..render.terminal import echo
 from ..theorem.index import theorem_index
-from .common import print_json
+from .common import add_output_arguments, print_json
 
 ORDER = 10
 
@@ -17,6 +18,7 @@ def register(sub):
     p.add_argument("--all", action="store_true",
                    help="also the variants: corrected and guessed readings, illustrations")
     p.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    add_output_arguments(p)
     p.set_defaults(run=run)
 
 
@@ -41,9 +43,9 @@ def run(args):
     headers = ["theorem", "title", "source", "examples"]
     if args.all:
         headers.insert(1, "provenance")
-    print(format_table(headers, rows))
+    print(format_table(headers, rows, nowrap=(0,)))
     hidden = len(everything) - len(theorems)
     if hidden or hidden_examples:
-        print(f"\n{hidden} theorem(s) and {hidden_examples} example(s) that are not the papers' own "
+        echo(f"\n{hidden} theorem(s) and {hidden_examples} example(s) that are not the papers' own "
               "(corrected or guessed readings, illustrations) are hidden: lmidsl list --all")
     return 0

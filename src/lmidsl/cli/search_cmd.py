@@ -3,16 +3,17 @@ from __future__ import annotations
 
 from ..pipeline import make_instance
 from ..errors import InputError
+from ..render.terminal import wrap
 from ..studies.search import OBJECTIVES, format_result, scalar_search
 from ..studies.sweep import parse_grid
-from .common import add_instance_arguments, instance_spec, positive_float, positive_int, print_json
+from .common import add_solve_arguments, instance_spec, positive_int, print_json, solve_arguments
 
 ORDER = 25
 
 
 def register(sub):
     p = sub.add_parser("search", help="search a theorem's fixed scalars (grid, then Nelder-Mead)")
-    add_instance_arguments(p)
+    add_solve_arguments(p)
     p.add_argument("--grid", action="append", default=[], metavar="NAME=a:b:n",
                    help="grid axis: n points from a to b, or NAME=v1,v2,... (repeatable)")
     p.add_argument("--refine", action="store_true", help="Nelder-Mead refinement from the best grid point")
@@ -20,11 +21,7 @@ def register(sub):
                    help="gamma (optimal level; default when the theorem minimises) or tmin (feasp t*)")
     p.add_argument("--workers", type=positive_int, help="worker processes (default: number of CPUs; 1 = serial)")
     p.add_argument("--maxfev", type=positive_int, default=80, help="refinement evaluations (default 80)")
-    p.add_argument("--solver", help="solver name (default: clarabel)")
-    p.add_argument("--backend", default="cvxpy", help="modelling backend")
-    p.add_argument("--margin", type=positive_float, help="strictness margin ε (N <= -ε I); default 1e-7")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.add_argument("--json", action="store_true", help="one JSON object on stdout")
     p.set_defaults(run=run)
 
 
@@ -37,10 +34,9 @@ def run(args):
         raise InputError("--workers must be at least 1")
     result = scalar_search(instance, axes, args.objective, refine_best=args.refine,
                            workers=args.workers, progress=False if args.no_progress or args.json else None,
-                           solver=args.solver, backend=args.backend, margin=args.margin,
-                           maxfev=args.maxfev)
+                           maxfev=args.maxfev, **solve_arguments(args))
     if args.json:
         print_json(result.as_dict())
     else:
-        print(format_result(result))
+        print(wrap(format_result(result)))
     return 0 if result.best is not None else 1

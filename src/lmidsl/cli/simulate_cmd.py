@@ -8,23 +8,23 @@ from __future__ import annotations
 
 from ..errors import InputError, NoResultError
 from ..pipeline import make_instance, solve_instance
-from ..render.report import format_table
-from .common import add_instance_arguments, instance_spec, nonnegative_int, positive_int, print_json
+from ..render.table import format_table
+from .common import (add_output_arguments, add_solve_arguments, instance_spec, nonnegative_int, positive_int,
+                     print_json, refuse, solve_arguments)
 
 ORDER = 40
 
 
 def register(sub):
     p = sub.add_parser("simulate", help="simulate the design with the theorem's own model")
-    add_instance_arguments(p)
+    add_solve_arguments(p, solver_help="solver for a synthesis theorem (default: clarabel)")
+    add_output_arguments(p)
     p.add_argument("--scenario", "--impulses", dest="scenario", action="append", default=[],
                    metavar="KIND", help="a scenario of the theorem's simulator (repeatable), e.g. "
                    "impulse sequences none, all[:K], periodic:P, random:p, explicit:k1,k2,...")
     p.add_argument("--horizon", type=positive_int, default=200, help="number of samples (default 200)")
     p.add_argument("--disturbance", default="noise", help="test disturbance, e.g. pulse, noise, sine, step")
     p.add_argument("--seed", type=nonnegative_int, default=0, help="seed of random scenarios and noise")
-    p.add_argument("--solver", help="solver for a synthesis theorem (default: clarabel)")
-    p.add_argument("--json", action="store_true", help="one JSON object on stdout")
     p.set_defaults(run=run)
 
 
@@ -33,11 +33,15 @@ def run(args):
         raise InputError("--horizon must be at least 1")
     instance = make_instance(args.theorem, **instance_spec(args))
     theorem = instance.theorem
+    solving = solve_arguments(args)
     if theorem.simulator is None:
         raise InputError(f"{theorem.id} declares no simulation of its model (Theorem.simulated_by)")
     design = None
+    if not theorem.recovery:
+        refuse(args, f"{theorem.id} designs nothing, so the simulation solves nothing", "--backend",
+               "--solver", "--solver-option", "--margin")
     if theorem.recovery:
-        sol = solve_instance(instance, solver=args.solver, certify=False)
+        sol = solve_instance(instance, certify=False, **solving)
         if not sol.ok or sol.design is None:
             raise NoResultError(f"{theorem.id}: no design to simulate ({sol.status}"
                                 + (f": {sol.message}" if sol.message else "") + ")")

@@ -4,23 +4,18 @@ from __future__ import annotations
 import argparse
 
 from ..pipeline import make_instance, solve
-from ..solver.backends import BACKENDS
 from ..render.report import format_solution
 from ..render.bisection import format_bisection
 from ..studies.bisection import bisect
 from ..theorem.registry import get_theorem
-from .common import add_instance_arguments, instance_spec, parse_overrides, positive_float, print_json
+from .common import add_solve_arguments, instance_spec, parse_overrides, print_json, solve_arguments
 
 ORDER = 20
 
 
 def register(sub):
     p = sub.add_parser("solve", help="solve a theorem on an example or data")
-    add_instance_arguments(p)
-    p.add_argument("--solver", help="solver name (default: clarabel on cvxpy, cvxopt on picos); "
-                   "any installed SDP solver of the backend")
-    p.add_argument("--backend", default="cvxpy", help=f"modelling backend ({', '.join(BACKENDS)})")
-    p.add_argument("--margin", type=positive_float, help="strictness margin ε (N <= -ε I); default 1e-7")
+    add_solve_arguments(p)
     p.add_argument("--scaling", default="auto", choices=("auto", "none"),
                    help="exact signal rescaling declared by the theorem, applied and undone by lmidsl "
                         "(default auto)")
@@ -30,7 +25,6 @@ def register(sub):
                         "design recovered at the optimum is not certified or is ill-conditioned; "
                         "'none': never")
     p.add_argument("--no-certify", action="store_true", help="skip the analysis certificate")
-    p.add_argument("--json", action="store_true", help="one JSON object on stdout")
     p.set_defaults(run=run)
 
 
@@ -52,9 +46,8 @@ def run(args):
     spec = getattr(get_theorem(args.theorem), "bisection", None)     # a family has none
     if spec is not None and spec.parameter not in parse_overrides(args.overrides):
         return run_bisection(args)     # a GEVP: bisect on the declared parameter (--set it to solve at one value)
-    sol = solve(args.theorem, solver=args.solver, backend=args.backend, margin=args.margin,
-                certify=not args.no_certify, scaling=args.scaling, backoff=args.backoff,
-                **instance_spec(args))
+    sol = solve(args.theorem, certify=not args.no_certify, scaling=args.scaling, backoff=args.backoff,
+                **solve_arguments(args), **instance_spec(args))
     if args.json:
         out = sol.as_dict()
         analysis = getattr(sol, "analysis", None)
@@ -66,8 +59,7 @@ def run(args):
 
 
 def run_bisection(args):
-    result = bisect(make_instance(args.theorem, **instance_spec(args)), solver=args.solver,
-                    backend=args.backend, margin=args.margin)
+    result = bisect(make_instance(args.theorem, **instance_spec(args)), **solve_arguments(args))
     if args.json:
         print_json(result.as_dict())
     else:

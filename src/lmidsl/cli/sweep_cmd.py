@@ -1,27 +1,27 @@
 """``lmidsl sweep``: solve a theorem over a grid of parameters (compiled once)."""
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 from ..errors import InputError
-from ..render.report import format_table
+from ..render.progress import Progress
+from ..render.table import format_table
+from ..render.terminal import echo
 from ..studies.store import ensure_writable_dir
 from ..studies.sweep import MAX_POINTS, format_timing, parse_grid, sweep
-from .common import add_instance_arguments, instance_spec, positive_float, positive_int, print_json
+from .common import (add_output_arguments, add_solve_arguments, instance_spec, positive_int, print_json,
+                     show_progress, solve_arguments)
 
 ORDER = 25
 
 
 def register(sub):
     p = sub.add_parser("sweep", help="solve over a parameter grid, compiled once")
-    add_instance_arguments(p)
+    add_solve_arguments(p)
+    add_output_arguments(p, progress=True)
     p.add_argument("--grid", action="append", default=[], metavar="NAME=START:STOP:COUNT",
                    help="a parameter grid (repeatable; the sweep is over the product), "
                         "e.g. xi1=0.05:0.95:19 or xi1=0.1,0.5")
-    p.add_argument("--solver", help="solver name (default: clarabel)")
-    p.add_argument("--backend", default="cvxpy", help="modelling backend")
-    p.add_argument("--margin", type=positive_float, help="strictness margin ε")
     p.add_argument("--scaling", default="auto", choices=("auto", "none"), help="exact signal scaling")
     p.add_argument("--out", metavar="DIR",
                    help="write sweep.jsonl (each point as it is solved), then sweep.csv, sweep.json and "
@@ -32,7 +32,6 @@ def register(sub):
     p.add_argument("--max-points", type=positive_int, default=MAX_POINTS,
                    help=f"refuse a grid of more points than this (default {MAX_POINTS})")
     p.add_argument("--title", help="title of the figure")
-    p.add_argument("--json", action="store_true", help="one JSON object on stdout")
     p.set_defaults(run=run)
 
 
@@ -46,15 +45,13 @@ def run(args):
         raise InputError("sweep: --resume needs --out DIR (the folder of the interrupted sweep)")
     out = ensure_writable_dir(args.out, "--out") if args.out else None   # before the first solve
 
-    def progress(items):
-        from tqdm import tqdm
-        return tqdm(items, desc=f"sweep {args.theorem}", file=sys.stderr, unit="pt",
-                    disable=None if not args.json else True)
+    def progress(combos):
+        label = lambda combo: ", ".join(f"{n}={v:g}" for (n, _), v in zip(grids, combo))  # noqa: E731
+        return Progress(combos, f"sweep {args.theorem}", label, enabled=show_progress(args))
 
-    result = sweep(args.theorem, grids, solver=args.solver, backend=args.backend, margin=args.margin,
-                   scaling=args.scaling, progress=progress, max_points=args.max_points,
+    result = sweep(args.theorem, grids, scaling=args.scaling, progress=progress, max_points=args.max_points,
                    store=out / "sweep.jsonl" if out else None, resume=args.resume,
-                   **instance_spec(args))
+                   **solve_arguments(args), **instance_spec(args))
     if out:
         result.write_csv(out / "sweep.csv")
         result.write_json(out / "sweep.json")
@@ -67,12 +64,12 @@ def run(args):
         if len(rows) <= 40:
             print(format_table([*names, "status", "gamma", "max eig"], rows))
         ok = [p.gamma for p in result.points if p.gamma is not None]
-        print(f"{result.theorem}: {len(result.points)} points, {len(ok)} solved, "
+        echo(f"{result.theorem}: {len(result.points)} points, {len(ok)} solved, "
               f"{result.certified_count()} certified (every LMI proved at the returned point)"
               + (f", gamma from {min(ok):.6g} to {max(ok):.6g}" if ok else ""))
-        print(format_timing(result.timing()))
+        echo(format_timing(result.timing()))
         if result.resumed:
-            print(f"resumed: {result.resumed} points from {out / 'sweep.jsonl'}, {result.solved} solved now")
+            echo(f"resumed: {result.resumed} points from {out / 'sweep.jsonl'}, {result.solved} solved now")
         if args.out:
-            print(f"wrote {Path(args.out) / 'sweep.csv'}, sweep.json, sweep.png (points as solved: sweep.jsonl)")
+            echo(f"wrote {Path(args.out) / 'sweep.csv'}, sweep.json, sweep.png (points as solved: sweep.jsonl)")
     return 0 if result.points and all(p.proved for p in result.points) else 1

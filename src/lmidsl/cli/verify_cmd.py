@@ -5,8 +5,11 @@ import json
 
 from ..errors import InputError
 from ..symbolic.numbers import finite_matrix
-from .common import add_instance_arguments, instance_spec, nonnegative_int, positive_float, positive_int, print_json, probability, strict_loads
+from .common import (add_output_arguments, add_solve_arguments, instance_spec, nonnegative_int, positive_float,
+                     positive_int, print_json, probability, show_progress, solve_arguments, strict_loads)
 from .solve_cmd import backoff_argument
+from ..render.progress import Stages
+from ..render.terminal import wrap
 from ..studies.verify import verify
 
 ORDER = 25
@@ -14,7 +17,8 @@ ORDER = 25
 
 def register(sub):
     p = sub.add_parser("verify", help="certify a filter: synthesis LMIs, analysis, exact figure, Monte Carlo")
-    add_instance_arguments(p)
+    add_solve_arguments(p)
+    add_output_arguments(p, progress=True)
     p.add_argument("--design", "--filter", dest="design", metavar="FILE.json|printed",
                    help="certify these matrices instead of a fresh design: a JSON object of name -> "
                         "matrix (or the JSON of `solve`/`verify`), or 'printed' for the example's printed filter")
@@ -30,9 +34,6 @@ def register(sub):
                    help="design only: recover the filter at objective <= (1+DELTA)*optimum with the best "
                         "conditioning (see `solve --backoff`); 'auto': only when the optimum's filter "
                         "is not certified by the analysis")
-    p.add_argument("--solver", help="solver name (default: clarabel)")
-    p.add_argument("--backend", default="cvxpy", help="modelling backend")
-    p.add_argument("--json", action="store_true", help="one JSON object on stdout")
     p.set_defaults(run=run)
 
 
@@ -83,13 +84,14 @@ def load_disturbance(arg: str):
 
 
 def run(args):
-
-    result = verify(args.theorem, design=load_design(args.design), gamma=args.gamma, runs=args.runs,
-                    seed=args.seed, confidence=args.confidence,
-                    disturbance=load_disturbance(args.disturbance), horizon=args.horizon,
-                    solver=args.solver, backend=args.backend, backoff=args.backoff, **instance_spec(args))
+    design, disturbance = load_design(args.design), load_disturbance(args.disturbance)
+    solving, spec = solve_arguments(args), instance_spec(args)
+    with Stages(f"verify {args.theorem}", enabled=show_progress(args)) as stages:
+        result = verify(args.theorem, design=design, gamma=args.gamma, runs=args.runs, seed=args.seed,
+                        confidence=args.confidence, disturbance=disturbance, horizon=args.horizon,
+                        backoff=args.backoff, progress=stages, **solving, **spec)
     if args.json:
         print_json(result.as_dict())
     else:
-        print(result.format())
+        print(wrap(result.format()))
     return 0 if result.certified else 1

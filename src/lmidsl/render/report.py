@@ -13,15 +13,6 @@ def format_matrix(name: str, M, indent: str = "  ") -> str:
     return "\n".join(lines)
 
 
-def format_table(headers: list[str], rows: list[list]) -> str:
-    cells = [[("" if c is None else (f"{c:.6g}" if isinstance(c, float) else str(c))) for c in r] for r in rows]
-    widths = [max(len(h), *(len(r[i]) for r in cells)) if cells else len(h) for i, h in enumerate(headers)]
-    line = "  ".join(h.ljust(w) for h, w in zip(headers, widths))
-    out = [line, "  ".join("-" * w for w in widths)]
-    out += ["  ".join(c.ljust(w) for c, w in zip(r, widths)) for r in cells]
-    return "\n".join(out)
-
-
 def format_solution(sol) -> str:
     head = f"{sol.theorem}" + (f" [{sol.example}]" if sol.example else "")
     lines = [head, f"  backend {sol.backend}, solver {sol.solver}: {sol.status}"

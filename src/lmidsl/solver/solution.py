@@ -159,6 +159,18 @@ class Solution:
             return None
         return loop_summary(system, "w -> e" if "Af" in self.design else "w -> z")
 
+    def __repr__(self) -> str:
+        """One line: theorem [example], status, γ or objective, verdict, backend/solver (the
+        full report: :func:`lmidsl.render.report.format_solution`; the data: :meth:`as_dict`)."""
+        where = f" [{self.example}]" if self.example else ""
+        value = (f", gamma={self.gamma:.6g}" if self.gamma is not None else "") + (
+            f", objective={self.objective:.6g}" if self.objective is not None and self.objective != self.gamma else "")
+        certified, reasons = self.verdict()
+        verdict = "CERTIFIED" if certified else "NOT CERTIFIED" + (f" ({reasons[0]})" if reasons else "")
+        design = f", design {', '.join(self.design)}" if self.design is not None and len(self.design) else ""
+        return (f"<Solution {self.theorem}{where}: {self.status}{value}, {verdict}{design}; "
+                f"{self.backend}/{self.solver}>")
+
     def as_dict(self) -> dict:
         def listify(v):
             if isinstance(v, list):

@@ -30,7 +30,7 @@ import warnings
 from dataclasses import dataclass, field
 
 from ..pipeline import make_instance, solve_instance
-from ..solver.backends import (BACKENDS, SOLVER_INFO, backend_sdp_solvers, is_first_order,
+from ..solver.backends import (BACKENDS, options_for, SOLVER_INFO, backend_sdp_solvers, is_first_order,
                                resolve_solver)
 from ..errors import InputError, LmidslError
 
@@ -233,20 +233,6 @@ def plan_rows(solvers=None) -> list[tuple[str, str, str | None]]:
     return rows
 
 
-def options_for(backend: str, solver: str, options: dict | None) -> dict:
-    """Solver options of one row: keys ``solver`` or ``backend:solver`` (case-insensitive)."""
-    out: dict = {}
-    for target, opts in (options or {}).items():
-        b, sep, s = target.partition(":")
-        if sep:
-            hit = b.strip().lower() == backend and s.strip().lower() == solver.lower()
-        else:
-            hit = target.strip().lower() == solver.lower()
-        if hit:
-            out.update(opts)
-    return out
-
-
 # -- running ------------------------------------------------------------------------------
 def run_row(instance, backend: str, solver: str, options: dict, margin=None, certify=True) -> CheckRow:
     """Solve one row; every failure is recorded in the row, never raised."""
@@ -327,12 +313,13 @@ def compare(rows: list[CheckRow], tolerance: float) -> CheckRow | None:
 def check(theorem, example: str | None = None, data: dict | None = None,
           overrides: dict | None = None, solvers=None, options: dict | None = None,
           tolerance: float = DEFAULT_TOLERANCE, margin: float | None = None,
-          certify: bool = True) -> CheckResult:
+          certify: bool = True, progress=None) -> CheckResult:
     """Solve one instance on every requested backend × solver and compare the answers.
 
     ``solvers``: see :func:`plan_rows`.  ``options``: ``{"clarabel": {...}}`` or
     ``{"cvxpy:clarabel": {...}}``, passed to that row's solve (backend-specific names, e.g.
-    cvxpy's ``max_iter`` for Clarabel, PICOS's ``max_iterations``).
+    cvxpy's ``max_iter`` for Clarabel, PICOS's ``max_iterations``); the key ``""`` is for every
+    row.  ``progress(plan)`` wraps the planned (backend, solver, error) rows (e.g. a progress bar).
     """
     if not tolerance > 0:
         raise InputError(f"--tolerance must be positive, got {tolerance}")
@@ -340,7 +327,8 @@ def check(theorem, example: str | None = None, data: dict | None = None,
     thm = instance.theorem
     compared = thm.performance[0] if thm.performance is not None else "objective"
     rows = []
-    for backend, solver, error in plan_rows(solvers):
+    plan = plan_rows(solvers)
+    for backend, solver, error in (progress(plan) if progress else plan):
         if error:
             rows.append(CheckRow(backend, solver, status="error", error=error, reason="error"))
             continue

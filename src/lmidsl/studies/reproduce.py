@@ -85,7 +85,9 @@ def row_provenance(theorem, example: str) -> str:
     return theorem.examples[example].provenance
 
 
-def reproduce_one(theorem_id: str, example: str, solver: str | None = None) -> ReproductionRow:
+def reproduce_one(theorem_id: str, example: str, solver: str | None = None, **solve_options) -> ReproductionRow:
+    """One row: ``theorem_id`` solved on ``example`` (``solve_options``: backend, margin and
+    solver keyword options, as :func:`lmidsl.pipeline.solve` takes them)."""
     theorem = get_theorem(theorem_id)
     provenance = row_provenance(theorem, example)
     expect = theorem.examples[example].expect
@@ -93,7 +95,7 @@ def reproduce_one(theorem_id: str, example: str, solver: str | None = None) -> R
     kind = "gamma_bound" if "gamma_bound" in printed_values else "gamma"
     printed = printed_values.get(kind)
     try:
-        sol = solve(theorem, example=example, solver=solver, backoff="auto")
+        sol = solve(theorem, example=example, solver=solver, backoff="auto", **solve_options)
     except LmidslError as exc:
         return ReproductionRow(theorem_id, example, kind, printed, None, None, f"error: {exc}", None,
                                None, False, "error", provenance=provenance, expect=expect)
@@ -135,13 +137,15 @@ def _exact(sol):
 
 
 def reproduce_all(solver: str | None = None, theorems: list[str] | None = None, progress=None,
-                  store=None, resume: bool = False):
+                  store=None, resume: bool = False, **solve_options):
     """Rows for every theorem × example (optionally only the listed theorem ids), the papers'
     own first, then corrected and guessed readings, then illustrations (:data:`PROVENANCE`).
 
     ``store``: a JSON Lines file each row is appended to when it is done; with ``resume`` the rows
     already there (same solver and theorem selection) are kept, not run again.  Ctrl-C ends the
-    job with :class:`~lmidsl.errors.Interrupted` saying how many rows are kept where."""
+    job with :class:`~lmidsl.errors.Interrupted` saying how many rows are kept where.
+    ``progress(jobs)`` wraps the (theorem id, example) pairs (e.g. a progress bar);
+    ``solve_options``: see :func:`reproduce_one`."""
     order = list(PROVENANCE)
     for tid in theorems or []:
         get_theorem(tid)                  # an unknown id is a one-line error, not zero rows
@@ -153,6 +157,10 @@ def reproduce_all(solver: str | None = None, theorems: list[str] | None = None, 
     if store is not None:
         jsonl = JsonLinesStore(store)
         header = {"kind": "reproduce", "solver": solver, "theorems": sorted(theorems) if theorems else None}
+        chosen = {k: v for k, v in solve_options.items()      # defaults leave the header as it was
+                  if v is not None and (k, v) != ("backend", "cvxpy")}
+        if chosen:
+            header["options"] = chosen
         names = {f.name for f in fields(ReproductionRow)}
         for record in jsonl.open(header, resume=resume):
             row = ReproductionRow(**{k: v for k, v in record.items() if k in names})
@@ -163,7 +171,7 @@ def reproduce_all(solver: str | None = None, theorems: list[str] | None = None, 
             if (tid, ex) in done:
                 rows.append(done[(tid, ex)])
                 continue
-            row = reproduce_one(tid, ex, solver)
+            row = reproduce_one(tid, ex, solver, **solve_options)
             rows.append(row)
             if jsonl is not None:
                 jsonl.append(row.as_dict())

@@ -96,11 +96,13 @@ class Evaluator:
     """θ ↦ SearchPoint on one compiled model (built once, scalars updated as parameters)."""
 
     def __init__(self, instance: Instance, objective: str, backend: str = "cvxpy",
-                 solver: str | None = None, margin: float | None = None, radius: float | None = None):
+                 solver: str | None = None, margin: float | None = None, radius: float | None = None,
+                 options: dict | None = None):
 
         self.instance = instance
         self.objective = objective
         self.solver = solver
+        self.options = dict(options or {})
         self.model = get_backend(backend)(instance, margin=margin, reuse=True)
         self.feasp = JointFeasp(self.model, radius or DEFAULT_RADIUS) if objective == "tmin" else None
 
@@ -113,7 +115,7 @@ class Evaluator:
                 t, status = self.feasp.solve(self.solver)
                 return SearchPoint(dict(params), math.inf if t is None else t, status=status,
                                    certified=t is not None and t < 0)
-            sol = self.model.solve(self.solver)
+            sol = self.model.solve(self.solver, **self.options)
         value = sol.gamma if sol.ok and sol.gamma is not None else math.inf
         return SearchPoint(dict(params), value, sol.gamma, sol.status, sol.certified, sol.worst_eig)
 
@@ -207,11 +209,12 @@ def refine(evaluate: Evaluator, start: SearchPoint, names: list, steps: list,
 def scalar_search(instance: Instance, axes: dict, objective: str | None = None, *,
                   refine_best: bool = False, workers: int | None = None, progress: bool | None = None,
                   solver: str | None = None, backend: str = "cvxpy", margin: float | None = None,
-                  radius: float | None = None, maxfev: int = 80) -> SearchResult:
+                  radius: float | None = None, maxfev: int = 80, **options) -> SearchResult:
     """Grid over ``axes`` ({name: [values]}), then (``refine_best``) Nelder–Mead from the best point.
 
     ``objective``: "gamma" (the theorem's performance at its optimum; default when the theorem
-    minimises) or "tmin" (feasp t*; default for feasibility theorems).
+    minimises) or "tmin" (feasp t*; default for feasibility theorems).  ``options``: solver
+    keyword options of each solve (not of the feasp solves of "tmin", which refuses them).
     """
     theorem = instance.theorem
     names = list(axes)
@@ -220,12 +223,14 @@ def scalar_search(instance: Instance, axes: dict, objective: str | None = None, 
         objective = "gamma" if theorem.objective is not None else "tmin"
     if objective not in OBJECTIVES:
         raise InputError(f"unknown search objective {objective!r}; use one of {', '.join(OBJECTIVES)}")
+    if objective == "tmin" and options:
+        raise InputError("--solver-option: the tmin search solves feasp problems with their own settings")
     if objective == "gamma" and theorem.objective is None:
         raise InputError(f"{theorem.id} has no objective to minimise; search with objective 'tmin'")
     points = [dict(zip(names, combo)) for combo in itertools.product(*(axes[n] for n in names))]
     if not points:
         raise InputError("the grid is empty")
-    args = (instance, objective, backend, solver, margin, radius)
+    args = (instance, objective, backend, solver, margin, radius, options)
     result = SearchResult(theorem.id, instance.example, objective, names)
     result.grid = evaluate_grid(instance, points, args, workers, progress)
     start = result.best_grid

@@ -251,13 +251,20 @@ def _disturbance(choice, figure, horizon: int, m: int):
 def verify(theorem, example: str | None = None, data: dict | None = None, overrides: dict | None = None,
            design=None, gamma: float | None = None, runs: int = 10000, seed: int | None = 0,
            confidence: float = 0.95, disturbance="worst", horizon: int = 50,
-           solver: str | None = None, backend: str = "cvxpy", backoff=None) -> Verification:
+           solver: str | None = None, backend: str = "cvxpy", backoff=None, margin: float | None = None,
+           progress=None, **options) -> Verification:
     """Certify a designed, printed (``design='printed'``) or given (``design={name: matrix}``) design
     (a filter, controller, ...).
 
     ``backoff`` (designed filters only) is passed to :func:`lmidsl.pipeline.solve_instance`: δ, or
     ``"auto"`` (back off only when the optimum's filter fails its analysis certificate).
+    ``margin`` and ``options`` (solver keyword options) go to the solve of the synthesis (or of
+    the analysis theorem whose design is data); the analysis counterpart of a synthesis is solved
+    as :func:`~lmidsl.certify.certify_by_analysis` does, with ``solver`` and ``backend``.
+    ``progress(stage)`` is called with each stage's name as it starts (synthesis, analysis,
+    exact figure, Monte Carlo).
     """
+    step = progress or (lambda stage: None)
 
     thm = as_theorem(theorem)
     instance = make_instance(thm, example, data, overrides)
@@ -287,7 +294,9 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
         if claimed is None:                       # the level the example prints
             claimed = printed.get("gamma_bound", printed.get("gamma"))
         result = Verification(thm.id, instance.example, mode, fil, claimed, tol, analysis_theorem=thm.id)
-        sol, _ = solve_conditioned(instance, get_backend(backend), lambda m: solve_model(m, solver))
+        step(f"analysis ({thm.id})")
+        sol, _ = solve_conditioned(instance, get_backend(backend),
+                                   lambda m: solve_model(m, solver, **options), margin)
         reports = (lmi_certificate(instance, {**instance.data, **sol.values}, prove=True)
                    if sol.ok else sol.lmis)
         _set_analysis(result, sol.status, sol.gamma if sol.ok else None,
@@ -301,7 +310,9 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
         result = Verification(thm.id, instance.example, "designed", {}, gamma, tol,
                               analysis_theorem=analysis_thm.id)
         if design is None:
-            sol = solve_instance(instance, solver, backend, certify=backoff == "auto", backoff=backoff)
+            step(f"synthesis ({thm.id})")
+            sol = solve_instance(instance, solver, backend, margin, certify=backoff == "auto",
+                                 backoff=backoff, **options)
             result.synthesis_status = sol.status
             if sol.backoff is not None:
                 result.backoff = sol.backoff
@@ -333,6 +344,7 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
             if result.claimed_gamma is None:      # the level the example prints, if any
                 result.claimed_gamma = printed.get("gamma", printed.get("gamma_bound"))
         result.design = fil
+        step(f"analysis ({analysis_thm.id})")
         cert = certify_by_analysis(instance, fil, result.claimed_gamma, solver=solver, backend=backend)
         _set_analysis(result, cert.status, cert.gamma, cert.lmis)
         result.analysis_per_vertex = cert.per_vertex
@@ -356,6 +368,7 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
         result.notes.append(f"{analysis_thm.id} declares no error system: no exact figure"
                             + ("" if thm.checks else ", no simulation"))
     else:
+        step("exact figure")
         figures = exact_figures(analysis_instances)
         worst = worst_index(figures)
         result.exact, result.exact_per_vertex = figures[worst], figures
@@ -371,6 +384,7 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
         if link.simulate is not None and runs > 0 and exact.time == "continuous":
             result.notes.append("no Monte Carlo in continuous time (the exact figure is python-control's)")
         elif link.simulate is not None and runs > 0:
+            step(f"Monte Carlo ({runs} runs)")
             ai = analysis_instances[worst]
             sys = ai.theorem.certification.system.evaluate(ai)
             w, label = _disturbance(disturbance, exact, horizon, sys.m)

@@ -30,6 +30,13 @@ from .values import (DESIGN_KINDS, FIGURES, LMI, TIME_DOMAINS, AnalysisLink, Bis
                      check_provenance)
 
 
+LATEX_RENDERER: dict = {}
+"""``{"theorem": function(theorem) -> str}``: how a theorem's LMIs are written in LaTeX, for
+:meth:`Theorem._repr_latex_`.  The printer lives in :mod:`lmidsl.render.latex`, a layer above
+this one, which registers itself here when it is imported (and ``lmidsl``'s public face imports
+it with :class:`Theorem`), so that this layer never imports the one above it."""
+
+
 class Theorem:
     """A theorem: declarations, LMIs, objective, recovery, analysis counterpart, examples."""
 
@@ -76,6 +83,15 @@ class Theorem:
         self.checks: list = []
 
     # -- declarations -------------------------------------------------------------------
+    def __repr__(self) -> str:
+        return f"<Theorem {self.id}: {self.title} ({len(self.lmis)} LMIs)>"
+
+    def _repr_latex_(self) -> str | None:
+        """The theorem's LMIs in LaTeX (Jupyter shows them typeset), by the printer registered
+        in :data:`LATEX_RENDERER`; None (the plain repr) when none is registered."""
+        render = LATEX_RENDERER.get("theorem")
+        return None if render is None else render(self)
+
     def _check_new(self, name: str):
         taken = (self.dims.keys() | self.data_decl.keys() | self.var_decl.keys()
                  | self.param_decl.keys() | self.derived_decl.keys() | self.notation.keys()

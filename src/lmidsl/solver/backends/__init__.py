@@ -96,6 +96,23 @@ def resolve_solver(backend: str, solver: str | None) -> str:
             f"for backend {backend_info(backend).name}: {listed}") from None
 
 
+def options_for(backend: str, solver: str, options: dict | None) -> dict:
+    """Solver options of one row: keys ``solver`` or ``backend:solver`` (case-insensitive); the
+    key ``""`` holds options for every row."""
+    out: dict = {}
+    for target, opts in sorted((options or {}).items(), key=lambda item: item[0].count(":") + bool(item[0])):
+        b, sep, s = target.partition(":")
+        if not target.strip():
+            hit = True
+        elif sep:
+            hit = b.strip().lower() == backend and s.strip().lower() == solver.lower()
+        else:
+            hit = target.strip().lower() == solver.lower()
+        if hit:
+            out.update(opts)
+    return out
+
+
 def fallback_solvers(backend: str) -> tuple:
     """Solvers to try, in order, after the default one failed numerically."""
     return backend_info(backend).fallbacks
