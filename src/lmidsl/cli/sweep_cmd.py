@@ -5,6 +5,7 @@ import sys
 from pathlib import Path
 
 from ..errors import InputError
+from ..render.figures import sweep_figure
 from ..render.report import format_table
 from ..studies.store import ensure_writable_dir
 from ..studies.sweep import MAX_POINTS, format_timing, parse_grid, sweep
@@ -25,7 +26,7 @@ def register(sub):
     p.add_argument("--scaling", default="auto", choices=("auto", "none"), help="exact signal scaling")
     p.add_argument("--out", metavar="DIR",
                    help="write sweep.jsonl (each point as it is solved), then sweep.csv, sweep.json and "
-                        "sweep.png here")
+                        "sweep.png, sweep.pdf here")
     p.add_argument("--resume", action="store_true",
                    help="take the points already in DIR/sweep.jsonl (same theorem, data and grid) and "
                         "solve only the rest")
@@ -58,7 +59,7 @@ def run(args):
     if out:
         result.write_csv(out / "sweep.csv")
         result.write_json(out / "sweep.json")
-        result.figure(out / "sweep.png", title=args.title)
+        sweep_figure(result, out / "sweep", title=args.title)
     if args.json:
         print_json(result.as_dict())
     else:
@@ -74,5 +75,5 @@ def run(args):
         if result.resumed:
             print(f"resumed: {result.resumed} points from {out / 'sweep.jsonl'}, {result.solved} solved now")
         if args.out:
-            print(f"wrote {Path(args.out) / 'sweep.csv'}, sweep.json, sweep.png (points as solved: sweep.jsonl)")
+            print(f"wrote {Path(args.out) / 'sweep.csv'}, sweep.json, sweep.png, sweep.pdf (points as solved: sweep.jsonl)")
     return 0 if result.points and all(p.proved for p in result.points) else 1
