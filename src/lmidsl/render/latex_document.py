@@ -46,6 +46,14 @@ PREAMBLE = r"""\documentclass[10pt]{article}
   \else
     \begin{equation*}\fitlmi{#1}\lmitag{#2}\end{equation*}
   \fi}
+%% \lmiitem{math}: one display-style item of a list, shrunk to the line only if wider;
+%% lmiitems: a centred paragraph of items, broken between items
+\newcommand{\lmiitem}[1]{\sbox{\lmibox}{$\displaystyle #1$}%%
+  \ifdim\wd\lmibox>\linewidth
+    \typeout{lmidsl-shrink: \the\wd\lmibox\space to \the\linewidth}%%
+    \resizebox{\linewidth}{!}{\usebox{\lmibox}}%%
+  \else\usebox{\lmibox}\fi}
+\newenvironment{lmiitems}{\par\medskip\centering\setlength{\lineskip}{8pt}}{\par\medskip}
 \setlength{\parindent}{0pt}
 \setlength{\parskip}{4pt}
 """

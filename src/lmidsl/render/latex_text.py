@@ -199,8 +199,8 @@ def _math_word(word: str) -> str:
         base = r"\ell" if m.group(1) == "l" else _math_chars(m.group(1))
         sub = r"\infty" if m.group(2) == "∞" else m.group(2)
         return f"{base}_{{{sub}}}{m.group(3)}"
-    m = re.fullmatch(r"([A-Z][\u0300-\u036F]+)([a-z]{1,3})", word)
-    if m:                                                   # Âf, B̂fi: accented matrix, index
+    m = re.fullmatch(r"([A-Z][\u0300-\u036F]*)([a-z]{1,3})", word)
+    if m:                                                   # Âf, B̂fi, Af: matrix, index
         return f"{_math_chars(m.group(1))}_{{{m.group(2)}}}"
     out, i = [], 0
     head = re.match(r"[A-Za-z]+(?=_|\^|$)", word)
@@ -276,6 +276,9 @@ def _math_spans(text: str):
                                                     and toks[i + 1][1] in "({")
                                  or (t in _SINGLE_NOT_MATH and (nxt[0] == "o" or nxt[0] == "w"
                                                                 and _is_math_word(nxt[1]))))
+        if (not opens and kind == "w" and re.fullmatch(r"[A-Z][a-z]{1,2}", t)
+                and "".join(u for _, u in toks[i + 1:i + 3]).strip().startswith("=")):
+            opens = True                                    # Af = ...: a matrix name (A_f)
         if opens and i > 0 and toks[i - 1][1] in "'’":     # the paper's: prose
             opens = False
         if opens and re.fullmatch(r"[A-Z]", t) and re.match(r"\. [A-Z]", text_after(i)):
