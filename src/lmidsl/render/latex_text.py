@@ -129,7 +129,8 @@ _OPERATORS = {"diag": r"\mathrm{diag}", "tr": r"\operatorname{tr}", "Pr": r"\Pr"
 _LETTER = r"(?:[A-Za-z\u0370-\u03FF\u2113][\u0300-\u036F]*)"
 _SUPS = "".join(_SUPERSCRIPTS) + "".join(_SUBSCRIPTS) + "⁽⁾"
 #: dotted or slashed names (theorem ids, modules, paths): prose, never maths
-_CODE_NAME = re.compile(r"[A-Za-z_][\w-]*(?:[./][\w-]+)+")
+_ABBREVIATION = re.compile(r"(?:s\.t|e\.g|i\.e|cf|resp|etc|vs)\.")
+_CODE_NAME = re.compile(r"[A-Za-z_][\w-]+(?:[./][\w-]+)+")
 _NUMBER = r"[0-9]+(?:\.[0-9]+)?(?:e-?[0-9]+)?"
 _WORD = re.compile(r"(?:[0-9]+(?:\.[0-9]+)?(?:e-?[0-9]+)?(?![A-Za-z0-9]))|"
                    r"(?:_\{[^{}]*\}|[A-Za-z0-9\u0370-\u03FF\u2113\u0300-\u036F_" + _SUPS + r"∞]|"
@@ -151,8 +152,8 @@ def _is_math_word(word: str) -> bool:
     letters = [c for c in base if c.isalpha()]
     if all(_greek_of(c) for c in letters):
         return True                                         # γ, ρ, Σρ
-    if base in _ASCII_GREEK:
-        return True
+    if base in _ASCII_GREEK or re.fullmatch(r"[\u0370-\u03FF][A-Z][0-9]*", base):
+        return True                                         # tau, αP
     if re.fullmatch(r"[A-Za-z]", base):
         return base not in _SINGLE_NOT_MATH
     return bool(re.fullmatch(r"[A-Za-z\u0370-\u03FF]{1,2}[0-9]+[a-z]?[A-Z]?", base))   # P1, H2, M11, P1i, B2K
@@ -174,6 +175,8 @@ def _math_chars(text: str) -> str:
             if out and out[-1].startswith(mark + "{"):
                 out[-1] = out[-1][:-1] + char + "}"
             else:
+                if out:
+                    out[-1] = out[-1].rstrip()               # \gamma^{2}, not \gamma ^{2}
                 out.append(f"{mark}{{{char}}}")
         elif ch in _UNICODE_MATH:
             out.append(_UNICODE_MATH[ch] + (" " if _UNICODE_MATH[ch][-1:].isalpha() else ""))
@@ -193,6 +196,14 @@ _SUB_WORDS = {"min": r"\min", "max": r"\max", "inf": r"\inf", "sup": r"\sup"}
 def _math_word(word: str) -> str:
     """A code-like word as LaTeX maths: tau_ij → \\tau_{ij}, Z^-1 → Z^{-1}, P1i → P_{1i},
     A_1_1 → A_{1,1}, A_iᵀP → A_i^{T}P, Âf → \\hat{A}_{f}."""
+    if all(c in _SUPS for c in word):                        # ⁻¹ alone
+        return _math_chars(word)
+    tail = ""
+    while word[-1] in _SUPS:                                 # P̌3⁻¹, T_cᵀ: trailing scripts
+        tail = word[-1] + tail
+        word = word[:-1]
+    if tail:
+        return _math_word(word) + _math_chars(tail)
     m = re.fullmatch(r"((?:[A-Za-z][\u0300-\u036F]*){1,2}|[\u0370-\u03FF][\u0300-\u036F]*)"
                      r"([0-9]+[a-z]?|∞)([A-Z]?)", word)
     if m:                                                   # P1i, M11, H∞, l2, P̌3, B2K
@@ -220,6 +231,8 @@ def _math_word(word: str) -> str:
             if last_sub:                                    # A_1_1 → A_{1,1}
                 out[-1] = out[-1][:-1] + "," + part.strip() + "}"
             else:
+                if out:
+                    out[-1] = out[-1].rstrip()
                 out.append("_{" + part.strip() + "}")
             last_sub = True
             i = m.end()
@@ -229,6 +242,8 @@ def _math_word(word: str) -> str:
             m = re.compile(r"\(([^()]*)\)|\{([^{}]*)\}|(-?\w+)").match(word, i + 1)
             if m:
                 body = next(g for g in m.groups() if g is not None)
+                if out:
+                    out[-1] = out[-1].rstrip()
                 out.append("^{" + _math_chars(body) + "}")
                 i = m.end()
                 continue
@@ -245,6 +260,11 @@ def _tokens(text: str):
     """(kind, text): 'w' word, 's' space, 'o' relation/operator, 'p' bracket, 'x' other."""
     i = 0
     while i < len(text):
+        m = _ABBREVIATION.match(text, i)
+        if m and (i == 0 or not text[i - 1].isalnum()):
+            yield "x", m.group()
+            i = m.end()
+            continue
         m = _CODE_NAME.match(text, i)
         if m and (i == 0 or not text[i - 1].isalnum()):
             yield "x", m.group()
@@ -292,7 +312,7 @@ def _math_spans(text: str):
             k2, t2 = toks[j]
             if k2 == "w":
                 if not (_is_math_word(t2) or re.fullmatch(_NUMBER, t2)
-                        or re.fullmatch(r"[a-z][A-Z][0-9]*", t2)          # hR, hP3 after '='
+                        or re.fullmatch(r"[a-z][A-Z][0-9]*|[Aa]", t2)     # hR, hP3, A after '='
 
                         or (t2 in _OPERATORS and j + 1 < len(toks) and toks[j + 1][1] in "({ ")):
                     break
