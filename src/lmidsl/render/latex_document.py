@@ -133,8 +133,7 @@ def _condition_latex(theorem: Theorem, settings: dict, defined: set) -> list[str
         for lmi in positives:
             parts.append(printer_for(theorem, lmi, **settings).doprint(lmi)
                          + (r"\ (i = 1, \dots, N)" if lmi.per_vertex else ""))
-        out.append("and\n\\begin{equation*}\n\\fitlmi{" + r",\quad ".join(parts)
-                   + ".}\n\\end{equation*}")
+        out.append("and\n" + grouped_display(parts, end="."))
     return out
 
 
@@ -218,8 +217,7 @@ def theorem_latex(theorem, solution=None, **settings) -> str:
     if theorem.recovery:
         lines = [f"{_recovery_name(theorem, n)} = {printer.doprint(e)}"
                  for n, e in theorem.recovery.items()]
-        out.append("\\subsection*{Filter recovery}\n\\begin{equation*}\n\\fitlmi{"
-                   + r",\quad ".join(lines) + ".}\n\\end{equation*}")
+        out.append("\\subsection*{Recovery}\n" + grouped_display(lines, end="."))
     if theorem.analysis is not None:
         out.append(f"The recovered filter is certified by the analysis theorem "
                    f"\\texttt{{{tex_text(theorem.analysis.theorem)}}}.")
@@ -318,7 +316,7 @@ def _solution_latex(theorem: Theorem, sol, printer, settings: dict) -> str:
     out.append("\\begin{center}\n" + _table(["quantity", "value"], rows, "ll") + "\n\\end{center}")
     if sol.recovered:
         items = [f"{_recovery_name(theorem, n)} = {latex_matrix(v, 5)}" for n, v in sol.recovered.items()]
-        out.append("Recovered filter:\n" + grouped_display(items))
+        out.append("Recovered matrices (in the coordinates of the data as given):\n" + grouped_display(items))
         for inv in sol.inverted:
             decl = theorem.var_decl.get(str(inv["matrix"]))
             name = (f"${printer.doprint(decl.symbol)}$" if decl is not None
