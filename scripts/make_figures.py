@@ -44,7 +44,7 @@ def fig_001(out: Path) -> list:
 
 #: readable names of seed 002's synthesis routes and threshold sets
 ROUTES_002 = {"exact": "exact LMI (congruence)", "thm2": "Theorem 2, iterated"}
-DELTA_002 = {"paper (+β)": r"$\Delta = +\beta$ (paper)", "robust (±β)": r"$\Delta \in \{-\beta, +\beta\}$"}
+DELTA_002 = {"paper (+β)": r"$\Delta = +\beta$ (paper)", "robust (±β)": r"$\Delta = \pm\beta$"}
 
 
 def fig_002(out: Path, results: dict | None = None) -> list:

@@ -58,3 +58,15 @@ def test_save_replaces_a_suffix_and_writes_reproducible_files(tmp_path):
     before = [p.read_bytes() for p in first]
     save(draw(), tmp_path / "a")
     assert [p.read_bytes() for p in first] == before      # no creation date in the files
+
+
+def test_every_docs_figure_is_png_and_pdf_and_made_by_the_script():
+    """docs/figures/: each figure as PNG and PDF, each named in scripts/make_figures.py."""
+    from pathlib import Path
+    root = Path(__file__).resolve().parents[1]
+    script = (root / "scripts" / "make_figures.py").read_text()
+    pngs = sorted((root / "docs" / "figures").glob("*.png"))
+    assert pngs
+    for png in pngs:
+        assert png.with_suffix(".pdf").exists(), png.name
+        assert f'"{png.stem}"' in script, f"{png.name} is not drawn by scripts/make_figures.py"
