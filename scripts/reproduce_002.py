@@ -1,7 +1,7 @@
 """Seed 002 (Zhang/Liu/Du 2023): every number of docs/reproductions/002.md and its figures.
 
     python scripts/reproduce_002.py [--quick]     # writes docs/reproductions/002_results.json,
-                                                  # docs/figures/002_fig3_gamma_vs_N.png, 002_sim.png
+                                                  # docs/figures/002_fig3_gamma_vs_N, 002_sim (.png, .pdf)
 """
 from __future__ import annotations
 
@@ -31,11 +31,8 @@ GAIN_STEPS = 60000  # 6 s of plant time: covers the slow plant modes
 
 
 def module():
-    import importlib.util
-    spec = importlib.util.spec_from_file_location("zq", ROOT / "theorems" / f"{Z}.py")
-    m = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(m)
-    return m
+    import importlib
+    return importlib.import_module(f"lmidsl.theorems.{Z}.theorems")
 
 
 def _thm1(filt, N, ab, points):
@@ -113,47 +110,9 @@ def route(name, N, ab, points, starts=None):
 
 
 def figures(results):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    styles = {"exact": "-o", "thm2": "--s"}
-    for r_name in ("exact", "thm2"):
-        for label, pts in SETS.items():
-            rows = [r for r in results["routes"] if r["route"] == r_name and r["points"] == pts
-                    and r["alpha_bar"] == 0.5 and r.get("gamma")]
-            if rows:
-                ax.semilogy([r["N"] for r in rows], [r["gamma"] for r in rows], styles[r_name],
-                            label=f"{r_name}, Δ {label}")
-    ax.semilogy([2, 3], [1.2568, 1.2584], "k*", ms=12, label="paper, Table 1 (ᾱ = 0.5, 0.2)")
-    ax.set_xlabel("maximum number of consecutive losses N")
-    ax.set_ylabel("γ")
-    ax.set_xticks(range(1, 6))
-    ax.set_title("Fig. 3 recomputed: best γ per synthesis route (ᾱ = 0.5, ρ = 0.75, h = 1e-4)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(ROOT / "docs" / "figures" / "002_fig3_gamma_vs_N.png", dpi=110)
-
-    fig, axs = plt.subplots(1, 2, figsize=(10, 4))
-    for N, ax in zip((2, 3), axs):
-        row = M.TABLE1[N]
-        for reading in ("delta", "shift"):
-            f = filter_reading(row, reading, H)
-            r = simulate(M.PLANT, f, H, N, row["alpha_bar"], steps=100, x0=[-4, -5], quantizer=Q, seed=1)
-            ax.plot(r.k, r.e[:, 0], label=f"Table 1 filter, {reading} reading")
-        best = [x for x in results["routes"] if x["route"] == "exact" and x["N"] == N
-                and x["alpha_bar"] == row["alpha_bar"] and x["points"] == [-1, 1] and x.get("filter")]
-        if best:
-            f = {k: np.array(v) for k, v in best[0]["filter"].items()}
-            r = simulate(M.PLANT, f, H, N, row["alpha_bar"], steps=100, x0=[-4, -5], quantizer=Q, seed=1)
-            ax.plot(r.k, r.e[:, 0], label="exact route, Δ ±β")
-        ax.set_title(f"e(k), N = {N}, ᾱ = {row['alpha_bar']}, x(0) = [-4 -5], log quantiser")
-        ax.set_xlabel("k")
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(ROOT / "docs" / "figures" / "002_sim.png", dpi=110)
+    """The two figures of seed 002, drawn by scripts/make_figures.py (PNG and PDF)."""
+    from make_figures import FIGURES, fig_002
+    fig_002(FIGURES, results)
 
 
 def main():

@@ -199,9 +199,39 @@ def test_name_guesses():
 
 
 def test_unicode_text():
-    assert tex_text("min γ² over P > 0") == "min $\\gamma^{2}$ over P $>$ 0"
-    assert tex_text("r̄ ≤ 1, V₂⁻¹Âf") == "$\\bar{r}$ $\\le$ 1, V$_{2}^{-1}\\hat{A}$f"
-    assert tex_text("50% & E_k {x}") == "50\\% \\& E\\_k \\{x\\}"
+    assert tex_text("min γ² over P > 0") == "min $\\gamma^{2}$ over $P > 0$"
+    assert tex_text("r̄ ≤ 1, V₂⁻¹Âf") == "$\\bar{r} \\le 1$, $V_{2}^{-1}\\hat{A}f$"
+    assert tex_text("50% & E_k {x}") == "50\\% \\& $E_{k} \\{x\\}$"
+
+
+@pytest.mark.parametrize("text,latex", [
+    # code-like text is set as maths (issue 18)
+    ("Krasovskii weight of x_j(t - tau_ij)", "Krasovskii weight of $x_{j}(t - \\tau_{ij})$"),
+    ("recovery (M Nᵀ = I - X Z^-1)", "recovery ($M N^{T} = I - X Z^{-1}$)"),
+    ("GUESSED: A_1, A_1_1, tau_2_2.", "GUESSED: $A_{1}$, $A_{1,1}$, $\\tau_{2,2}$."),
+    ("find P ≻ 0 with A_iᵀPA_i − P ≺ 0", "find $P \\succ 0$ with $A_{i}^{T}PA_{i} - P \\prec 0$"),
+    ("E ϑ1,k (Remark 3)", "$E \\vartheta_{1},k$ (Remark 3)"),
+    ("P̂⁽ⁱ⁾ = T_cᵀ P⁽ⁱ⁾ T_c > 0", "$\\hat{P}^{(i)} = T_{c}^{T} P^{(i)} T_{c} > 0$"),
+    ("flow map, k ≠ τ_j", "flow map, $k \\ne \\tau_{j}$"),
+    ("(A + B2K, B1, C1 + D12K)", "($A + B_{2}K$, $B_{1}$, $C_{1} + D_{12}K$)"),
+    ("half-plane Re s < -alpha", "half-plane Re $s < -\\alpha$"),
+    ("l2-l∞ filter at h = 1e-4", "$\\ell_{2}-\\ell_{\\infty}$ filter at $h = 1 \\cdot 10^{-4}$"),
+    ("Pr{r(k) = 1}, probability", "$\\Pr \\{r(k) = 1\\}$, probability"),
+    ("(S̄, P̌̄3) ← (S⁻¹, P̌3⁻¹)", "($\\bar{S}$, $\\bar{\\check{P}}_{3}$) $\\leftarrow$ ($S^{-1}$, $\\check{P}_{3}^{-1}$)"),
+    # prose stays prose: articles, the paper's, initials, theorem ids, paths, acronyms
+    ("A polytope of the paper's data", "A polytope of the paper's data"),
+    ("Int. J. Robust Nonlinear Control", "Int. J. Robust Nonlinear Control"),
+    ("see wang_l2linf.thm1 and docs/reproductions/003.md", "see wang\\_l2linf.thm1 and docs/reproductions/003.md"),
+    ("the SGC recovery of the KYP LMI", "the SGC recovery of the KYP LMI"),
+    ("Boyd et al., §5.1.1", "Boyd et al., \\S{}5.1.1"),
+])
+def test_code_like_text_is_maths(text, latex):
+    assert tex_text(text) == latex
+
+
+def test_no_character_is_lost():
+    """A character without a LaTeX mapping keeps its code point (never a silent '?')."""
+    assert tex_text("snow ☃ here") == "snow [U+2603] here"
 
 
 def test_bad_setting_is_one_line_error(small):
@@ -263,6 +293,49 @@ def test_example_document_with_solution(tmp_path):
     assert "printed in the paper & $0.3373$" in text
     assert re.search(r"A_f = \\begin\{bmatrix\} -0\.00\d+ & 0\.28\d+ \\\\", text)
     assert_compiles(text, tmp_path, "thm3_example")
+
+
+def test_parameter_domain_printed_as_checked():
+    """r̄ is checked in the open interval (0, 1) (wang_l2linf): the document says (0, 1)."""
+    text = theorem_latex("wang_l2linf.thm3")
+    assert r"$\bar{r}$ & $\in (0, 1)$" in text
+    assert r"$\bar{\xi}_1$ & $\in [0, 1]$" in theorem_latex("li_delay_dropout.thm2")
+
+
+def test_scaled_example_prints_the_data_as_given():
+    """Seed 001 is solved with the output scaled by 32: the document prints C₁ as given
+    (23.737, not 23.737/32 = 0.7418) and states the scaling apart."""
+    sol = lmidsl.solve("li_delay_dropout.thm2", example="paper", certify=False)
+    assert sol.scaling is not None and sol.scaling.active
+    text = theorem_latex("li_delay_dropout.thm2", sol)
+    assert r"C_1 = \begin{bmatrix} 23.737 & 20.287 & 0 \end{bmatrix}" in text
+    assert "0.7418" not in text
+    assert r"\textbf{Scaling.}" in text and r"S = \mathrm{diag}(32)" in text
+
+
+EXAMPLES = sorted((tid, ex) for tid in all_theorems() for ex in get_theorem(tid).examples)
+#: an LMI, an item or a line is never set below this fraction of its natural size
+MIN_SCALE = 0.6
+#: Overfull \hbox tolerated (pt): TeX reports sub-point overflows of centred displays
+OVERFULL_PT = 2.0
+
+
+@needs_pdflatex
+@pytest.mark.parametrize("theorem_id,example", EXAMPLES, ids=[f"{t}:{e}" for t, e in EXAMPLES])
+def test_every_example_document_reads_well(theorem_id, example, tmp_path):
+    """The document of every built-in example, solved, compiles with no missing character, no
+    lost character, no line overflowing the margin and nothing shrunk below MIN_SCALE."""
+    sol = lmidsl.solve(theorem_id, example=example)
+    text = theorem_latex(theorem_id, sol)
+    name = f"{theorem_id}_{example}".replace(".", "_")
+    assert_compiles(text, tmp_path, name)
+    log = (tmp_path / f"{name}.log").read_text(errors="replace")
+    assert "Missing character" not in log
+    assert "?" not in text and "[U+" not in text
+    overfull = [float(x) for x in re.findall(r"Overfull \\hbox \((\d+\.?\d*)pt too wide", log)]
+    assert all(x <= OVERFULL_PT for x in overfull), overfull
+    scales = [float(b) / float(a) for a, b in re.findall(r"lmidsl-shrink: ([\d.]+)pt to ([\d.]+)pt", log)]
+    assert min(scales, default=1.0) >= MIN_SCALE, scales
 
 
 # -- command line -----------------------------------------------------------------------------

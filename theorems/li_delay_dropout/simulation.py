@@ -204,35 +204,32 @@ def monte_carlo(plant: Plant, filters: dict, xi1: float, xi2: float, *, runs: in
     }
 
 
-def figure(result: dict, path, title: str) -> None:
-    """Left: z_k and the estimates in the first run; right: MSE_k over the runs."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+def figure(result: dict, path, title: str | None = None) -> list:
+    """Left: z_k and the estimates in the first run; right: MSE_k over the runs.  Saved as
+    ``path`` in PNG and PDF (:func:`lmidsl.render.style.save`); the paths written."""
+    from lmidsl.render.style import WIDE, figure as new_figure, legend, save
 
     k = np.arange(result["steps"]) + (1 if result["kind"] == "inverse-square" else 0)
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.2))
-    ax1.plot(k, result["sample"]["z"], "k-", lw=1.6, label="z_k (true)")
+    fig, (ax1, ax2) = new_figure(2, width=WIDE, height=0.36 * WIDE)
+    ax1.plot(k, result["sample"]["z"], "k-", lw=1.5, label=r"$z_k$ (true)")
     styles = ["r--", "b-.", "g:"]
     names = [n for n in result["mse"] if n != "Kalman"] + ["Kalman"]
     for style, name in zip(styles, names):
-        label = name if name != "Kalman" else "standard Kalman filter"
+        label = {"Kalman": "standard Kalman filter"}.get(name, name.replace("H∞", r"$H_\infty$"))
         ax1.plot(k, result["sample"][name], style, lw=1.1, label=label)
         ax2.semilogy(k, np.maximum(result["mse"][name], 1e-16), style, lw=1.2,
                      label=f"{label} (mean {result['mse_mean'][name]:.3g})")
-    ax1.set_xlabel("k")
+    ax1.set_xlabel(r"time step $k$")
+    ax1.set_ylabel(r"$z_k$ and its estimates $\hat z_k$")
     ax1.set_title("one realisation")
-    ax1.legend(fontsize=8)
-    ax2.set_xlabel("k")
-    ax2.set_ylabel("MSE of z_k")
+    ax2.set_xlabel(r"time step $k$")
+    ax2.set_ylabel(r"$\mathrm{MSE}_k = \mathrm{E}\,|z_k - \hat z_k|^2$")
     ax2.set_title(f"mean-square error over {result['runs']} Monte Carlo runs")
-    ax2.legend(fontsize=8)
-    for ax in (ax1, ax2):
-        ax.grid(True, alpha=0.3)
-    fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    legend(ax1)
+    legend(ax2)
+    if title:
+        fig.suptitle(title)
+    return save(fig, path)
 
 
 def design_filter(solver: str | None = None, backoff: float | None = 1e-2, xi1=0.7, xi2=0.8):
@@ -260,11 +257,11 @@ def main(argv=None) -> int:
     plant = Plant.from_data(get_theorem("li_delay_dropout.thm2").examples["paper"].data)
     sol, hinf = design_filter()
     numbers = {"filter_gamma": sol.gamma, "filter_backoff": (sol.backoff or {}).get("delta")}
-    for kind, fig, title in (("white", "001_fig2_mse_white.png", "white w_k, Q_w = 1"),
-                             ("inverse-square", "001_fig3_mse_inverse_square.png", "w_k = 1/k²")):
+    for kind, fig, title in (("white", "001_fig2_mse_white", r"white noise $w_k$, $Q_w = 1$"),
+                             ("inverse-square", "001_fig3_mse_inverse_square", r"$w_k = 1/k^2$")):
         res = monte_carlo(plant, {"H∞ filter": hinf}, 0.7, 0.8, runs=args.runs, steps=args.steps,
                           kind=kind, seed=args.seed)
-        figure(res, out / fig, f"Li/Wang/Sun 2014, ξ̄1 = 0.7, ξ̄2 = 0.8, {title}")
+        figure(res, out / fig, rf"$\bar\xi_1 = 0.7$, $\bar\xi_2 = 0.8$, {title}")
         numbers[kind] = {k: res[k] for k in ("mse_mean", "event_frequency", "event_probability",
                                              "z_energy", "runs", "steps", "seed")}
     (out / "001_mse.json").write_text(json.dumps(numbers, indent=2))

@@ -4,6 +4,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import InputError
+from ..render.figures import sweep_figure
 from ..render.progress import Progress
 from ..render.table import format_table
 from ..render.terminal import echo
@@ -25,7 +26,7 @@ def register(sub):
     p.add_argument("--scaling", default="auto", choices=("auto", "none"), help="exact signal scaling")
     p.add_argument("--out", metavar="DIR",
                    help="write sweep.jsonl (each point as it is solved), then sweep.csv, sweep.json and "
-                        "sweep.png here")
+                        "sweep.png, sweep.pdf here")
     p.add_argument("--resume", action="store_true",
                    help="take the points already in DIR/sweep.jsonl (same theorem, data and grid) and "
                         "solve only the rest")
@@ -55,7 +56,7 @@ def run(args):
     if out:
         result.write_csv(out / "sweep.csv")
         result.write_json(out / "sweep.json")
-        result.figure(out / "sweep.png", title=args.title)
+        sweep_figure(result, out / "sweep", title=args.title)
     if args.json:
         print_json(result.as_dict())
     else:
@@ -71,5 +72,5 @@ def run(args):
         if result.resumed:
             echo(f"resumed: {result.resumed} points from {out / 'sweep.jsonl'}, {result.solved} solved now")
         if args.out:
-            echo(f"wrote {Path(args.out) / 'sweep.csv'}, sweep.json, sweep.png (points as solved: sweep.jsonl)")
+            echo(f"wrote {Path(args.out) / 'sweep.csv'}, sweep.json, sweep.png, sweep.pdf (points as solved: sweep.jsonl)")
     return 0 if result.points and all(p.proved for p in result.points) else 1

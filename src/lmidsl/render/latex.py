@@ -492,12 +492,13 @@ def _where_block(where, per_vertex: bool = False) -> str:
     return (vertex + ", " if per_vertex else "") + "where\n" + grouped_display(items, end=".")
 
 
-def grouped_display(items: list[str], per_line: int = 3, end: str = "") -> str:
-    """Display math, ``per_line`` items a line separated by commas, each line fitted."""
-    lines = [r",\quad ".join(items[i:i + per_line]) for i in range(0, len(items), per_line)]
-    body = " \\\\\n".join(f"\\fitlmi{{{line}{',' if k < len(lines) - 1 else end}}}"
-                          for k, line in enumerate(lines))
-    return "\\begin{gather*}\n" + body + "\n\\end{gather*}"
+def grouped_display(items: list[str], end: str = "") -> str:
+    """Display math items separated by commas, as many a line as fit: each item is a box of its
+    own (\\lmiitem, shrunk only if it alone is wider than the line) and LaTeX breaks the lines
+    between items, so no line is shrunk to hold a fixed number of them."""
+    body = "\\hskip 2em plus 1em minus 0.5em\n".join(
+        f"\\lmiitem{{{item}{',' if k < len(items) - 1 else end}}}" for k, item in enumerate(items))
+    return "\\begin{lmiitems}\n" + body + "\n\\end{lmiitems}"
 
 
 def theorem_display_latex(theorem: Theorem) -> str:

@@ -32,6 +32,7 @@ PREAMBLE = r"""\documentclass[10pt]{article}
 %% \fitlmi{math}: display-style math, shrunk to the line width (less room for a tag) if wider
 \newcommand{\fitlmi}[1]{\sbox{\lmibox}{$\displaystyle #1$}%%
   \ifdim\wd\lmibox>\dimexpr\linewidth-5em\relax
+    \typeout{lmidsl-shrink: \the\wd\lmibox\space to \the\dimexpr\linewidth-5em\relax}%%
     \resizebox{\dimexpr\linewidth-5em\relax}{!}{\usebox{\lmibox}}%%
   \else\usebox{\lmibox}\fi}
 %% \lmidisplay{math}{tag}: a displayed LMI; one wider than 1.3 lines gets a page of its own,
@@ -46,6 +47,14 @@ PREAMBLE = r"""\documentclass[10pt]{article}
   \else
     \begin{equation*}\fitlmi{#1}\lmitag{#2}\end{equation*}
   \fi}
+%% \lmiitem{math}: one display-style item of a list, shrunk to the line only if wider;
+%% lmiitems: a centred paragraph of items, broken between items
+\newcommand{\lmiitem}[1]{\sbox{\lmibox}{$\displaystyle #1$}%%
+  \ifdim\wd\lmibox>\linewidth
+    \typeout{lmidsl-shrink: \the\wd\lmibox\space to \the\linewidth}%%
+    \resizebox{\linewidth}{!}{\usebox{\lmibox}}%%
+  \else\usebox{\lmibox}\fi}
+\newenvironment{lmiitems}{\par\medskip\centering\setlength{\lineskip}{8pt}}{\par\medskip}
 \setlength{\parindent}{0pt}
 \setlength{\parskip}{4pt}
 """
@@ -64,6 +73,21 @@ def _shape_latex(printer, symbol) -> str:
     rows, cols = ((f"({t})" if isinstance(d, sp.Add) else t)
                   for d, t in zip(symbol.shape, (rows, cols)))
     return rf"\mathbb{{R}}^{{{rows} \times {cols}}}"
+
+
+def _domain_latex(extra: dict) -> str:
+    """A parameter's domain as the code checks it (lmidsl.numeric.instance): (a, b) when open,
+    [a, b] when closed, an infinite end always open; a one-point domain as ``= a``."""
+    dom = extra.get("domain")
+    if dom is None:
+        return ""
+    lo, hi = (float(v) for v in dom)
+    if lo == hi:
+        return f"$= {latex_number(lo)}$"
+    is_open = extra.get("open", False)
+    left = "(" if is_open or not np.isfinite(lo) else "["
+    right = ")" if is_open or not np.isfinite(hi) else "]"
+    return rf"$\in {left}{latex_number(lo)}, {latex_number(hi)}{right}$"
 
 
 def _kind_text(symbol) -> str:
@@ -110,8 +134,7 @@ def _condition_latex(theorem: Theorem, settings: dict, defined: set) -> list[str
         for lmi in positives:
             parts.append(printer_for(theorem, lmi, **settings).doprint(lmi)
                          + (r"\ (i = 1, \dots, N)" if lmi.per_vertex else ""))
-        out.append("and\n\\begin{equation*}\n\\fitlmi{" + r",\quad ".join(parts)
-                   + ".}\n\\end{equation*}")
+        out.append("and\n" + grouped_display(parts, end="."))
     return out
 
 
@@ -154,8 +177,7 @@ def theorem_latex(theorem, solution=None, **settings) -> str:
     if theorem.param_decl or theorem.derived_decl:
         rows = []
         for decl in theorem.param_decl.values():
-            dom = decl.extra.get("domain")
-            dom_txt = "" if dom is None else rf"$[{latex_number(dom[0])}, {latex_number(dom[1])}]$"
+            dom_txt = _domain_latex(decl.extra)
             rows.append([f"${printer.doprint(decl.symbol)}$", dom_txt, tex_text(decl.description)])
         for decl in theorem.derived_decl.values():
             s = decl.symbol
@@ -222,8 +244,7 @@ def _recovery_latex(theorem: Theorem, printer) -> str:
 
     def flush():
         if formulas:
-            out.append("\\begin{equation*}\n\\fitlmi{" + r",\quad ".join(formulas)
-                       + ".}\n\\end{equation*}")
+            out.append(grouped_display(list(formulas), end="."))
             formulas.clear()
 
     for step in theorem.recovery_steps or [("formula", n) for n in theorem.recovery]:
@@ -241,6 +262,35 @@ def _recovery_latex(theorem: Theorem, printer) -> str:
     return "\n\n".join(out)
 
 
+def _data_name(theorem: Theorem, name: str, printer) -> str:
+    decl = theorem.data_decl.get(name)
+    return f"${printer.doprint(decl.symbol)}$" if decl is not None else tex_text(name)
+
+
+def _scaling_latex(theorem: Theorem, scaling, printer) -> str:
+    """What the solver was given instead of the data: the exact signal scalings, stated apart."""
+    items = []
+    for rec in scaling.records:
+        if all(f == 1.0 for f in rec.factors):
+            continue
+        factors = ", ".join(latex_number(f, 6) for f in rec.factors)
+        parts = []
+        if rec.rows:
+            parts.append("the rows of " + ", ".join(_data_name(theorem, n, printer) for n in rec.rows)
+                         + " divided by $S$")
+        if rec.cols:
+            parts.append("the columns of " + ", ".join(_data_name(theorem, n, printer) for n in rec.cols)
+                         + " multiplied by $S$")
+        sig = name_to_latex(rec.signal)
+        items.append(f"signal ${sig} = S\\,{sig}'$ with "
+                     f"$S = \\mathrm{{diag}}({factors})$: " + " and ".join(parts))
+    return ("\\textbf{Scaling.} The solver was given the data above after an exact change of "
+            "signal coordinates, which leaves the theorem's conditions and its performance level "
+            "unchanged: " + "; ".join(items) + ". The recovered matrices below are mapped back "
+            "to the data as given; the decision variables and the LMI eigenvalues are those of the "
+            "scaled data.")
+
+
 def _label_latex(theorem: Theorem, label: str, settings: dict) -> str:
     """An LMI's label for running text: '(30)', or the one-block LMI itself ('$P_1 > 0$')."""
     lmi = next((l for l in theorem.lmis if l.label == label), None)
@@ -255,7 +305,9 @@ def _solution_latex(theorem: Theorem, sol, printer, settings: dict) -> str:
     out = [f"\\subsection*{{{title}}}"]
     if ex is not None and ex.description:
         out.append(tex_text(ex.description) + ".")
-    inst = sol.instance
+    scaling = getattr(sol, "scaling", None)
+    scaled = scaling is not None and scaling.active
+    inst = scaling.original if scaling is not None else sol.instance   # the data the user gave
     if inst is not None:
         data = []
         for name, decl in theorem.data_decl.items():
@@ -272,7 +324,9 @@ def _solution_latex(theorem: Theorem, sol, printer, settings: dict) -> str:
         for name, decl in theorem.derived_decl.items():
             data.append(f"{printer.doprint(decl.symbol)} = {latex_number(inst.params[name], 6)}")
         if data:
-            out.append("Data:\n" + grouped_display(data))
+            out.append("Data (as given):\n" + grouped_display(data))
+    if scaled:
+        out.append(_scaling_latex(theorem, scaling, printer))
     rows = [["status", tex_text(f"{sol.status} ({sol.backend}, {sol.solver})")]]
     perf = theorem.performance[0] if theorem.performance else "gamma"
     perf_tex = name_to_latex(perf)
@@ -297,7 +351,8 @@ def _solution_latex(theorem: Theorem, sol, printer, settings: dict) -> str:
     out.append("\\begin{center}\n" + _table(["quantity", "value"], rows, "ll") + "\n\\end{center}")
     if sol.recovered:
         items = [f"{_recovery_name(theorem, n)} = {latex_matrix(v, 5)}" for n, v in sol.recovered.items()]
-        out.append(f"Recovered {_design_word(theorem)}:\n" + grouped_display(items))
+        out.append(f"Recovered {_design_word(theorem)} (in the coordinates of the data as given):\n"
+                   + grouped_display(items))
         for inv in sol.inverted:
             decl = theorem.var_decl.get(str(inv["matrix"]))
             name = (f"${printer.doprint(decl.symbol)}$" if decl is not None
@@ -315,6 +370,7 @@ def _solution_latex(theorem: Theorem, sol, printer, settings: dict) -> str:
         elif np.size(value) <= 64:
             variables.append(f"{printer.doprint(s)} = {latex_matrix(value, 5)}")
     if variables:
-        out.append("Decision variables at the solution (matrices up to $8 \\times 8$):\n"
+        out.append("Decision variables at the solution (matrices up to $8 \\times 8$"
+                   + ("; they solve the LMIs of the scaled data" if scaled else "") + "):\n"
                    + grouped_display(variables))
     return "\n\n".join(out)

@@ -111,10 +111,6 @@ class SweepResult:
                    [SweepPoint(**p) for p in d["points"]], t.get("compile", 0.0),
                    t.get("first_point", 0.0), d.get("scaling"), d.get("labels", {}))
 
-    def _label(self, name: str) -> str:
-        tex = self.labels.get(name)
-        return f"${tex}$ ({name})" if tex and tex != name else name
-
     def timing(self) -> dict:
         """Mean per-point times, excluding the first point (cvxpy builds its parametrised form then)."""
         pts = self.points[1:] if len(self.points) > 1 else self.points
@@ -160,44 +156,6 @@ class SweepResult:
     def write_json(self, path) -> None:
         """The result as strict JSON, written atomically."""
         atomic_write_text(path, strict_json(self.as_dict()))
-
-    def figure(self, path, title: str | None = None) -> None:
-        """γ over the grid: a line for one parameter, a surface and contour map for two."""
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        names = list(self.grid)
-        gamma = self.gamma_array()
-        title = title or f"γ* of {self.theorem}" + (f" [{self.example}]" if self.example else "")
-        if len(names) == 1:
-            fig, ax = plt.subplots(figsize=(6, 4))
-            ax.plot(self.grid[names[0]], gamma, "o-")
-            ax.set_xlabel(self._label(names[0]))
-            ax.set_ylabel("γ*")
-            ax.grid(True, alpha=0.3)
-        elif len(names) == 2:
-            x, y = np.meshgrid(self.grid[names[0]], self.grid[names[1]], indexing="ij")
-            fig = plt.figure(figsize=(11, 4.6))
-            ax = fig.add_subplot(1, 2, 1, projection="3d")
-            ax.plot_surface(x, y, gamma, cmap="viridis", edgecolor="k", linewidth=0.2)
-            ax.set_xlabel(self._label(names[0]))
-            ax.set_ylabel(self._label(names[1]))
-            ax.set_zlabel("γ*")
-            ax.view_init(elev=28, azim=45)
-            ax2 = fig.add_subplot(1, 2, 2)
-            cs = ax2.contourf(x, y, gamma, levels=20, cmap="viridis")
-            ax2.contour(x, y, gamma, levels=10, colors="k", linewidths=0.4)
-            fig.colorbar(cs, ax=ax2, label="γ*")
-            ax2.set_xlabel(self._label(names[0]))
-            ax2.set_ylabel(self._label(names[1]))
-        else:
-            raise InputError("a figure needs one or two grid parameters")
-        fig.suptitle(title)
-        fig.tight_layout()
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=120, format=Path(path).suffix.lstrip(".") or "png")
-        plt.close(fig)
 
 
 def sweep(theorem, grids: list, example: str | None = None, data: dict | None = None,
