@@ -106,14 +106,7 @@ def _check(ok: bool, known: str | None, detail):
 
 # -- bounded real lemma --------------------------------------------------------------------
 BRL_PARAMS = [(t, c) for t in TIMES for c in _cases("brl", t)]
-BRL_KNOWN = {
-    ("continuous", "wide-scale"):
-        "γ is 3.7e-4 above the H∞ norm: the absolute strictness margin 1e-7 is large next to "
-        "P's smallest eigenvalue (3e-4, entries spanning 1e-2..1e2); margin 1e-9 gives 3.8e-6",
-    ("discrete", "wide-scale"):
-        "γ is 6.5e-5 above the H∞ norm: the absolute strictness margin 1e-7 against a badly "
-        "scaled P (entries spanning 1e-2..1e2)",
-}
+BRL_KNOWN: dict = {}   # the wide-scale records went when the gallery declared the state scaling
 
 
 @pytest.mark.parametrize("time, case", BRL_PARAMS)
@@ -155,10 +148,9 @@ def test_brl_closed_form_examples(theorem, example, exact):
     assert sol.certified and abs(sol.gamma - exact) <= BRL_TOL * exact, (sol.gamma, exact)
 
 
-@pytest.mark.xfail(strict=True, reason="wrong verdict: with --margin 1e-8 Clarabel fails (solver error) "
-                   "and the feasp diagnosis (t* = 7.6e-3 > 0) declares the bounded-real LMI of a stable "
-                   "system 'infeasible'; it is feasible (certified at the default margin 1e-7)")
 def test_brl_wide_scale_small_margin_is_not_infeasible():
+    """Once a wrong verdict: with --margin 1e-8 Clarabel failed and feasp called the bounded-real
+    LMI of a stable system 'infeasible'; the declared state scaling removed the cause."""
     d = _cases("brl", "discrete")["wide-scale"]
     sol = lmidsl.solve("textbook.brl_dt", data=d, margin=1e-8)
     _record("textbook.brl_dt", "wide-scale margin 1e-8", status=sol.status, solver_status=sol.solver_status)
@@ -170,8 +162,6 @@ def test_brl_wide_scale_small_margin_is_not_infeasible():
 SF_CASES = {t: list(_cases("hinf", t))[:10] for t in TIMES}
 # measured failures of lmidsl's certificate (a fix makes the test fail: remove the entry)
 SF_KNOWN = {
-    ('continuous', 'plant-6'):
-        "python-control confirms the gain (closed-loop norm/γ − 1 = -7.9e-05) but lmidsl's analysis says 'infeasible' (wrong verdict); max|K| = 3.1e+06, worst recovery cond = 8.7e+09",
 }
 
 
@@ -305,60 +295,38 @@ def _check_against_hinfsyn(name, case, sol, ref, known):
 
 OF_CASES = {t: list(_cases("hinf", t)) for t in TIMES}
 OF_KNOWN_GAMMA = {
-    ("continuous", "plant-5"): "γ 2.7e-3 above hinfsyn: Clarabel optimal_inaccurate, margin escalated to 1e-4 "
-                               "(PICOS/CVXOPT: 2.7e-6 at margin 1e-7)",
-    ("continuous", "plant-6"): "γ 1.0e-3 above hinfsyn: Clarabel optimal_inaccurate, margin escalated to 1e-4",
-    ("continuous", "plant-7"): "synthesis point not certified: Clarabel optimal_inaccurate, the LMIs still fail at "
-                               "margin 1e-4 (PICOS/CVXOPT: γ 1.1e-5 above hinfsyn, certified)",
-    ("continuous", "plant-12"): "γ 4.4e-3 above hinfsyn: Clarabel optimal_inaccurate, margin escalated to 1e-5 "
-                                "(PICOS/CVXOPT: 2.1e-4)",
-    ("continuous", "plant-13"): "γ 3.3e-3 above hinfsyn: Clarabel's point needs the margin escalated to 1e-4 "
-                                "(PICOS/CVXOPT: 2.9e-6)",
-    ("continuous", "plant-15"): "γ 1.3e-3 above hinfsyn: Clarabel optimal_inaccurate, margin escalated to 1e-4",
-    ("discrete", "plant-7"): "no controller: Clarabel solver error, margin escalated to 1e-4 without a certified point",
-    ("discrete", "plant-14"): "no controller: Clarabel solver error",
+    ('continuous', 'plant-5'):
+        'γ 2.7e-3 above hinfsyn: Clarabel optimal_inaccurate, margin escalated to 1e-4 (PICOS/CVXOPT: 2.7e-6 at margin 1e-7)',
+    ('continuous', 'plant-6'):
+        'γ 1.0e-3 above hinfsyn: Clarabel optimal_inaccurate, margin escalated to 1e-4',
+    ('continuous', 'plant-7'):
+        'synthesis point not certified: Clarabel optimal_inaccurate, the LMIs still fail at margin 1e-4 (PICOS/CVXOPT: γ 1.1e-5 above hinfsyn, certified)',
+    ('continuous', 'plant-12'):
+        'γ 4.4e-3 above hinfsyn: Clarabel optimal_inaccurate, margin escalated to 1e-5 (PICOS/CVXOPT: 2.1e-4)',
+    ('continuous', 'plant-15'):
+        'γ 1.3e-3 above hinfsyn: Clarabel optimal_inaccurate, margin escalated to 1e-4',
+    ('discrete', 'plant-7'):
+        'no controller: Clarabel solver error, margin escalated to 1e-4 without a certified point',
+    ('discrete', 'plant-14'):
+        'no controller: Clarabel solver error',
 }
 OF_KNOWN_BOUND = {
-    ("continuous", "plant-7"): "closed-loop norm 2.0e-6 above γ, and lmidsl says so: the synthesis point is not "
-                               "certified (Clarabel optimal_inaccurate, LMIs fail at margin 1e-4)",
-    ("discrete", "plant-7"): "no controller: Clarabel solver error",
-    ("discrete", "plant-14"): "no controller: Clarabel solver error",
+    ('discrete', 'plant-7'):
+        'no controller: Clarabel solver error',
+    ('discrete', 'plant-14'):
+        'no controller: Clarabel solver error',
 }
 OF_KNOWN_CERT = {
-    ('continuous', 'plant-3'):
-        "python-control confirms the controller (closed-loop norm/γ − 1 = -7.5e-05) but lmidsl's analysis ends in a solver error (no verdict); worst recovery cond = 3.3e+11",
-    ('continuous', 'plant-4'):
-        "python-control confirms the controller (closed-loop norm/γ − 1 = -1.5e-04) but lmidsl's analysis ends in a solver error (no verdict); worst recovery cond = 1.7e+11",
-    ('continuous', 'plant-5'):
-        "python-control confirms the controller (closed-loop norm/γ − 1 = -6.6e-04) but lmidsl's analysis says 'infeasible' (wrong verdict); worst recovery cond = 6.8e+08",
     ('continuous', 'plant-6'):
         "python-control confirms the controller (closed-loop norm/γ − 1 = -2.0e-04) but lmidsl's analysis says 'infeasible' (wrong verdict); worst recovery cond = 3.7e+12",
-    ('continuous', 'plant-7'):
-        "the synthesis point is not certified (Clarabel optimal_inaccurate, the LMIs still fail at "
-        "margin 1e-4) and the controller's closed-loop norm is 2.0e-6 above γ; the analysis "
-        "returns optimal_inaccurate γ = 107.213 > 106.487 (consistent: not certified)",
-    ('continuous', 'plant-10'):
-        "python-control confirms the controller (closed-loop norm/γ − 1 = -8.4e-06) but lmidsl's analysis ends in a solver error (no verdict); worst recovery cond = 7.8e+07",
     ('continuous', 'plant-12'):
         "python-control confirms the controller (closed-loop norm/γ − 1 = -2.2e-03) but lmidsl's analysis says 'infeasible' (wrong verdict); worst recovery cond = 1.1e+12",
-    ('continuous', 'plant-13'):
-        "python-control confirms the controller (closed-loop norm/γ − 1 = -4.5e-04) but lmidsl's analysis returns optimal_inaccurate γ = 73.4497 > synthesis γ = 73.2983; worst recovery cond = 1.8e+09",
     ('continuous', 'plant-14'):
         "python-control confirms the controller (closed-loop norm/γ − 1 = -3.3e-03) but lmidsl's analysis says 'infeasible' (wrong verdict); worst recovery cond = 1.6e+12",
-    ('continuous', 'plant-15'):
-        "python-control confirms the controller (closed-loop norm/γ − 1 = -5.4e-04) but lmidsl's analysis returns optimal_inaccurate γ = 28.861 > synthesis γ = 28.6481; worst recovery cond = 2.4e+10",
-    ('continuous', 'plant-18'):
-        "python-control confirms the controller (closed-loop norm/γ − 1 = -8.5e-08) but lmidsl's analysis ends in a solver error (no verdict); worst recovery cond = 1.2e+12",
-    ('continuous', 'plant-19'):
-        "python-control confirms the controller (closed-loop norm/γ − 1 = -7.9e-08) but lmidsl's analysis ends in a solver error (no verdict); worst recovery cond = 3.8e+11",
     ('discrete', 'plant-2'):
         "python-control confirms the controller (closed-loop norm/γ − 1 = -1.7e-04) but lmidsl's analysis ends in a solver error (no verdict); worst recovery cond = 7.7e+09",
-    ('discrete', 'plant-6'):
-        "python-control confirms the controller (closed-loop norm/γ − 1 = -1.7e-05) but lmidsl's analysis ends in a solver error (no verdict); worst recovery cond = 1.2e+10",
     ('discrete', 'plant-7'):
         'no controller: the synthesis fails (Clarabel solver error, margin escalated to 1e-4)',
-    ('discrete', 'plant-10'):
-        "python-control confirms the controller (closed-loop norm/γ − 1 = -2.5e-05) but lmidsl's analysis ends in a solver error (no verdict); worst recovery cond = 5.9e+08",
     ('discrete', 'plant-14'):
         'no controller: the synthesis fails (Clarabel solver error)',
 }
@@ -410,12 +378,7 @@ def test_hinf_of_certified_by_analysis(time, case):
 # -- H2: Gramian LMIs and state feedback -----------------------------------------------------
 H2_TOL = 1e-5           # |√tr Z − ‖G‖₂| / ‖G‖₂, and the H2 state-feedback optimum vs LQR
 GAIN_TOL = 1e-3         # ‖K + K_lqr‖ / ‖K_lqr‖: the cost is flat in K (a γ error δ allows ~√δ in K)
-H2_KNOWN = {
-    ("discrete", "wide-scale"):
-        "√tr Z is 1.3e-3 above the H2 norm: Clarabel's point misses the strict LMIs at margin "
-        "1e-7, the margin is escalated to 1e-6, which is large against a badly scaled P (system "
-        "entries spanning 1e-2..1e2); with --margin 1e-9 the verdict is 'infeasible' (wrong)",
-}
+H2_KNOWN: dict = {}    # the discrete wide-scale record went with the declared state scaling
 
 
 def _h2_data(time: str, case: str) -> dict:

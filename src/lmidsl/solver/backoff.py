@@ -24,6 +24,7 @@ the solves it took.  Implemented for the cvxpy backend.
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import sympy as sp
@@ -50,6 +51,14 @@ def condition_numbers(instance, values: dict) -> dict:
 
 
 DEFAULT_DELTA = 1e-2
+
+
+def _quiet_solve(problem, solver: str, options: dict) -> None:
+    """``problem.solve`` without cvxpy's "Solution may be inaccurate" warning: the status says
+    so, and each back-off point is certified anyway."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        problem.solve(solver=solver, **options)
 
 
 def backoff_solution(model, solution, delta: float, solver=None, iterations: int = 12,
@@ -80,7 +89,7 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
 
     t_var = cp.Variable()
     try:
-        cp.Problem(cp.Maximize(t_var), base + [E >> t_var * Id for E, Id in blocks]).solve(solver=name, **options)
+        _quiet_solve(cp.Problem(cp.Maximize(t_var), base + [E >> t_var * Id for E, Id in blocks]), name, options)
     except BaseException as exc:
         if not solver_crashed(exc, (cp.error.SolverError, ArithmeticError, ValueError)):
             raise
@@ -102,7 +111,7 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
         nonlocal solves
         t.value = math.exp(u)
         try:
-            problem.solve(solver=name, **options)
+            _quiet_solve(problem, name, options)
         except BaseException as exc:
             if not solver_crashed(exc, (cp.error.SolverError, ArithmeticError, ValueError)):
                 raise
