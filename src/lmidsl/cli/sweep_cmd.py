@@ -8,7 +8,8 @@ from ..errors import InputError
 from ..render.report import format_table
 from ..studies.store import ensure_writable_dir
 from ..studies.sweep import MAX_POINTS, format_timing, parse_grid, sweep
-from .common import add_instance_arguments, instance_spec, positive_float, positive_int, print_json
+from .common import (add_instance_arguments, add_parallel_arguments, instance_spec, parallel_spec,
+                     positive_float, positive_int, print_json)
 
 ORDER = 25
 
@@ -33,6 +34,7 @@ def register(sub):
                    help=f"refuse a grid of more points than this (default {MAX_POINTS})")
     p.add_argument("--title", help="title of the figure")
     p.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    add_parallel_arguments(p)
     p.set_defaults(run=run)
 
 
@@ -54,7 +56,7 @@ def run(args):
     result = sweep(args.theorem, grids, solver=args.solver, backend=args.backend, margin=args.margin,
                    scaling=args.scaling, progress=progress, max_points=args.max_points,
                    store=out / "sweep.jsonl" if out else None, resume=args.resume,
-                   **instance_spec(args))
+                   **parallel_spec(args), **instance_spec(args))
     if out:
         result.write_csv(out / "sweep.csv")
         result.write_json(out / "sweep.json")
