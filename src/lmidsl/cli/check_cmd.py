@@ -10,7 +10,8 @@ import json
 from ..studies.cross_check import DEFAULT_TOLERANCE, check
 from ..errors import InputError
 from ..render.report import format_table
-from .common import add_instance_arguments, instance_spec, positive_float, print_json
+from .common import (add_instance_arguments, add_parallel_arguments, instance_spec, parallel_spec,
+                     positive_float, print_json)
 
 ORDER = 25
 
@@ -31,6 +32,7 @@ def register(sub):
     p.add_argument("--margin", type=positive_float, help="strictness margin ε (N <= -ε I); default 1e-7")
     p.add_argument("--no-certify", action="store_true", help="skip the analysis certificate")
     p.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    add_parallel_arguments(p)
     p.set_defaults(run=run)
 
 
@@ -90,7 +92,8 @@ def format_check(result) -> str:
 def run(args):
     result = check(args.theorem, solvers=args.solvers,
                    options=parse_solver_options(args.solver_options), tolerance=args.tolerance,
-                   margin=args.margin, certify=not args.no_certify, **instance_spec(args))
+                   margin=args.margin, certify=not args.no_certify, **parallel_spec(args),
+                   **instance_spec(args))
     if args.json:
         print_json(result.as_dict())
     else:

@@ -9,7 +9,7 @@ from ..render.report import format_table
 from ..theorem.values import PROVENANCE
 from ..errors import InputError
 from ..studies.store import atomic_write_text, ensure_writable_dir, strict_json
-from .common import check_solver_argument, print_json
+from .common import add_parallel_arguments, check_solver_argument, parallel_spec, print_json
 
 ORDER = 30
 
@@ -23,6 +23,7 @@ def register(sub):
     p.add_argument("--resume", action="store_true",
                    help="keep the rows already in DIR/reproduce.jsonl and run only the rest")
     p.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    add_parallel_arguments(p)
     p.set_defaults(run=run)
 
 
@@ -43,7 +44,8 @@ def run(args):
     out = ensure_writable_dir(args.out, "--out") if args.out else None   # before the first solve
     check_solver_argument(args)
     rows = reproduce_all(args.solver, args.theorem, progress,
-                         store=out / "reproduce.jsonl" if out else None, resume=args.resume)
+                         store=out / "reproduce.jsonl" if out else None, resume=args.resume,
+                         **parallel_spec(args))
     document = {"tolerance": REPRODUCED_TOLERANCE, "rows": [r.as_dict() for r in rows]}
     if out:
         atomic_write_text(out / "reproduce.json", strict_json(document))

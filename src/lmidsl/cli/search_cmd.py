@@ -5,7 +5,8 @@ from ..pipeline import make_instance
 from ..errors import InputError
 from ..studies.search import OBJECTIVES, format_result, scalar_search
 from ..studies.sweep import parse_grid
-from .common import add_instance_arguments, instance_spec, positive_float, positive_int, print_json
+from .common import (add_instance_arguments, add_parallel_arguments, instance_spec, parallel_spec,
+                     positive_float, positive_int, print_json)
 
 ORDER = 25
 
@@ -18,13 +19,13 @@ def register(sub):
     p.add_argument("--refine", action="store_true", help="Nelder-Mead refinement from the best grid point")
     p.add_argument("--objective", choices=OBJECTIVES,
                    help="gamma (optimal level; default when the theorem minimises) or tmin (feasp t*)")
-    p.add_argument("--workers", type=positive_int, help="worker processes (default: number of CPUs; 1 = serial)")
     p.add_argument("--maxfev", type=positive_int, default=80, help="refinement evaluations (default 80)")
     p.add_argument("--solver", help="solver name (default: clarabel)")
     p.add_argument("--backend", default="cvxpy", help="modelling backend")
     p.add_argument("--margin", type=positive_float, help="strictness margin ε (N <= -ε I); default 1e-7")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    add_parallel_arguments(p)
     p.set_defaults(run=run)
 
 
@@ -33,10 +34,8 @@ def run(args):
         raise InputError("search: give at least one --grid NAME=a:b:n")
     axes = dict(parse_grid(g) for g in args.grid)
     instance = make_instance(args.theorem, **instance_spec(args))
-    if args.workers is not None and args.workers < 1:
-        raise InputError("--workers must be at least 1")
     result = scalar_search(instance, axes, args.objective, refine_best=args.refine,
-                           workers=args.workers, progress=False if args.no_progress or args.json else None,
+                           **parallel_spec(args), progress=False if args.no_progress or args.json else None,
                            solver=args.solver, backend=args.backend, margin=args.margin,
                            maxfev=args.maxfev)
     if args.json:

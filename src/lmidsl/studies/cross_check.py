@@ -33,6 +33,7 @@ from ..pipeline import make_instance, solve_instance
 from ..solver.backends import (BACKENDS, SOLVER_INFO, backend_sdp_solvers, is_first_order,
                                resolve_solver)
 from ..errors import InputError, LmidslError
+from .parallel import Runner, Task, check_workers
 
 DEFAULT_TOLERANCE = 1e-3
 
@@ -248,6 +249,21 @@ def options_for(backend: str, solver: str, options: dict | None) -> dict:
 
 
 # -- running ------------------------------------------------------------------------------
+class CheckTask(Task):
+    """The rows of one instance: a worker solves (backend, solver, options) items."""
+
+    def __init__(self, instance, margin, certify: bool):
+        super().__init__()
+        self.instance, self.margin, self.certify = instance, margin, certify
+
+    def setup(self):
+        return self.row
+
+    def row(self, item) -> CheckRow:
+        backend, solver, options = item
+        return run_row(self.instance, backend, solver, options, margin=self.margin, certify=self.certify)
+
+
 def run_row(instance, backend: str, solver: str, options: dict, margin=None, certify=True) -> CheckRow:
     """Solve one row; every failure is recorded in the row, never raised."""
     row = CheckRow(backend, solver, dict(options))
@@ -327,25 +343,30 @@ def compare(rows: list[CheckRow], tolerance: float) -> CheckRow | None:
 def check(theorem, example: str | None = None, data: dict | None = None,
           overrides: dict | None = None, solvers=None, options: dict | None = None,
           tolerance: float = DEFAULT_TOLERANCE, margin: float | None = None,
-          certify: bool = True) -> CheckResult:
+          certify: bool = True, workers: int | None = None, scheduler: str | None = None) -> CheckResult:
     """Solve one instance on every requested backend × solver and compare the answers.
 
     ``solvers``: see :func:`plan_rows`.  ``options``: ``{"clarabel": {...}}`` or
     ``{"cvxpy:clarabel": {...}}``, passed to that row's solve (backend-specific names, e.g.
-    cvxpy's ``max_iter`` for Clarabel, PICOS's ``max_iterations``).
+    cvxpy's ``max_iter`` for Clarabel, PICOS's ``max_iterations``).  ``workers`` /
+    ``scheduler``: the rows run in parallel on Dask (:mod:`lmidsl.studies.parallel`); each row's
+    ``time s`` is then measured on a machine shared with the other rows.
     """
+    check_workers(workers, scheduler)
     if not tolerance > 0:
         raise InputError(f"--tolerance must be positive, got {tolerance}")
     instance = make_instance(theorem, example, data, overrides)
     thm = instance.theorem
     compared = thm.performance[0] if thm.performance is not None else "objective"
-    rows = []
-    for backend, solver, error in plan_rows(solvers):
-        if error:
-            rows.append(CheckRow(backend, solver, status="error", error=error, reason="error"))
-            continue
-        rows.append(run_row(instance, backend, solver, options_for(backend, solver, options),
-                            margin=margin, certify=certify))
+    plan = plan_rows(solvers)
+    rows = [CheckRow(backend, solver, status="error", error=error, reason="error") if error else None
+            for backend, solver, error in plan]
+    todo = [i for i, row in enumerate(rows) if row is None]
+    with Runner(workers if len(todo) > 1 or scheduler else None, scheduler) as runner:
+        task = CheckTask(instance, margin, certify)
+        items = [(plan[i][0], plan[i][1], options_for(plan[i][0], plan[i][1], options)) for i in todo]
+        for index, row in runner.map(task, items):
+            rows[todo[index]] = row
     for r in rows:
         r.value = r.gamma if thm.performance is not None else r.objective
     reference = compare(rows, tolerance)

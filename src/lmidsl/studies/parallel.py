@@ -100,6 +100,22 @@ def check_workers(workers, scheduler) -> None:
                          "one), not both")
 
 
+def _check_address(address: str) -> None:
+    """A scheduler address Dask can parse (a malformed one is bad input, before any connection)."""
+    from distributed.comm import parse_address
+    from distributed.comm.registry import backends
+
+    try:
+        scheme, location = parse_address(address, strict=False)
+    except Exception:
+        scheme = location = ""
+    host, _, port = location.rpartition(":")
+    schemes = sorted(set(backends) - {"inproc"})           # inproc: this process only
+    if scheme not in schemes or not (host and port.isdigit()):
+        raise InputError(f"--scheduler {address!r}: expected an address such as tcp://HOST:8786 "
+                         f"(schemes: {', '.join(schemes)})")
+
+
 class Runner:
     """Where independent items run (see the module doc); a context manager that starts and
     closes the cluster::
@@ -133,6 +149,7 @@ class Runner:
                                          dashboard_address=None, silence_logs=logging.ERROR)
             self._client = Client(self._cluster, set_as_default=False)
             return self
+        _check_address(self.scheduler)
         try:
             self._client = Client(self.scheduler, timeout=CONNECT_TIMEOUT, set_as_default=False)
         except Exception as exc:   # OSError, TimeoutError, ValueError for a malformed address
