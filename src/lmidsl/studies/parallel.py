@@ -28,7 +28,9 @@ import itertools
 import logging
 import multiprocessing
 import os
+import signal
 import sys
+import threading
 import time
 import uuid
 
@@ -121,9 +123,6 @@ def _workers_ignore_ctrl_c():
     """Worker processes started here ignore SIGINT (inherited): Ctrl-C at a terminal reaches the
     whole process group, and this process alone ends the run (keeping what is stored) and closes
     the cluster; workers would only print tracebacks.  Not from a thread other than the main one."""
-    import signal
-    import threading
-
     if threading.current_thread() is not threading.main_thread():
         yield
         return
