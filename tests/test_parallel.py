@@ -1,6 +1,6 @@
 """Independent points on Dask (lmidsl.studies.parallel): a sweep on a LocalCluster of two
 processes gives the serial sweep's points and a complete store; an existing cluster given by
-address resumes a stored sweep; bad --scheduler / --workers input is one line, exit 2.
+address (spawned workers) resumes a stored sweep; check rows in parallel equal the serial rows; bad --scheduler / --workers input is one line, exit 2.
 No timing is asserted (benchmarks/bench_parallel.py measures)."""
 from __future__ import annotations
 
@@ -43,21 +43,24 @@ def test_sweep_on_a_local_cluster_equals_the_serial_sweep_and_stores_every_point
     assert sorted(r["params"]["rbar"] for r in records) == GRID[0][1]        # each point once
 
 
-def test_existing_cluster_by_address_resumes_a_stored_sweep(serial, tmp_path):
+def test_existing_cluster_by_address_resumes_a_stored_sweep(tmp_path):
+    """Spawned workers (a fresh interpreter, no theorem loaded): li_delay_dropout.thm2 has a
+    structured variable, whose expansion lives in the symbols' metadata sent with the task."""
     from distributed import LocalCluster
 
+    grid = [("xi1", [0.3, 0.6, 0.9])]
     store = tmp_path / "sweep.jsonl"
-    sweep("wang_l2linf.thm3", GRID, example="paper-full", store=store)
+    serial = sweep("li_delay_dropout.thm2", grid, example="paper", store=store)
     lines = store.read_text().splitlines(keepends=True)
-    store.write_text("".join(lines[:3]))          # the header and two points, as an interrupt leaves it
+    store.write_text("".join(lines[:2]))          # the header and one point, as an interrupt leaves it
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
-                      silence_logs=logging.ERROR) as cluster:
-        result = sweep("wang_l2linf.thm3", GRID, example="paper-full", store=store, resume=True,
+                      silence_logs=logging.CRITICAL) as cluster:
+        result = sweep("li_delay_dropout.thm2", grid, example="paper", store=store, resume=True,
                        scheduler=cluster.scheduler_address)
-    assert result.resumed == 2 and result.solved == 3
+    assert result.resumed == 1 and result.solved == 2
     assert _gammas(result) == pytest.approx(_gammas(serial), abs=1e-6)
     _, after = _records(store)
-    assert sorted(r["params"]["rbar"] for r in after) == GRID[0][1]
+    assert sorted(r["params"]["xi1"] for r in after) == grid[0][1]
 
 
 def _run(capsys, *argv):
