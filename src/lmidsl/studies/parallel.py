@@ -107,11 +107,12 @@ def check_workers(workers, scheduler) -> None:
 
 
 def local_start_method() -> str:
-    """How a LocalCluster starts its worker processes: ``fork`` on Linux — a forked worker
-    already has lmidsl, sympy, cvxpy and the theorem imported, and the model this process
-    compiled (~0.3 s for two workers against 3–20 s spawned, measured on a loaded 2-core
-    machine); ``spawn`` elsewhere (fork is unsafe on macOS).  ``LMIDSL_DASK_START`` overrides."""
-    method = os.environ.get("LMIDSL_DASK_START") or ("fork" if sys.platform.startswith("linux") else "spawn")
+    """How a LocalCluster starts its worker processes: ``spawn`` (Dask's default, safe) unless
+    ``LMIDSL_DASK_START`` says ``fork`` or ``forkserver``.  A forked worker starts in ~0.3 s
+    with lmidsl, sympy, cvxpy and this process's compiled model already imported (against
+    3–20 s spawned on a loaded 2-core machine), but forking a process with live threads can
+    hang the child: one forked worker did, after its parent had solved (docs/performance.md)."""
+    method = os.environ.get("LMIDSL_DASK_START") or "spawn"
     if method not in multiprocessing.get_all_start_methods():
         raise InputError(f"LMIDSL_DASK_START={method!r}: not a start method here "
                          f"({', '.join(multiprocessing.get_all_start_methods())})")
