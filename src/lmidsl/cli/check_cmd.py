@@ -9,8 +9,8 @@ from ..studies.cross_check import DEFAULT_TOLERANCE, check
 from ..render.progress import Progress
 from ..render.table import format_table
 from ..render.terminal import Settings, wrap
-from .common import (add_output_arguments, add_solve_arguments, instance_spec, parse_solver_options,
-                     positive_float, print_json, show_progress)
+from .common import (add_output_arguments, add_parallel_arguments, add_solve_arguments, instance_spec,
+                     parallel_spec, parse_solver_options, positive_float, print_json, show_progress)
 
 ORDER = 25
 
@@ -27,6 +27,7 @@ def register(sub):
     p.add_argument("--tolerance", type=positive_float, default=DEFAULT_TOLERANCE,
                    help=f"relative tolerance on gamma among trusted rows (default {DEFAULT_TOLERANCE:g})")
     p.add_argument("--no-certify", action="store_true", help="skip the analysis certificate")
+    add_parallel_arguments(p)
     p.set_defaults(run=run)
 
 
@@ -92,7 +93,7 @@ def run(args):
     result = check(args.theorem, solvers=requested_rows(args),
                    options=parse_solver_options(args.solver_options), tolerance=args.tolerance,
                    margin=args.margin, certify=not args.no_certify, progress=progress,
-                   **instance_spec(args))
+                   **parallel_spec(args), **instance_spec(args))
     if args.json:
         print_json(result.as_dict())
     else:

@@ -229,3 +229,20 @@ def probability(text: str) -> float:
     if not value < 1:
         raise argparse.ArgumentTypeError(f"expected a number in (0, 1), got {text!r}")
     return value
+
+
+def add_parallel_arguments(parser) -> None:
+    """``--workers N`` and ``--scheduler ADDRESS``: run the command's independent points on Dask
+    (:mod:`lmidsl.studies.parallel`); read back with :func:`parallel_spec`."""
+    group = parser.add_argument_group("parallel runs (Dask)")
+    group.add_argument("--workers", type=positive_int, metavar="N",
+                       help="solve independent points on a local Dask cluster of N processes "
+                            "(default 1: serial, in this process)")
+    group.add_argument("--scheduler", metavar="ADDRESS",
+                       help="solve them on an existing Dask cluster, e.g. tcp://host:8786 "
+                            "(started with `dask scheduler` and `dask worker`)")
+
+
+def parallel_spec(args) -> dict:
+    """Keyword arguments ``workers`` and ``scheduler`` from :func:`add_parallel_arguments`."""
+    return {"workers": args.workers, "scheduler": args.scheduler}

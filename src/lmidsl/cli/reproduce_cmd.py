@@ -12,8 +12,8 @@ from ..render.progress import Progress
 from ..render.reproduction import REPORT, format_reproduction
 from ..studies.reproduce import REPRODUCED_TOLERANCE, reproduce_all
 from ..studies.store import atomic_write_text, ensure_writable_dir, strict_json
-from .common import (add_output_arguments, add_solve_arguments, print_json, refuse, show_progress,
-                     solve_arguments)
+from .common import (add_output_arguments, add_parallel_arguments, add_solve_arguments, parallel_spec,
+                     print_json, refuse, show_progress, solve_arguments)
 
 ORDER = 30
 
@@ -27,6 +27,7 @@ def register(sub):
                    help="write reproduce.jsonl (each row as it is done) and reproduce.json here")
     p.add_argument("--resume", action="store_true",
                    help="keep the rows already in DIR/reproduce.jsonl and run only the rest")
+    add_parallel_arguments(p)
     p.set_defaults(run=run)
 
 
@@ -43,7 +44,8 @@ def run(args):
         return Progress(jobs, "reproduce", lambda job: f"{job[0]} [{job[1]}]", enabled=show_progress(args))
 
     rows = reproduce_all(solving.pop("solver"), args.theorem, progress,
-                         store=out / "reproduce.jsonl" if out else None, resume=args.resume, **solving)
+                         store=out / "reproduce.jsonl" if out else None, resume=args.resume,
+                         **parallel_spec(args), **solving)
     document = {"tolerance": REPRODUCED_TOLERANCE, "rows": [r.as_dict() for r in rows]}
     if out:
         atomic_write_text(out / "reproduce.json", strict_json(document))

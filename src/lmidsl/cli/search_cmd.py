@@ -6,7 +6,8 @@ from ..errors import InputError
 from ..render.terminal import wrap
 from ..studies.search import OBJECTIVES, format_result, scalar_search
 from ..studies.sweep import parse_grid
-from .common import add_solve_arguments, instance_spec, positive_int, print_json, solve_arguments
+from .common import (add_parallel_arguments, add_solve_arguments, instance_spec, parallel_spec,
+                     positive_int, print_json, solve_arguments)
 
 ORDER = 25
 
@@ -19,9 +20,9 @@ def register(sub):
     p.add_argument("--refine", action="store_true", help="Nelder-Mead refinement from the best grid point")
     p.add_argument("--objective", choices=OBJECTIVES,
                    help="gamma (optimal level; default when the theorem minimises) or tmin (feasp t*)")
-    p.add_argument("--workers", type=positive_int, help="worker processes (default: number of CPUs; 1 = serial)")
     p.add_argument("--maxfev", type=positive_int, default=80, help="refinement evaluations (default 80)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_parallel_arguments(p)
     p.set_defaults(run=run)
 
 
@@ -30,10 +31,8 @@ def run(args):
         raise InputError("search: give at least one --grid NAME=a:b:n")
     axes = dict(parse_grid(g) for g in args.grid)
     instance = make_instance(args.theorem, **instance_spec(args))
-    if args.workers is not None and args.workers < 1:
-        raise InputError("--workers must be at least 1")
     result = scalar_search(instance, axes, args.objective, refine_best=args.refine,
-                           workers=args.workers, progress=False if args.no_progress or args.json else None,
+                           **parallel_spec(args), progress=False if args.no_progress or args.json else None,
                            maxfev=args.maxfev, **solve_arguments(args))
     if args.json:
         print_json(result.as_dict())

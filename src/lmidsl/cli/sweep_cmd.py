@@ -10,8 +10,8 @@ from ..render.table import format_table
 from ..render.terminal import echo
 from ..studies.store import ensure_writable_dir
 from ..studies.sweep import MAX_POINTS, format_timing, parse_grid, sweep
-from .common import (add_output_arguments, add_solve_arguments, instance_spec, positive_int, print_json,
-                     show_progress, solve_arguments)
+from .common import (add_output_arguments, add_parallel_arguments, add_solve_arguments, instance_spec,
+                     parallel_spec, positive_int, print_json, show_progress, solve_arguments)
 
 ORDER = 25
 
@@ -33,6 +33,7 @@ def register(sub):
     p.add_argument("--max-points", type=positive_int, default=MAX_POINTS,
                    help=f"refuse a grid of more points than this (default {MAX_POINTS})")
     p.add_argument("--title", help="title of the figure")
+    add_parallel_arguments(p)
     p.set_defaults(run=run)
 
 
@@ -52,7 +53,7 @@ def run(args):
 
     result = sweep(args.theorem, grids, scaling=args.scaling, progress=progress, max_points=args.max_points,
                    store=out / "sweep.jsonl" if out else None, resume=args.resume,
-                   **solve_arguments(args), **instance_spec(args))
+                   **parallel_spec(args), **solve_arguments(args), **instance_spec(args))
     if out:
         result.write_csv(out / "sweep.csv")
         result.write_json(out / "sweep.json")

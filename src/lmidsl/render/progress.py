@@ -17,13 +17,17 @@ class Progress:
     per finished item (``[3/37] <label> (2.1 s)``) on stderr; nothing when ``enabled`` is False.
 
     ``label(item)`` names an item.  Iterating yields the items; an item is finished when the
-    next one is asked for (or the loop ends)."""
+    next one is asked for (or the loop ends).  ``items`` may be a lazy iterable with a ``len``
+    (e.g. items in the order their parallel results come back, :mod:`lmidsl.studies.parallel`):
+    it is not read ahead, and an item's time runs from the previous item's end to its own."""
 
     def __init__(self, items, description: str, label=str, enabled: bool = True):
-        self.items, self.description, self.label, self.enabled = list(items), description, label, enabled
+        if not hasattr(items, "__len__"):
+            items = list(items)
+        self.items, self.description, self.label, self.enabled = items, description, label, enabled
 
     def __iter__(self):
-        if not self.enabled or not self.items:
+        if not self.enabled or not len(self.items):
             yield from self.items
             return
         if is_terminal(sys.stderr):
@@ -33,11 +37,12 @@ class Progress:
 
     def _lines(self):
         total = len(self.items)
+        t0 = time.perf_counter()
         for i, item in enumerate(self.items, 1):
-            t0 = time.perf_counter()
             yield item
             print(f"{self.description} [{i}/{total}] {self.label(item)} "
                   f"({time.perf_counter() - t0:.1f} s)", file=sys.stderr, flush=True)
+            t0 = time.perf_counter()
 
     def _bar(self):
         console = Console(file=sys.stderr)

@@ -33,6 +33,7 @@ from ..pipeline import make_instance, solve_instance
 from ..solver.backends import (BACKENDS, options_for, SOLVER_INFO, backend_sdp_solvers, is_first_order,
                                resolve_solver)
 from ..errors import InputError, LmidslError
+from .parallel import Runner, Task, check_workers, items_as_finished
 
 DEFAULT_TOLERANCE = 1e-3
 
@@ -234,6 +235,21 @@ def plan_rows(solvers=None) -> list[tuple[str, str, str | None]]:
 
 
 # -- running ------------------------------------------------------------------------------
+class CheckTask(Task):
+    """The rows of one instance: a worker solves (backend, solver, options) items."""
+
+    def __init__(self, instance, margin, certify: bool):
+        super().__init__()
+        self.instance, self.margin, self.certify = instance, margin, certify
+
+    def setup(self):
+        return self.row
+
+    def row(self, item) -> CheckRow:
+        backend, solver, options = item
+        return run_row(self.instance, backend, solver, options, margin=self.margin, certify=self.certify)
+
+
 def run_row(instance, backend: str, solver: str, options: dict, margin=None, certify=True) -> CheckRow:
     """Solve one row; every failure is recorded in the row, never raised."""
     row = CheckRow(backend, solver, dict(options))
@@ -313,27 +329,38 @@ def compare(rows: list[CheckRow], tolerance: float) -> CheckRow | None:
 def check(theorem, example: str | None = None, data: dict | None = None,
           overrides: dict | None = None, solvers=None, options: dict | None = None,
           tolerance: float = DEFAULT_TOLERANCE, margin: float | None = None,
-          certify: bool = True, progress=None) -> CheckResult:
+          certify: bool = True, progress=None, workers: int | None = None,
+          scheduler: str | None = None) -> CheckResult:
     """Solve one instance on every requested backend × solver and compare the answers.
 
     ``solvers``: see :func:`plan_rows`.  ``options``: ``{"clarabel": {...}}`` or
     ``{"cvxpy:clarabel": {...}}``, passed to that row's solve (backend-specific names, e.g.
     cvxpy's ``max_iter`` for Clarabel, PICOS's ``max_iterations``); the key ``""`` is for every
-    row.  ``progress(plan)`` wraps the planned (backend, solver, error) rows (e.g. a progress bar).
+    row.  ``progress(plan)`` wraps the planned (backend, solver, error) rows that are solved, in
+    the order they finish (e.g. a progress bar).  ``workers`` / ``scheduler``: the rows run in
+    parallel on Dask (:mod:`lmidsl.studies.parallel`); each row's ``time s`` is then measured on
+    a machine shared with the other rows.
     """
+    check_workers(workers, scheduler)
     if not tolerance > 0:
         raise InputError(f"--tolerance must be positive, got {tolerance}")
     instance = make_instance(theorem, example, data, overrides)
     thm = instance.theorem
     compared = thm.performance[0] if thm.performance is not None else "objective"
-    rows = []
     plan = plan_rows(solvers)
-    for backend, solver, error in (progress(plan) if progress else plan):
-        if error:
-            rows.append(CheckRow(backend, solver, status="error", error=error, reason="error"))
-            continue
-        rows.append(run_row(instance, backend, solver, options_for(backend, solver, options),
-                            margin=margin, certify=certify))
+    rows = [CheckRow(backend, solver, status="error", error=error, reason="error") if error else None
+            for backend, solver, error in plan]
+    todo = [i for i, row in enumerate(rows) if row is None]
+    with Runner(workers if len(todo) > 1 or scheduler else None, scheduler) as runner:
+        task = CheckTask(instance, margin, certify)
+        items = [(plan[i][0], plan[i][1], options_for(plan[i][0], plan[i][1], options)) for i in todo]
+
+        def put(index, row):
+            rows[todo[index]] = row
+
+        finished = items_as_finished(runner.map(task, items), [plan[i] for i in todo], put)
+        for _ in (progress(finished) if progress else finished):
+            pass
     for r in rows:
         r.value = r.gamma if thm.performance is not None else r.objective
     reference = compare(rows, tolerance)

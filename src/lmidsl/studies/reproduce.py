@@ -17,6 +17,7 @@ from ..errors import Interrupted, LmidslError
 from ..solver.status import solved
 from ..theorem.registry import all_theorems, get_theorem
 from ..theorem.values import OUTCOMES, PROVENANCE
+from .parallel import Runner, Task, check_workers, items_as_finished
 from .store import JsonLinesStore
 from .verify import figures_for_solution, worst_index
 
@@ -136,16 +137,35 @@ def _exact(sol):
     return None if not figures else figures[worst_index(figures)]
 
 
+class ReproduceTask(Task):
+    """Rows of ``reproduce``: a worker runs (theorem id, example) items with one solver and the
+    same solve options (:func:`reproduce_one`)."""
+
+    def __init__(self, solver: str | None, solve_options: dict | None = None):
+        super().__init__()
+        self.solver, self.solve_options = solver, dict(solve_options or {})
+
+    def setup(self):
+        return self.row
+
+    def row(self, job) -> ReproductionRow:
+        return reproduce_one(*job, self.solver, **self.solve_options)
+
+
 def reproduce_all(solver: str | None = None, theorems: list[str] | None = None, progress=None,
-                  store=None, resume: bool = False, **solve_options):
+                  store=None, resume: bool = False, workers: int | None = None,
+                  scheduler: str | None = None, **solve_options):
     """Rows for every theorem × example (optionally only the listed theorem ids), the papers'
     own first, then corrected and guessed readings, then illustrations (:data:`PROVENANCE`).
 
     ``store``: a JSON Lines file each row is appended to when it is done; with ``resume`` the rows
     already there (same solver and theorem selection) are kept, not run again.  Ctrl-C ends the
     job with :class:`~lmidsl.errors.Interrupted` saying how many rows are kept where.
-    ``progress(jobs)`` wraps the (theorem id, example) pairs (e.g. a progress bar);
-    ``solve_options``: see :func:`reproduce_one`."""
+    ``progress(jobs)`` wraps the (theorem id, example) pairs that are run, in the order they
+    finish (e.g. a progress bar); ``solve_options``: see :func:`reproduce_one`.
+    ``workers`` / ``scheduler``: rows run in parallel on Dask (:mod:`lmidsl.studies.parallel`;
+    workers find the theorems by id in their own registry), stored as they finish."""
+    check_workers(workers, scheduler)
     order = list(PROVENANCE)
     for tid in theorems or []:
         get_theorem(tid)                  # an unknown id is a one-line error, not zero rows
@@ -165,21 +185,19 @@ def reproduce_all(solver: str | None = None, theorems: list[str] | None = None, 
         for record in jsonl.open(header, resume=resume):
             row = ReproductionRow(**{k: v for k, v in record.items() if k in names})
             done[(row.theorem, row.example)] = row
-    rows = []
+    todo = [job for job in jobs if job not in done]
     try:
-        for tid, ex in (progress(jobs) if progress else jobs):
-            if (tid, ex) in done:
-                rows.append(done[(tid, ex)])
-                continue
-            row = reproduce_one(tid, ex, solver, **solve_options)
-            rows.append(row)
-            if jsonl is not None:
-                jsonl.append(row.as_dict())
+        with Runner(workers, scheduler) as runner:
+            finished = items_as_finished(runner.map(ReproduceTask(solver, solve_options), todo), todo,
+                                         lambda index, row: done.__setitem__(todo[index], row))
+            for job in (progress(finished) if progress else finished):
+                if jsonl is not None:
+                    jsonl.append(done[job].as_dict())
     except KeyboardInterrupt:
         where = (f"; they are in {jsonl.path} (run again with --resume to go on)" if jsonl is not None
                  else " and lost (give --out DIR to keep them)")
-        raise Interrupted(f"reproduce interrupted after {len(rows)} of {len(jobs)} rows{where}") from None
+        raise Interrupted(f"reproduce interrupted after {len(done)} of {len(jobs)} rows{where}") from None
     finally:
         if jsonl is not None:
             jsonl.close()
-    return rows
+    return [done[job] for job in jobs]

@@ -5,8 +5,8 @@ best level is then
 
     γ*(θ) = min { γ : the LMIs hold at the scalars θ },      θ* = argmin_θ γ*(θ),
 
-a non-convex problem in θ.  :func:`scalar_search` evaluates γ*(θ) on a grid (in parallel,
-one compiled model per worker process, the scalars changed as backend parameters), then refines
+a non-convex problem in θ.  :func:`scalar_search` evaluates γ*(θ) on a grid (serially, or on
+Dask workers: one compiled model per worker, the scalars changed as backend parameters), then refines
 the best grid point with Nelder–Mead on θ ↦ γ*(θ).  With ``objective="tmin"`` the searched
 value is the feasp t*(θ) of :mod:`lmidsl.solver.feasibility` instead (for feasibility theorems at a
 prescribed γ: θ with t*(θ) < 0 makes the LMIs strictly feasible).
@@ -19,10 +19,7 @@ from __future__ import annotations
 
 import itertools
 import math
-import multiprocessing
-import os
 import warnings
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -31,6 +28,7 @@ from ..errors import InputError
 from ..numeric.instance import Instance
 from ..solver.backends import get_backend
 from ..solver.feasibility import DEFAULT_RADIUS, JointFeasp
+from .parallel import Runner, Task
 
 OBJECTIVES = ("gamma", "tmin")
 
@@ -120,15 +118,15 @@ class Evaluator:
         return SearchPoint(dict(params), value, sol.gamma, sol.status, sol.certified, sol.worst_eig)
 
 
-_WORKER: dict = {}
+class SearchTask(Task):
+    """A worker's part of a grid: one :class:`Evaluator` (one compiled model), many points."""
 
+    def __init__(self, evaluator_args: tuple):
+        super().__init__()
+        self.evaluator_args = evaluator_args
 
-def _init_worker(args):
-    _WORKER["evaluate"] = Evaluator(*args)
-
-
-def _evaluate_in_worker(params):
-    return _WORKER["evaluate"](params)
+    def setup(self) -> Evaluator:
+        return Evaluator(*self.evaluator_args)
 
 
 def _check(instance: Instance, names) -> None:
@@ -141,35 +139,22 @@ def _check(instance: Instance, names) -> None:
 
 
 def evaluate_grid(instance: Instance, points: list[dict], evaluator_args: tuple,
-                  workers: int | None = None, progress: bool | None = None) -> list[SearchPoint]:
-    """Evaluate every point, in parallel over ``workers`` processes, with a tqdm progress bar.
+                  workers: int | None = None, progress: bool | None = None,
+                  scheduler: str | None = None) -> list[SearchPoint]:
+    """Evaluate every point, with a tqdm progress bar: in this process (``workers`` None or 1),
+    on a Dask LocalCluster of ``workers`` processes, or on the cluster at ``scheduler``
+    (:mod:`lmidsl.studies.parallel`; one compiled model per worker).
 
-    ``progress`` None shows the bar only on a terminal.  ``workers`` 1 evaluates in this process.
+    ``progress`` None shows the bar only on a terminal.
     """
     from tqdm import tqdm
 
-    if workers is None:
-        workers = min(len(points), os.cpu_count() or 1)
-    bar = tqdm(total=len(points), desc="scalar search", unit="pt", disable=progress is False
-               if progress is not None else None, leave=False)
     results = [None] * len(points)
-    try:
-        if workers <= 1 or len(points) == 1:
-            evaluate = Evaluator(*evaluator_args)
-            for i, p in enumerate(points):
-                results[i] = evaluate(p)
-                bar.update()
-        else:
-            methods = multiprocessing.get_all_start_methods()
-            context = multiprocessing.get_context("fork" if "fork" in methods else None)
-            with ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker,
-                                     initargs=(evaluator_args,)) as pool:
-                futures = {pool.submit(_evaluate_in_worker, p): i for i, p in enumerate(points)}
-                for future in as_completed(futures):
-                    results[futures[future]] = future.result()
-                    bar.update()
-    finally:
-        bar.close()
+    with Runner(workers if len(points) > 1 or scheduler else None, scheduler) as runner:
+        done = runner.map(SearchTask(evaluator_args), points)
+        for i, point in tqdm(done, desc="scalar search", unit="pt", leave=False,
+                             disable=progress is False if progress is not None else None):
+            results[i] = point
     return results
 
 
@@ -208,6 +193,7 @@ def refine(evaluate: Evaluator, start: SearchPoint, names: list, steps: list,
 
 def scalar_search(instance: Instance, axes: dict, objective: str | None = None, *,
                   refine_best: bool = False, workers: int | None = None, progress: bool | None = None,
+                  scheduler: str | None = None,
                   solver: str | None = None, backend: str = "cvxpy", margin: float | None = None,
                   radius: float | None = None, maxfev: int = 80, **options) -> SearchResult:
     """Grid over ``axes`` ({name: [values]}), then (``refine_best``) Nelder–Mead from the best point.
@@ -215,6 +201,8 @@ def scalar_search(instance: Instance, axes: dict, objective: str | None = None, 
     ``objective``: "gamma" (the theorem's performance at its optimum; default when the theorem
     minimises) or "tmin" (feasp t*; default for feasibility theorems).  ``options``: solver
     keyword options of each solve (not of the feasp solves of "tmin", which refuses them).
+    ``workers`` / ``scheduler``: where the grid points are evaluated (:func:`evaluate_grid`); the
+    refinement is sequential, in this process.
     """
     theorem = instance.theorem
     names = list(axes)
@@ -232,7 +220,7 @@ def scalar_search(instance: Instance, axes: dict, objective: str | None = None, 
         raise InputError("the grid is empty")
     args = (instance, objective, backend, solver, margin, radius, options)
     result = SearchResult(theorem.id, instance.example, objective, names)
-    result.grid = evaluate_grid(instance, points, args, workers, progress)
+    result.grid = evaluate_grid(instance, points, args, workers, progress, scheduler)
     start = result.best_grid
     if refine_best and start is not None:
         steps = []

@@ -26,6 +26,7 @@ from ..solver.margin import solve_model
 from ..solver.solution import lmi_certificate
 from ..solver.backends import get_backend
 from ..errors import InputError, Interrupted
+from .parallel import Runner, Task, check_workers, items_as_finished, worker_state
 from .store import JsonLinesStore, atomic_path, atomic_write_text, strict_json
 from ..numeric.scaling import apply_scaling
 
@@ -161,14 +162,21 @@ class SweepResult:
 def sweep(theorem, grids: list, example: str | None = None, data: dict | None = None,
           overrides: dict | None = None, solver: str | None = None, backend: str = "cvxpy",
           margin: float | None = None, scaling="auto", progress=None, store=None,
-          resume: bool = False, max_points: int = MAX_POINTS, **options) -> SweepResult:
+          resume: bool = False, max_points: int = MAX_POINTS, workers: int | None = None,
+          scheduler: str | None = None, **options) -> SweepResult:
     """Solve ``theorem`` at every point of the product of ``grids`` = [(name, values), ...].
 
     ``store``: a JSON Lines file (:class:`~lmidsl.studies.store.JsonLinesStore`) to which each
     point is appended as soon as it is solved; with ``resume`` the points already in it (same
     theorem, example, data and grid) are taken from it, not solved again.  Ctrl-C ends the sweep
     with :class:`~lmidsl.errors.Interrupted`, whose message says how many points are kept where.
+
+    ``workers`` N > 1: the points are solved on a Dask ``LocalCluster`` of N processes, each
+    compiling the model once; ``scheduler``: on an existing Dask cluster
+    (:mod:`lmidsl.studies.parallel`).  Points are stored as they finish, in any order; the
+    result lists them in grid order.
     """
+    check_workers(workers, scheduler)
     size = grid_size(grids)
     if size > max_points:
         raise InputError(f"--grid: {size} points exceed the maximum of {max_points} "
@@ -197,37 +205,64 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
             done[tuple(point.params[n] for n in names)] = point
     try:
         applied = apply_scaling(instance, scaling)
-        base = applied.scaled
-        model_class = get_backend(backend)  # imports the backend: not part of the compile time
-        t0 = time.perf_counter()
-        model = model_class(base, margin=margin, reuse=True)  # parameters stay backend parameters
-        result = SweepResult(thm.id, instance.example, model.solver_name(solver),
-                             {n: list(v) for n, v in grids}, compile_time=time.perf_counter() - t0,
+        task = SweepTask(applied.scaled, backend, margin, solver, options)
+        # compiled here too: errors surface before any dispatch, and a serial sweep uses this model
+        local = worker_state(task)
+        result = SweepResult(thm.id, instance.example, local.model.solver_name(solver),
+                             {n: list(v) for n, v in grids}, compile_time=local.compile_time,
                              scaling=applied.as_dict(),
                              labels={n: thm.param_decl[n].latex for n, _ in grids})
         result.resumed = len(done)
         combos = list(itertools.product(*[v for _, v in grids]))
+        todo = [combo for combo in combos if combo not in done]
         try:
-            for combo in (progress(combos) if progress else combos):
-                if combo in done:
-                    result.points.append(done[combo])
-                    continue
-                point = _solve_point(model, base, dict(zip(names, combo)), solver, options)
-                if result.solved == 0:
-                    result.first_solve = point.total
-                result.solved += 1
-                result.points.append(point)
-                if jsonl is not None:
-                    jsonl.append(point.as_dict())
+            with Runner(workers, scheduler) as runner:
+                solved = runner.map(task, [dict(zip(names, combo)) for combo in todo])
+                finished: dict = {}
+                combos_done = items_as_finished(solved, todo, finished.__setitem__)
+                for combo in (progress(combos_done) if progress else combos_done):
+                    point = finished.popitem()[1]      # the one result put just before its combo
+                    if result.solved == 0:
+                        result.first_solve = point.total
+                    result.solved += 1
+                    done[combo] = point
+                    if jsonl is not None:
+                        jsonl.append(point.as_dict())
         except KeyboardInterrupt:
-            kept = len(result.points)
             where = (f"; they are in {jsonl.path} (run again with --resume to go on)" if jsonl is not None
                      else " and lost (give --out DIR to keep them)")
-            raise Interrupted(f"sweep interrupted after {kept} of {len(combos)} points{where}") from None
+            raise Interrupted(f"sweep interrupted after {len(done)} of {len(combos)} points{where}") from None
+        result.points = [done[combo] for combo in combos]
     finally:
         if jsonl is not None:
             jsonl.close()
     return result
+
+
+class SweepTask(Task):
+    """A worker's part of a sweep: the (scaled) instance compiled once, re-solved per point."""
+
+    def __init__(self, base, backend: str, margin, solver, options: dict):
+        super().__init__()
+        self.base, self.backend, self.margin, self.solver, self.options = base, backend, margin, solver, options
+
+    def setup(self) -> "SweepSolver":
+        return SweepSolver(self)
+
+
+class SweepSolver:
+    """The model of a :class:`SweepTask`, compiled with its parameters as backend parameters."""
+
+    def __init__(self, task: SweepTask):
+        self.task = task
+        model_class = get_backend(task.backend)  # imports the backend: not part of the compile time
+        t0 = time.perf_counter()
+        self.model = model_class(task.base, margin=task.margin, reuse=True)  # parameters stay backend parameters
+        self.compile_time = time.perf_counter() - t0
+
+    def __call__(self, params: dict) -> SweepPoint:
+        task = self.task
+        return _solve_point(self.model, task.base, params, task.solver, task.options)
 
 
 def _solve_point(model, base, params: dict, solver, options) -> SweepPoint:

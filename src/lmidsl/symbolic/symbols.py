@@ -45,6 +45,18 @@ def _meta_property(key: str, default=None):
     return property(getter, setter)
 
 
+def metadata_snapshot() -> dict:
+    """The symbols' metadata table (a copy): it lives in this process, not in the symbols, so
+    an expression pickled to another process (a Dask worker) needs it sent along."""
+    return {key: dict(meta) for key, meta in _METADATA.items()}
+
+
+def restore_metadata(snapshot: dict) -> None:
+    """Add a :func:`metadata_snapshot` of another process to this process's table."""
+    for key, meta in snapshot.items():
+        _METADATA.setdefault(key, {}).update(meta)
+
+
 class _Described:
     """Mixin for symbols declared by a theorem: a theorem tag plus metadata.
 

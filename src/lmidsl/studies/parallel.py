@@ -1,0 +1,269 @@
+"""Independent points in parallel: in this process, on a Dask ``LocalCluster``, or on a Dask cluster.
+
+A :class:`Task` says how to set a worker up — e.g. bind the theorem and compile its model once,
+every grid parameter a backend parameter — and is then applied to many *items* (grid points,
+solver rows, theorem examples).  Each process sets a task up once and keeps it (a module-level
+cache keyed by ``task.key``, a few tasks at most), so a model is compiled once per worker, not
+once per point.  The task is shipped once to each worker (``Client.scatter``, cloudpickle: a
+theorem built in Python, not in any file, travels too, with the symbols' metadata).
+
+:class:`Runner` chooses where the items run:
+
+* ``workers`` 1 (the default) and no ``scheduler``: in this process, in order;
+* ``workers`` N > 1: a ``LocalCluster`` of N processes with one thread each, started for the run
+  and closed after it;
+* ``scheduler`` ADDRESS: an existing cluster (``dask scheduler`` and ``dask worker``); every
+  worker must import this lmidsl, and a theorem given by id must be in the workers' registry.
+
+Results come back as they finish (``distributed.as_completed``); at most two tasks per worker
+thread are in flight, so a grid of 10⁵ points does not sit in the scheduler at once; items are
+batched so that a task lasts about :data:`TARGET_TASK_SECONDS` (one item a task while items are
+slow, many when they take milliseconds).
+"""
+from __future__ import annotations
+
+import collections
+import contextlib
+import itertools
+import logging
+import multiprocessing
+import os
+import signal
+import sys
+import threading
+import time
+import uuid
+
+from ..errors import InputError
+from ..symbolic.symbols import metadata_snapshot, restore_metadata
+
+#: tasks set up and kept per process (each may hold a compiled model)
+CACHE_SIZE = 4
+#: items are batched so a task lasts about this long (Dask's per-task cost is ~ms)
+TARGET_TASK_SECONDS = 0.2
+MAX_BATCH = 256
+#: connecting to ``--scheduler`` and waiting for its first worker
+CONNECT_TIMEOUT = 10
+WORKER_TIMEOUT = 60
+
+_CACHE: collections.OrderedDict = collections.OrderedDict()
+
+
+class Task:
+    """Subclass and define :meth:`setup`; ``key`` is unique per task object (per run).  The
+    symbols' metadata (LaTeX names, definitions, structured expansions: a table of this process)
+    travels with the task, so an instance pickled to a worker compiles there as here."""
+
+    def __init__(self):
+        self.key = uuid.uuid4().hex
+        self.symbols = metadata_snapshot()
+
+    def setup(self):
+        """What a worker builds once: a callable ``item → result``."""
+        raise NotImplementedError
+
+
+def worker_state(task: Task):
+    """``task.setup()`` of this process, built on first use and kept."""
+    state = _CACHE.get(task.key)
+    if state is None:
+        restore_metadata(task.symbols)
+        state = task.setup()
+        _CACHE[task.key] = state
+        while len(_CACHE) > CACHE_SIZE:
+            _CACHE.popitem(last=False)
+    else:
+        _CACHE.move_to_end(task.key)
+    return state
+
+
+def run_batch(task: Task, items: list) -> tuple[list, float]:
+    """The results of ``items`` on this worker's state of ``task``, and the seconds they took."""
+    apply = worker_state(task)
+    t0 = time.perf_counter()
+    results = [apply(item) for item in items]
+    return results, time.perf_counter() - t0
+
+
+class Results:
+    """``(index, result)`` pairs as they finish; ``len`` is the number of items (progress bars)."""
+
+    def __init__(self, generator, size: int):
+        self._generator, self._size = generator, size
+
+    def __len__(self) -> int:
+        return self._size
+
+    def __iter__(self):
+        return self._generator
+
+
+def check_workers(workers, scheduler) -> None:
+    if workers is not None and (not isinstance(workers, int) or workers < 1):
+        raise InputError(f"--workers must be an integer >= 1, got {workers!r}")
+    if workers is not None and scheduler:
+        raise InputError("give --workers N (a local Dask cluster) or --scheduler ADDRESS (an existing "
+                         "one), not both")
+
+
+def local_start_method() -> str:
+    """How a LocalCluster starts its worker processes: ``spawn`` (Dask's default, safe) unless
+    ``LMIDSL_DASK_START`` says ``fork`` or ``forkserver``.  A forked worker starts in ~0.3 s
+    with lmidsl, sympy, cvxpy and this process's compiled model already imported (against
+    3–20 s spawned on a loaded 2-core machine), but forking a process with live threads can
+    hang the child: one forked worker did, after its parent had solved (docs/performance.md)."""
+    method = os.environ.get("LMIDSL_DASK_START") or "spawn"
+    if method not in multiprocessing.get_all_start_methods():
+        raise InputError(f"LMIDSL_DASK_START={method!r}: not a start method here "
+                         f"({', '.join(multiprocessing.get_all_start_methods())})")
+    return method
+
+
+@contextlib.contextmanager
+def _workers_ignore_ctrl_c():
+    """Worker processes started here ignore SIGINT (inherited): Ctrl-C at a terminal reaches the
+    whole process group, and this process alone ends the run (keeping what is stored) and closes
+    the cluster; workers would only print tracebacks.  Not from a thread other than the main one."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _check_address(address: str) -> None:
+    """A scheduler address Dask can parse (a malformed one is bad input, before any connection)."""
+    from distributed.comm import parse_address
+    from distributed.comm.registry import backends
+
+    try:
+        scheme, location = parse_address(address, strict=False)
+    except Exception:
+        scheme = location = ""
+    host, _, port = location.rpartition(":")
+    schemes = sorted(set(backends) - {"inproc"})           # inproc: this process only
+    if scheme not in schemes or not (host and port.isdigit()):
+        raise InputError(f"--scheduler {address!r}: expected an address such as tcp://HOST:8786 "
+                         f"(schemes: {', '.join(schemes)})")
+
+
+class Runner:
+    """Where independent items run (see the module doc); a context manager that starts and
+    closes the cluster::
+
+        with Runner(workers=2) as runner:
+            for index, result in runner.map(task, items):
+                ...
+    """
+
+    def __init__(self, workers: int | None = None, scheduler: str | None = None):
+        check_workers(workers, scheduler)
+        self.workers = 1 if workers is None else workers
+        self.scheduler = scheduler or None
+        self._cluster = self._client = None
+
+    @property
+    def parallel(self) -> bool:
+        return self.scheduler is not None or self.workers > 1
+
+    def describe(self) -> str:
+        if self.scheduler:
+            return f"Dask cluster at {self.scheduler} ({self._threads()} worker threads)"
+        return f"{self.workers} Dask worker processes (LocalCluster)" if self.parallel else "serial"
+
+    def __enter__(self) -> "Runner":
+        if not self.parallel:
+            return self
+        from distributed import Client, LocalCluster
+        if self.scheduler is None:
+            import dask
+            with dask.config.set({"distributed.worker.multiprocessing-method": local_start_method()}), \
+                    _workers_ignore_ctrl_c():
+                self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
+                                             dashboard_address=None, silence_logs=logging.CRITICAL)
+            self._client = Client(self._cluster, set_as_default=False)
+            return self
+        _check_address(self.scheduler)
+        try:
+            self._client = Client(self.scheduler, timeout=CONNECT_TIMEOUT, set_as_default=False)
+        except Exception as exc:   # OSError, TimeoutError, ValueError for a malformed address
+            reason = " ".join(str(exc).split()) or type(exc).__name__
+            raise InputError(f"--scheduler {self.scheduler}: cannot connect ({reason[:200]})") from None
+        try:
+            self._client.wait_for_workers(1, timeout=WORKER_TIMEOUT)
+        except Exception:
+            self.close()
+            raise InputError(f"--scheduler {self.scheduler}: no worker joined within {WORKER_TIMEOUT} s "
+                             f"(start some with `dask worker {self.scheduler}`)") from None
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        for thing in (self._client, self._cluster):
+            if thing is not None:
+                try:
+                    thing.close()
+                except Exception:        # closing after an interrupt: nothing left to save
+                    pass
+        self._client = self._cluster = None
+
+    def _threads(self) -> int:
+        return max(1, sum(self._client.nthreads().values())) if self._client is not None else 1
+
+    def map(self, task: Task, items: list) -> Results:
+        """``(index, result)`` for each of ``items``: in order when serial, as they finish else."""
+        items = list(items)
+        if not self.parallel:
+            return Results(((i, worker_state(task)(item)) for i, item in enumerate(items)), len(items))
+        if self._client is None:
+            raise RuntimeError("Runner.map outside its `with` block")
+        return Results(self._dask_map(task, items), len(items))
+
+    def _dask_map(self, task: Task, items: list):
+        from distributed import as_completed
+
+        client = self._client
+        shared = client.scatter(task, broadcast=True, hash=False)
+        queue = iter(enumerate(items))
+        batch, window, checked = 1, 2 * self._threads(), time.monotonic()
+        indices: dict = {}
+        finished = as_completed(loop=client.loop)
+
+        def submit() -> None:
+            while len(indices) < window:
+                chunk = list(itertools.islice(queue, batch))
+                if not chunk:
+                    return
+                future = client.submit(run_batch, shared, [item for _, item in chunk], pure=False)
+                indices[future] = [i for i, _ in chunk]
+                finished.add(future)
+
+        try:
+            submit()
+            for future in finished:
+                results, seconds = future.result()
+                done = indices.pop(future)
+                per_item = seconds / max(1, len(done))
+                batch = max(1, min(MAX_BATCH, int(TARGET_TASK_SECONDS / max(per_item, 1e-6))))
+                if time.monotonic() - checked > 2:        # an adaptive cluster may have grown
+                    window, checked = 2 * self._threads(), time.monotonic()
+                yield from zip(done, results)
+                submit()
+        finally:
+            client.cancel(list(indices) + [shared])
+
+
+def items_as_finished(results: Results, items: list, put) -> Results:
+    """The ``items`` themselves, in the order their ``results`` come back (a lazy iterable with a
+    ``len``, for a progress wrapper that labels items); ``put(index, result)`` is called for
+    each just before its item is yielded."""
+    def generate():
+        for index, result in results:
+            put(index, result)
+            yield items[index]
+    return Results(generate(), len(results))
