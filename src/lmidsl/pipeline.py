@@ -72,11 +72,8 @@ def other_solvers(model, first: Solution, backend: str, margin: float, **options
     """When the default solver returns no certified point, the backend's other solvers
     (:func:`lmidsl.solver.backends.fallback_solvers`), as ``lmidsl check`` would: the first
     certified answer is kept, and the notes say what was tried.  A solver's failure is not a
-    verdict on the problem.  When none is certified but the default solver failed outright and
-    another returned a point (e.g. SCS, "optimal_inaccurate"), that point is returned: its
-    objective is an estimate the automatic back-off can start from."""
+    verdict on the problem."""
     tried = [f"{first.solver}: {first.status}" + ("" if not first.ok else ", not certified")]
-    estimate = None
     for name in fallback_solvers(backend):
         if name.lower() == (first.solver or "").lower():
             continue
@@ -90,11 +87,8 @@ def other_solvers(model, first: Solution, backend: str, margin: float, **options
                                f"solved by {other.solver}")
             return other
         tried.append(f"{other.solver}: {other.status}" + ("" if not other.ok else ", not certified"))
-        if other.ok and estimate is None:
-            estimate = other
-    kept = first if first.ok or estimate is None else estimate
-    kept.notes.append("no solver returned a certified point: " + "; ".join(tried))
-    return kept
+    first.notes.append("no solver returned a certified point: " + "; ".join(tried))
+    return first
 
 
 def solve_instance(instance: Instance, solver: str | None = None, backend: str = "cvxpy",
@@ -126,13 +120,9 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str =
         uncertified = solution.analysis is not None and not solution.analysis.passed
         cond = solution.design.worst_condition if solution.design is not None else None
         ill = cond is not None and cond > ILL_CONDITIONED
-        point_fails = solution.ok and not solution.certified
-        if not (solution.ok and instance.theorem.conditioned and (failed or uncertified or ill or point_fails)):
+        if not (solution.ok and instance.theorem.conditioned and (failed or uncertified or ill)):
             return solution
-        if point_fails:
-            reason = (f"the LMIs do not hold at {solution.solver}'s point ({solution.status}, objective "
-                      f"{solution.objective:.6g}): backed off from that objective as an estimate")
-        elif failed:
+        if failed:
             reason = solution.message
         elif uncertified:
             reason = (f"{solution.analysis.theorem} did not certify the design recovered at the optimum "
