@@ -76,18 +76,13 @@ from __future__ import annotations
 import sympy as sp
 from sympy import Identity, ZeroMatrix
 
-from .factorization import Factorization, balanced_split
-
-
-def _square_pair(shape):
-    rows, cols = shape
-    return [(rows, rows), (cols, cols)]
+from .factorization import Factorization, balanced_split, square_pair
 
 
 mn_split = Factorization(
     "balanced M Nᵀ split",
     "M, N nonsingular with M Nᵀ = I − X Y; balanced SVD split, cond(M) = cond(N) = √cond(I − XY)",
-    _square_pair,
+    square_pair,
     lambda M: balanced_split(M, "I - X Y"),
 )
 """M, N with M Nᵀ = I − X Y (the Scherer–Gahinet–Chilali factorisation), balanced SVD split."""

@@ -66,7 +66,8 @@ def balanced_split(M: np.ndarray, label: str = "M"):
     return (R, S), report
 
 
-def _square_pair(shape):
+def square_pair(shape):
+    """Shapes of the two factors of a square split M = R Sᵀ of an (r × c) matrix: r × r, c × c."""
     rows, cols = shape
     return [(rows, rows), (cols, cols)]
 
@@ -74,6 +75,6 @@ def _square_pair(shape):
 rs_split = Factorization(
     "balanced R Sᵀ split",
     "R, S nonsingular with R Sᵀ = M; balanced SVD split, cond(R) = cond(S) = √cond(M)",
-    _square_pair,
+    square_pair,
     lambda M: balanced_split(M, "I - X Z^-1"),
 )
