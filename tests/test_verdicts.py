@@ -181,3 +181,20 @@ def test_a_solver_panic_is_a_solver_error_and_the_next_solver_answers(monkeypatc
     sol = lmidsl.solve(BRL, data=data)
     assert sol.solver != "CLARABEL" and sol.certified
     assert abs(sol.gamma - true) <= 1e-4 * true
+
+
+def test_a_named_solver_alone_cannot_declare_infeasible():
+    """The stress suite's lightly damped discrete plant (benchmarks/stress/cases.py, family
+    "light", seed 0: stable, a pole at radius 0.99982): with solver="CLARABEL" Clarabel fails and
+    its feasp says t* = 0.32 > 0, but CVXOPT's feasp finds the LMI strictly feasible, so the
+    verdict may not be "infeasible" (it was, when only an unnamed solver got a second opinion)."""
+    import importlib.util
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "stress" / "cases.py"
+    spec = importlib.util.spec_from_file_location("stress_cases", path)
+    cases = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(cases)
+    data = cases.system("light", 0, "discrete")
+    assert max(abs(np.linalg.eigvals(data["A"]))) < 1
+    sol = lmidsl.solve("textbook.brl_dt", data=cases.lists(data), solver="CLARABEL")
+    assert sol.status != "infeasible", sol.notes

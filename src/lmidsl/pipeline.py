@@ -189,16 +189,23 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
                 solution.notes.append(f"feasp as written said infeasible (t* = {report.tmin:.3g}); on the "
                                       f"conditioned LMIs: {conditioned.verdict} (t* = {conditioned.tmin})")
                 report = conditioned
-        if report.verdict == "infeasible" and solver is None:
-            # ... and a second solver: one solver's t* ≥ 0 is not a proof
-            for other in fallback_solvers(backend)[:1]:
+        if report.verdict == "infeasible":
+            # ... and a second solver, also when the user named one: one solver's t* ≥ 0 is not
+            # a proof (--solver CLARABEL called a stable plant with a pole at radius 0.99982
+            # "infeasible")
+            # the second solver: the backend's default (None) or its first fallback, whichever
+            # is not the one that said infeasible
+            for other in (None, *fallback_solvers(backend)):
                 second = feasp(instance, backend=backend, solver=other, detail=False,
                                margin=solution.margin if margin is None else margin)
+                if (second.solver or "").lower() == (report.solver or "").lower():
+                    continue
                 if second.verdict != "infeasible":
                     solution.notes.append(f"feasp with {report.solver} said infeasible (t* = {report.tmin:.3g}); "
                                           f"with {second.solver}: {second.verdict} (t* = {second.tmin}): "
                                           "not a proof of infeasibility")
                     report = second
+                break
         solution.feasp = report
         if report.verdict in ("infeasible", "marginal"):
             solution.solver_status = solution.status
