@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import time
 
-from .solver.backends import fallback_solvers, get_backend
+from .solver.backends import fallback_solvers, get_backend, other_solver
 from .certify import certify_by_analysis
 from .theorem.checks import run_checks
 from .errors import InputError, LmidslError
@@ -177,35 +177,28 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
     solution.analysis = None
     if diagnose and diagnosis_needed(solution):
         t0 = time.perf_counter()
-        report = feasp(instance, backend=backend, solver=solver,
-                       margin=solution.margin if margin is None else margin)
+        feasp_margin = solution.margin if margin is None else margin
+        report = feasp(instance, backend=backend, solver=solver, margin=feasp_margin)
         proposal = equilibrate(instance)
         if report.verdict == "infeasible" and not proposal.trivial:
             # an infeasibility verdict must survive the conditioning
             conditioned = feasp(instance, backend=backend, solver=solver, detail=False,
-                                margin=solution.margin if margin is None else margin,
-                                conditioning=proposal)
+                                margin=feasp_margin, conditioning=proposal)
             if conditioned.verdict != "infeasible":
                 solution.notes.append(f"feasp as written said infeasible (t* = {report.tmin:.3g}); on the "
                                       f"conditioned LMIs: {conditioned.verdict} (t* = {conditioned.tmin})")
                 report = conditioned
-        if report.verdict == "infeasible":
-            # ... and a second solver, also when the user named one: one solver's t* ≥ 0 is not
-            # a proof (--solver CLARABEL called a stable plant with a pole at radius 0.99982
-            # "infeasible")
-            # the second solver: the backend's default (None) or its first fallback, whichever
-            # is not the one that said infeasible
-            for other in (None, *fallback_solvers(backend)):
-                second = feasp(instance, backend=backend, solver=other, detail=False,
-                               margin=solution.margin if margin is None else margin)
-                if (second.solver or "").lower() == (report.solver or "").lower():
-                    continue
-                if second.verdict != "infeasible":
-                    solution.notes.append(f"feasp with {report.solver} said infeasible (t* = {report.tmin:.3g}); "
-                                          f"with {second.solver}: {second.verdict} (t* = {second.tmin}): "
-                                          "not a proof of infeasibility")
-                    report = second
-                break
+        other = other_solver(backend, report.solver) if report.verdict == "infeasible" else None
+        if other is not None:
+            # ... and a second solver's, also when the user named one: one solver's t* ≥ 0 is not
+            # a proof (solver="CLARABEL" called a stable plant with a pole at radius 0.99982
+            # "infeasible"; CVXOPT finds it strictly feasible)
+            second = feasp(instance, backend=backend, solver=other, detail=False, margin=feasp_margin)
+            if second.verdict != "infeasible":
+                solution.notes.append(f"feasp with {report.solver} said infeasible (t* = {report.tmin:.3g}); "
+                                      f"with {second.solver}: {second.verdict} (t* = {second.tmin}): "
+                                      "not a proof of infeasibility")
+                report = second
         solution.feasp = report
         if report.verdict in ("infeasible", "marginal"):
             solution.solver_status = solution.status

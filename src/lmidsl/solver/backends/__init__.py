@@ -23,6 +23,7 @@ class BackendInfo:
     module: str                  # relative module holding the model class
     model_class: str
     package: str                 # the pip package it needs
+    default: str = ""            # the solver used when none is named
     fallbacks: tuple = ()        # solvers tried, in order, when the default fails numerically
 
 
@@ -35,8 +36,9 @@ class SolverInfo:
 
 
 BACKEND_INFO = {
-    "cvxpy": BackendInfo("cvxpy", ".cvxpy_backend", "CvxpyModel", "cvxpy", fallbacks=("CVXOPT", "SCS")),
-    "picos": BackendInfo("picos", ".picos_backend", "PicosModel", "picos"),
+    "cvxpy": BackendInfo("cvxpy", ".cvxpy_backend", "CvxpyModel", "cvxpy", default="CLARABEL",
+                         fallbacks=("CVXOPT", "SCS")),
+    "picos": BackendInfo("picos", ".picos_backend", "PicosModel", "picos", default="cvxopt"),
 }
 BACKENDS = tuple(BACKEND_INFO)
 
@@ -116,6 +118,14 @@ def options_for(backend: str, solver: str, options: dict | None) -> dict:
 def fallback_solvers(backend: str) -> tuple:
     """Solvers to try, in order, after the default one failed numerically."""
     return backend_info(backend).fallbacks
+
+
+def other_solver(backend: str, solver: str | None) -> str | None:
+    """The first of the backend's default and fallback solvers that is not ``solver`` (a second
+    opinion), or None when the backend has no other."""
+    info = backend_info(backend)
+    others = [s for s in (info.default, *info.fallbacks) if s and s.lower() != (solver or "").lower()]
+    return others[0] if others else None
 
 
 def default_options(solver: str) -> dict:

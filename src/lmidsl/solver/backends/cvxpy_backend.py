@@ -13,10 +13,10 @@ import cvxpy as cp
 import numpy as np
 
 from ...errors import SolverUnavailableError
-from . import default_options
+from . import backend_info, default_options
 from .base import BackendCompiler, CompiledModel, solver_crashed
 
-DEFAULT_SOLVER = "CLARABEL"
+DEFAULT_SOLVER = backend_info("cvxpy").default
 
 _STATUS = {
     cp.OPTIMAL: "optimal",

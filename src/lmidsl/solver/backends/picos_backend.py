@@ -24,10 +24,11 @@ import numpy as np
 import picos
 
 from ...errors import InputError, SolverUnavailableError, TheoremDefinitionError
+from . import backend_info
 from .base import BackendCompiler, CompiledModel, solver_crashed
 from ..status import solved
 
-DEFAULT_SOLVER = "cvxopt"
+DEFAULT_SOLVER = backend_info("picos").default
 
 #: Options lmidsl passes unless the user overrides them.  PICOS's own defaults (all tolerances
 #: 1e-8, up to 10⁶ iterations) make CVXOPT stall on these LMIs and then fail in its LDL retry;
