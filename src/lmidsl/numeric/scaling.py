@@ -77,11 +77,13 @@ class AppliedScaling:
                         "recovered matrices are mapped back to the original data"}
 
 
-def _stack(values, axis):
-    arrays = []
-    for v in values:
-        arrays += v if isinstance(v, list) else [v]
-    return np.concatenate([np.atleast_2d(a) for a in arrays], axis=axis)
+def _matrices(data: dict, names) -> list:
+    """The matrices of the named data, every vertex of a per-vertex datum included."""
+    return [np.atleast_2d(v) for n in names for v in (data[n] if isinstance(data[n], list) else [data[n]])]
+
+
+def _stack(data: dict, names, axis):
+    return np.concatenate(_matrices(data, names), axis=axis)
 
 
 def _power_of_two(x: np.ndarray) -> np.ndarray:
@@ -104,10 +106,10 @@ def auto_factors(instance: Instance, decl) -> tuple[np.ndarray, str]:
         return scale * _equalising_factor(data, decl, square, scale), \
             f"matrix_balance({' + '.join(square)}) × 2^k equalising the input and output matrices"
     if decl.rows:
-        norms = np.linalg.norm(_stack([data[n] for n in decl.rows], axis=1), axis=1)
+        norms = np.linalg.norm(_stack(data, decl.rows, axis=1), axis=1)
         return _power_of_two(norms), f"2^round(log2 ‖row of [{' '.join(decl.rows)}]‖)"
     if decl.cols:
-        norms = np.linalg.norm(_stack([data[n] for n in decl.cols], axis=0), axis=0)
+        norms = np.linalg.norm(_stack(data, decl.cols, axis=0), axis=0)
         return 1.0 / _power_of_two(norms), f"2^-round(log2 ‖column of [{' '.join(decl.cols)}]‖)"
     raise InputError(f"{instance.theorem.id}: scaling of {decl.signal} names no data")
 
@@ -117,12 +119,10 @@ def _equalising_factor(data: dict, decl, square: list, scale: np.ndarray) -> flo
     gives the other producers (B: divided by c) and consumers (C: multiplied by c) the same
     norm: c = √(‖S⁻¹B‖ / ‖C S‖).  Without it, B ~ 100 and C ~ 0.01 after balancing make the
     Lyapunov matrix ~1e-3 and the strictness margin, not the problem, set the last digits."""
-    producers = [np.atleast_2d(v) for n in decl.rows if n not in square
-                 for v in (data[n] if isinstance(data[n], list) else [data[n]])]
-    consumers = [np.atleast_2d(v) for n in decl.cols if n not in square
-                 for v in (data[n] if isinstance(data[n], list) else [data[n]])]
-    b = max((np.linalg.norm(v / scale[:, None]) for v in producers), default=0.0)
-    c = max((np.linalg.norm(v * scale[None, :]) for v in consumers), default=0.0)
+    b = max((np.linalg.norm(v / scale[:, None])
+             for v in _matrices(data, [n for n in decl.rows if n not in square])), default=0.0)
+    c = max((np.linalg.norm(v * scale[None, :])
+             for v in _matrices(data, [n for n in decl.cols if n not in square])), default=0.0)
     if b == 0.0 or c == 0.0:
         return 1.0
     return float(2.0 ** np.round(0.5 * np.log2(b / c)))
