@@ -55,6 +55,14 @@ def bounded_real(thm: Theorem, label: str, A, B, C, D, n, *, P_name: str = "P"):
     return P, g
 
 
+def scale_state(thm: Theorem, rows: tuple, cols: tuple, recovered_cols: tuple = ()):
+    """Declare the plant state's exact similarity x = S x' (``rows``: data whose rows are ẋ's,
+    ``cols``: data acting on x, ``recovered_cols``: recovered gains acting on x): the library
+    balances A with it, and the transfer functions, hence the theorem's level, are unchanged."""
+    thm.scale_signal("x", rows=rows, cols=cols, recovered_cols=recovered_cols,
+                     description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
+
+
 def system_data(thm: Theorem):
     """The system A, B, C, D of the gallery's convention: n states, m inputs w, p outputs z."""
     n, m, p = thm.dim("n m p")
@@ -71,7 +79,7 @@ def _brl(name: str, time: str, source: Source) -> Theorem:
                                          "γ is the H∞ norm of (A, B, C, D).")
     (n, _, _), (A, B, C, D) = system_data(thm)
     bounded_real(thm, "(BRL)", A, B, C, D, n)
-    thm.scale_signal("x", rows=("A", "B"), cols=("A", "C"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
+    scale_state(thm, ("A", "B"), ("A", "C"))
     return thm
 
 

@@ -25,7 +25,7 @@ Q = C1ᵀC1, R = D12ᵀD12, N = C1ᵀD12 (python-control's ``lqr`` / ``dlqr`` ar
 from lmidsl import He, I, Source, Theorem, state_feedback_gain
 from sympy import Trace, sqrt
 
-from .brl import system_data
+from .brl import scale_state, system_data
 from .plants import random_plant, random_system, subset
 
 BOYD = ("Boyd, El Ghaoui, Feron, Balakrishnan, Linear Matrix Inequalities in System and "
@@ -81,7 +81,7 @@ def _analysis(name: str, time: str) -> Theorem:
         (n, m, p), (A, B, C, D) = system_data(thm)
     P = thm.var("P", n, kind="symmetric", description="bound on the controllability Gramian")
     h2_gramian(thm, A, B, C, D, n, p, P=P)
-    thm.scale_signal("x", rows=("A", "B"), cols=("A", "C"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
+    scale_state(thm, ("A", "B"), ("A", "C"))
     return thm
 
 
@@ -102,7 +102,7 @@ def _state_feedback(name: str, time: str) -> Theorem:
     W = thm.var("W", m2, n, description="W = K Y")
     h2_gramian(thm, A, B1, C1, D11, n, p1, P=Y, AP=A * Y + B2 * W, CP=C1 * Y + D12 * W)
     thm.recover(K=state_feedback_gain(W, Y))
-    thm.scale_signal("x", rows=("A", "B1", "B2"), cols=("A", "C1"), recovered_cols=("K",), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
+    scale_state(thm, ("A", "B1", "B2"), ("A", "C1"), recovered_cols=("K",))
     thm.certified_by(f"textbook.h2_{'ct' if time == 'continuous' else 'dt'}_sf_cl", design=("K",))
     thm.example("random-3", subset(random_plant(11, 3, 2, 1, 2, 1, time), SF_DATA[time]),
                 provenance="illustration",
@@ -126,7 +126,7 @@ def _sf_analysis(name: str, time: str) -> Theorem:
     Ccl = thm.define("C_cl", C1 + D12 * K, latex=r"C_{cl}")
     P = thm.var("P", n, kind="symmetric")
     h2_gramian(thm, Acl, B1, Ccl, D11, n, p1, P=P)
-    thm.scale_signal("x", rows=("A", "B1", "B2"), cols=("A", "C1", "K"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
+    scale_state(thm, ("A", "B1", "B2"), ("A", "C1", "K"))
     return thm
 
 

@@ -15,9 +15,10 @@ Af = N⁻¹(Â − Y A X − B̂ C2 X) M⁻ᵀ, Bf = N⁻¹B̂, Cf = (Ĉ − D̂
 The analysis counterpart is the bounded real lemma of the error system
 (:func:`lmidsl.filter_error_matrices`).
 """
-from lmidsl import He, I, Source, Theorem, filter_blocks, filter_error_matrices, full_order_filter
+from lmidsl import Source, Theorem, filter_blocks, filter_error_matrices, full_order_filter
 
-from .brl import bounded_real
+from .brl import bounded_real, scale_state
+from .hinf_of import full_order_hinf_lmis
 from .plants import filter_cases
 
 GDB = ("Geromel, de Oliveira, Bernussou, Robust filtering of discrete-time linear systems with "
@@ -49,7 +50,7 @@ def _analysis(name: str, time: str) -> Theorem:
     names = {"A": r"\mathcal{A}", "B": r"\mathcal{B}", "C": r"\mathcal{C}", "D": r"\mathcal{D}"}
     e = {k: thm.define(f"{k}_e", v, latex=names[k]) for k, v in e.items()}
     bounded_real(thm, "(BRL-e)", e["A"], e["B"], e["C"], e["D"], n + nf)
-    thm.scale_signal("x", rows=("A", "B1"), cols=("A", "C1", "C2"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
+    scale_state(thm, ("A", "B1"), ("A", "C1", "C2"))
     return thm
 
 
@@ -68,30 +69,11 @@ def _synthesis(name: str, time: str, analysis: Theorem) -> Theorem:
     Dh = thm.var("Dh", p1, p2, latex=r"\hat{D}")
     g = thm.scalar("gamma", latex=r"\gamma", description="H∞ level")
     b = filter_blocks(X, Y, Ah, Bh, Ch, Dh, *(d[k] for k in PLANT))
-    if time == "continuous":
-        thm.lmi("(F)", [
-            [He(b["A11"])],
-            [b["A21"] + b["A12"].T, He(b["A22"])],
-            [b["B1"].T, b["B2"].T, -g * I],
-            [b["C1"], b["C2"], b["D"], -g * I],
-        ])
-        thm.lmi("(XY)", [
-            [X],
-            [I, Y],
-        ], sense=">")
-    else:
-        thm.lmi("(F)", [
-            [-X],
-            [-I, -Y],
-            [0, 0, -g * I],
-            [b["A11"], b["A12"], b["B1"], -X],
-            [b["A21"], b["A22"], b["B2"], -I, -Y],
-            [b["C1"], b["C2"], b["D"], 0, 0, -g * I],
-        ])
+    full_order_hinf_lmis(thm, "(F)", b, g, X, Y)
     thm.minimize(g, performance=("gamma", g))
     thm.recover(**full_order_filter(thm, X, Y, Ah, Bh, Ch, Dh, d["A"], d["C2"]))
     thm.certified_by(analysis, design=FILTER)
-    thm.scale_signal("x", rows=("A", "B1"), cols=("A", "C1", "C2"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
+    scale_state(thm, ("A", "B1"), ("A", "C1", "C2"))
     thm.well_conditioned(X, Y)
     thm.example("random-3", dict(filter_cases(time)[2][1]), provenance="illustration",
                 provenance_note="a random stable plant, numpy seed 2002 (theorems/textbook/plants.py)")

@@ -29,7 +29,7 @@ with the controller given (:func:`lmidsl.closed_loop_matrices`, general D22).
 from lmidsl import (He, I, Source, Theorem, closed_loop_matrices, output_feedback,
                     output_feedback_blocks)
 
-from .brl import bounded_real
+from .brl import bounded_real, scale_state
 from .plants import random_plant
 
 SGC = ("Scherer, Gahinet, Chilali, Multiobjective output-feedback control via LMI optimization, "
@@ -68,8 +68,35 @@ def _analysis(name: str, time: str) -> Theorem:
     names = {"A": r"\mathcal{A}", "B": r"\mathcal{B}", "C": r"\mathcal{C}", "D": r"\mathcal{D}"}
     cl = {k: thm.define(f"{k}_cl", v, latex=names[k]) for k, v in cl.items()}
     bounded_real(thm, "(BRL-cl)", cl["A"], cl["B"], cl["C"], cl["D"], n + nk)
-    thm.scale_signal("x", rows=("A", "B1", "B2"), cols=("A", "C1", "C2"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
+    scale_state(thm, ("A", "B1", "B2"), ("A", "C1", "C2"))
     return thm
+
+
+def full_order_hinf_lmis(thm: Theorem, label: str, b: dict, g, X, Y):
+    """The full-order H∞ LMI in the linearising variables (Scherer, Gahinet, Chilali 1997; the
+    filter case of Geromel et al. is the same with its own blocks ``b``): continuous time
+    [[He(A11)], [A21 + A12ᵀ, He(A22)], [B1ᵀ, B2ᵀ, −γI], [C1, C2, D, −γI]] ≺ 0 with [[X, I], [I, Y]] ≻ 0
+    ("(XY)"); discrete time the 6×6 block form with −X, −Y on the diagonal."""
+    if thm.time == "continuous":
+        thm.lmi(label, [
+            [He(b["A11"])],
+            [b["A21"] + b["A12"].T, He(b["A22"])],
+            [b["B1"].T, b["B2"].T, -g * I],
+            [b["C1"], b["C2"], b["D"], -g * I],
+        ])
+        thm.lmi("(XY)", [
+            [X],
+            [I, Y],
+        ], sense=">")
+    else:
+        thm.lmi(label, [
+            [-X],
+            [-I, -Y],
+            [0, 0, -g * I],
+            [b["A11"], b["A12"], b["B1"], -X],
+            [b["A21"], b["A22"], b["B2"], -I, -Y],
+            [b["C1"], b["C2"], b["D"], 0, 0, -g * I],
+        ])
 
 
 def _synthesis(name: str, time: str, analysis: Theorem) -> Theorem:
@@ -89,30 +116,11 @@ def _synthesis(name: str, time: str, analysis: Theorem) -> Theorem:
     g = thm.scalar("gamma", latex=r"\gamma", description="H∞ level")
     b = output_feedback_blocks(X, Y, Ah, Bh, Ch, Dh, d["A"], d["B1"], d["B2"], d["C1"], d["C2"],
                                d["D11"], d["D12"], d["D21"])
-    if time == "continuous":
-        thm.lmi("(OF)", [
-            [He(b["A11"])],
-            [b["A21"] + b["A12"].T, He(b["A22"])],
-            [b["B1"].T, b["B2"].T, -g * I],
-            [b["C1"], b["C2"], b["D"], -g * I],
-        ])
-        thm.lmi("(XY)", [
-            [X],
-            [I, Y],
-        ], sense=">")
-    else:
-        thm.lmi("(OF)", [
-            [-X],
-            [-I, -Y],
-            [0, 0, -g * I],
-            [b["A11"], b["A12"], b["B1"], -X],
-            [b["A21"], b["A22"], b["B2"], -I, -Y],
-            [b["C1"], b["C2"], b["D"], 0, 0, -g * I],
-        ])
+    full_order_hinf_lmis(thm, "(OF)", b, g, X, Y)
     thm.minimize(g, performance=("gamma", g))
     thm.recover(**output_feedback(thm, X, Y, Ah, Bh, Ch, Dh, d["A"], d["B2"], d["C2"], d["D22"]))
     thm.certified_by(analysis, design=CONTROLLER)
-    thm.scale_signal("x", rows=("A", "B1", "B2"), cols=("A", "C1", "C2"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
+    scale_state(thm, ("A", "B1", "B2"), ("A", "C1", "C2"))
     thm.well_conditioned(X, Y)
     return thm
 

@@ -23,7 +23,7 @@ loop with K given.
 """
 from lmidsl import He, I, Source, Theorem, state_feedback_closed_loop, state_feedback_gain
 
-from .brl import bounded_real
+from .brl import bounded_real, scale_state
 from .plants import random_plant, subset
 
 GA = ("Gahinet, Apkarian, A linear matrix inequality approach to H∞ control, "
@@ -55,7 +55,7 @@ def _analysis(name: str, time: str) -> Theorem:
     Acl = thm.define("A_cl", cl["A"], latex=r"A_{cl}")
     Ccl = thm.define("C_cl", cl["C"], latex=r"C_{cl}")
     bounded_real(thm, "(BRL-cl)", Acl, cl["B"], Ccl, cl["D"], n)
-    thm.scale_signal("x", rows=("A", "B1", "B2"), cols=("A", "C1", "K"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
+    scale_state(thm, ("A", "B1", "B2"), ("A", "C1", "K"))
     return thm
 
 
@@ -88,7 +88,7 @@ def _synthesis(name: str, time: str, analysis: Theorem) -> Theorem:
     thm.minimize(g, performance=("gamma", g))
     thm.recover(K=state_feedback_gain(W, Y))
     thm.certified_by(analysis, design=("K",))
-    thm.scale_signal("x", rows=("A", "B1", "B2"), cols=("A", "C1"), recovered_cols=("K",), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
+    scale_state(thm, ("A", "B1", "B2"), ("A", "C1"), recovered_cols=("K",))
     thm.well_conditioned(Y)
     thm.example("random-3", subset(random_plant(11, 3, 2, 1, 2, 1, time), SF_DATA),
                 provenance="illustration",

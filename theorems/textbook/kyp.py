@@ -21,6 +21,7 @@ function.  The independent check is a frequency sweep of the Hermitian part.
 """
 from lmidsl import He, I, Source, Theorem
 
+from .brl import scale_state
 from .plants import random_system
 
 BOYD = ("Boyd, El Ghaoui, Feron, Balakrishnan, Linear Matrix Inequalities in System and "
@@ -50,7 +51,7 @@ def _kyp(name: str, time: str) -> Theorem:
             [B.T * P * A - C, B.T * P * B + 2 * nu * I - D - D.T],
         ])
     thm.minimize(-nu, performance=("nu", nu))
-    thm.scale_signal("x", rows=("A", "B"), cols=("A", "C"), description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
+    scale_state(thm, ("A", "B"), ("A", "C"))
     return thm
 
 

@@ -20,6 +20,7 @@ closed-loop eigenvalues.
 from lmidsl import He, Source, Theorem, state_feedback_gain
 from sympy import cos, sin
 
+from .brl import scale_state
 from .plants import random_plant, subset
 
 CG = ("Chilali, Gahinet, H∞ design with pole placement constraints: an LMI approach, "
@@ -59,8 +60,7 @@ pole_region_sf_ct.lmi("(sector)", [
 pole_region_sf_ct.positive(X)
 pole_region_sf_ct.feasibility()
 pole_region_sf_ct.recover(K=state_feedback_gain(W, X))
-pole_region_sf_ct.scale_signal("x", rows=("A", "B2"), cols=("A",), recovered_cols=("K",),
-                               description="plant state x = s·x' (a similarity: the transfer functions are unchanged)")
+scale_state(pole_region_sf_ct, ("A", "B2"), ("A",), recovered_cols=("K",))
 pole_region_sf_ct.example("random-4", subset(random_plant(41, 4, 1, 2, 3, 1, "continuous"), ("A", "B2")),
                           params={"alpha": 0.5, "q": 0.0, "r": 10.0, "theta": 0.7853981633974483},
                           provenance="illustration",
