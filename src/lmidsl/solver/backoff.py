@@ -24,14 +24,13 @@ the solves it took.  Implemented for the cvxpy backend.
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 import sympy as sp
 
 from ..errors import InputError, LmidslError, SolverUnavailableError
 from ..numeric.evaluate import NumericEvaluator
-from .backends.base import solver_crashed
+from .status import solved
 
 GOLDEN = (math.sqrt(5) - 1) / 2
 
@@ -51,14 +50,6 @@ def condition_numbers(instance, values: dict) -> dict:
 
 
 DEFAULT_DELTA = 1e-2
-
-
-def _quiet_solve(problem, solver: str, options: dict) -> None:
-    """``problem.solve`` without cvxpy's "Solution may be inaccurate" warning: the status says
-    so, and each back-off point is certified anyway."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UserWarning)
-        problem.solve(solver=solver, **options)
 
 
 def backoff_solution(model, solution, delta: float, solver=None, iterations: int = 12,
@@ -88,13 +79,12 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
     name = model.solver_name(solver)
 
     t_var = cp.Variable()
-    try:
-        _quiet_solve(cp.Problem(cp.Maximize(t_var), base + [E >> t_var * Id for E, Id in blocks]), name, options)
-    except BaseException as exc:
-        if not solver_crashed(exc, (cp.error.SolverError, ArithmeticError, ValueError)):
-            raise
+    # the backend's own call: options as for any solve, a solver's crash is a status, no warnings
+    status, _, message, _ = model.run_solver(
+        name, problem=cp.Problem(cp.Maximize(t_var), base + [E >> t_var * Id for E, Id in blocks]), **options)
+    if status == "solver_error":
         solution.backoff = {"delta": delta, "failed": f"{name} failed on the first conditioning solve "
-                            f"({type(exc).__name__}); try another solver or a larger δ", "solves": 1}
+                            f"({message}); try another solver or a larger δ", "solves": 1}
         return solution
     solves = 1
     if t_var.value is None or not t_var.value > 0:
@@ -110,14 +100,11 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
     def ratio(u):
         nonlocal solves
         t.value = math.exp(u)
-        try:
-            _quiet_solve(problem, name, options)
-        except BaseException as exc:
-            if not solver_crashed(exc, (cp.error.SolverError, ArithmeticError, ValueError)):
-                raise
+        status, *_ = model.run_solver(name, problem=problem, **options)
+        if status == "solver_error":
             return math.inf
         solves += 1
-        if problem.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) or kappa.value is None:
+        if not solved(status) or kappa.value is None:
             return math.inf
         return float(kappa.value) / t.value
 
