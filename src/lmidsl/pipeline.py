@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import time
 
-from .solver.backends import fallback_solvers, get_backend, other_solver
+from .solver.backends import get_backend, other_solver
+from .solver.fallback import with_fallbacks
 from .certify import certify_by_analysis
 from .theorem.checks import run_checks
 from .errors import InputError, LmidslError
@@ -23,7 +24,7 @@ from .theorem.registry import get_example, get_theorem
 from .solver.solution import Solution, evaluate_reported, lmi_certificate
 from .theorem.theorem import Theorem
 from .solver.backoff import DEFAULT_DELTA
-from .solver.backoff import backoff_solution
+from .solver.backoff import backoff_solution, level_solution
 
 
 def as_theorem(theorem) -> Theorem:
@@ -68,29 +69,6 @@ ILL_CONDITIONED = 1e6
 """A recovery inverting a matrix of larger condition number is backed off from (``backoff="auto"``)."""
 
 
-def other_solvers(model, first: Solution, backend: str, margin: float, **options) -> Solution:
-    """When the default solver returns no certified point, the backend's other solvers
-    (:func:`lmidsl.solver.backends.fallback_solvers`), as ``lmidsl check`` would: the first
-    certified answer is kept, and the notes say what was tried.  A solver's failure is not a
-    verdict on the problem."""
-    tried = [f"{first.solver}: {first.status}" + ("" if not first.ok else ", not certified")]
-    for name in fallback_solvers(backend):
-        if name.lower() == (first.solver or "").lower():
-            continue
-        model.set_margin(margin)           # each solver starts from the base margin
-        try:
-            other = solve_model(model, name, **options)
-        except LmidslError:          # not installed here
-            continue
-        if other.ok and other.certified:
-            other.notes.append(f"the default solver gave no certified point ({tried[0]}); "
-                               f"solved by {other.solver}")
-            return other
-        tried.append(f"{other.solver}: {other.status}" + ("" if not other.ok else ", not certified"))
-    first.notes.append("no solver returned a certified point: " + "; ".join(tried))
-    return first
-
-
 def solve_instance(instance: Instance, solver: str | None = None, backend: str = "cvxpy",
                    margin: float | None = None, certify: bool = True, scaling="auto",
                    backoff: float | None = None, diagnose: bool = True, **options) -> Solution:
@@ -107,8 +85,10 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str =
     solution, model = solve_conditioned(applied.scaled, get_backend(backend),
                                         lambda m: solve_model(m, solver, **options), margin)
     base_margin = margin if margin is not None else DEFAULT_MARGIN
-    if solver is None and not (solution.ok and solution.certified):
-        solution = other_solvers(model, solution, backend, base_margin, **options)
+    if solver is None:     # no certified point, or a margin-set γ: the other routes
+        solution = with_fallbacks(
+            model, solution, lambda m, name: solve_model(m, name, **(options if m.backend == backend else {})),
+            base_margin)
     solution.scaling = applied
     reason = None
     if backoff == "auto":
@@ -131,35 +111,67 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str =
             reason = f"the recovery at the optimum inverts a matrix of condition number {cond:.3g}"
         backoff = DEFAULT_DELTA
     if backoff is not None and solution.ok:
-        optimum = solution
-        t0 = time.perf_counter()
-        try:
-            solution = backoff_solution(model, optimum, backoff, solver, **options)
-        except LmidslError as exc:
-            if reason is None:        # a back-off the user asked for: their δ is at fault
-                raise
-            optimum.notes.append(f"automatic back-off failed: {exc}")
-            solution = optimum
-        solution.times["backoff"] = time.perf_counter() - t0
-        if reason and solution.backoff is not None:
-            solution.backoff["reason"] = reason
-        if instance.theorem.recovery and solution.backoff is not None:
-            try:
-                solution.backoff["recovery_cond_before"] = recover(applied.scaled, optimum.values)[1]
-            except LmidslError as exc:
-                solution.backoff["recovery_cond_before"] = f"recovery failed: {exc}"
-        if solution is optimum:
-            return solution
+        finish = dict(solver=solver, backend=backend, certify=certify, diagnose=diagnose, margin=base_margin)
+        return backed_off(model, applied, solution, backoff, reason, finish, **options)
     finish_solution(solution, solver=solver, backend=backend, certify=certify, diagnose=diagnose,
                     margin=base_margin)
-    if reason is not None and not solution.verdict()[0]:
-        # an automatic back-off is kept only if it is certified: it must not cost a certificate,
-        # and an uncertified back-off point (a thin slab, an inaccurate solve) can be worse than
-        # the optimum (hinf_of_dt plant-2: an unstable controller where the optimum's is stable)
-        optimum.notes.append("the automatic back-off point is not certified "
-                             f"({'; '.join(solution.verdict()[1])}): the optimum's design is kept")
-        return optimum
     return solution
+
+
+def backed_off(model, applied, optimum: Solution, delta: float, reason: str | None, finish: dict,
+               **options) -> Solution:
+    """The design at objective ≤ (1 + δ)·optimum (:mod:`lmidsl.solver.backoff`): the
+    condition-minimising search, then, when it fails or its point is not certified, the level
+    problem along the fallback routes.  ``reason`` (an automatic back-off): a back-off point is
+    kept only if certified — it must not cost a certificate, and an uncertified back-off point (a
+    thin slab, an inaccurate solve) can be worse than the optimum (hinf_of_dt plant-2: an
+    unstable controller where the optimum's is stable); otherwise the optimum (``finish`` done
+    on it already) is returned with the notes.  Without ``reason`` (the user's δ) the search's
+    answer is returned as it is."""
+    solver = finish["solver"]
+    instance = optimum.instance
+    t0 = time.perf_counter()
+    try:
+        candidate = backoff_solution(model, optimum, delta, solver, **options)
+    except LmidslError as exc:
+        if reason is None:        # a back-off the user asked for: their δ is at fault
+            raise
+        optimum.notes.append(f"automatic back-off failed: {exc}")
+        candidate = optimum
+    searched = candidate is not optimum
+    if searched:
+        finish_solution(candidate, **finish)
+    if not (searched and (reason is None or candidate.verdict()[0])):
+        level = level_solution(model, optimum, delta, solver, **options)
+        if level is None:
+            optimum.notes.append(f"the level problem at objective ≤ (1 + {delta:g}) × optimum gave no "
+                                 "certified point on any route")
+        elif reason is not None and not (finish_solution(level, **finish) and level.verdict()[0]):
+            optimum.notes.append(f"the level problem's point ({level.backoff['tried'][-1]}) is not "
+                                 f"certified: {'; '.join(level.verdict()[1])}")
+        else:
+            if reason is None:
+                finish_solution(level, **finish)
+            level.notes.append("the condition-minimising back-off " + ("was not certified" if searched else "failed")
+                               + f"; the level problem's point was kept ({level.backoff['tried'][-1]})")
+            candidate, searched = level, True
+        if searched and reason is not None and not candidate.verdict()[0]:
+            optimum.notes.append("the automatic back-off point is not certified "
+                                 f"({'; '.join(candidate.verdict()[1])}): the optimum's design is kept")
+            candidate, searched = optimum, False
+    if not searched:
+        if optimum.design is None and optimum.analysis is None and reason is None:
+            finish_solution(optimum, **finish)       # the user's back-off failed: the optimum
+        return optimum
+    candidate.times["backoff"] = time.perf_counter() - t0
+    if reason:
+        candidate.backoff["reason"] = reason
+    if instance.theorem.recovery:
+        try:
+            candidate.backoff["recovery_cond_before"] = recover(applied.scaled, optimum.values)[1]
+        except LmidslError as exc:
+            candidate.backoff["recovery_cond_before"] = f"recovery failed: {exc}"
+    return candidate
 
 
 def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=True,

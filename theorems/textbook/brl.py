@@ -52,6 +52,7 @@ def bounded_real(thm: Theorem, label: str, A, B, C, D, n, *, P_name: str = "P"):
         ])
     thm.positive(P)
     thm.minimize(g, performance=("gamma", sqrt(g)))
+    thm.bounded_real_form(P, g, (A, B, C, D))
     return P, g
 
 

@@ -10,8 +10,8 @@ The minimum sits on the boundary of the strict set, where a solver's point may m
 LMIs by its tolerance.  When it does, the analysis is solved again as a feasibility problem at a
 level (the synthesis γ, else the minimum plus the tolerance): a point inside the strict set at
 that level is the certificate (``method`` "level").  When the default solver fails numerically,
-the backend's fallback solvers (:func:`lmidsl.solver.backends.fallback_solvers`) are tried (the certificate is numpy's, whichever solver found the
-point).  An analysis without a certified point carries the feasp diagnosis
+the fallback routes (:func:`lmidsl.solver.backends.fallback_routes`: other solvers, other
+backends) are tried (the certificate is numpy's, whichever route found the point).  An analysis without a certified point carries the feasp diagnosis
 (:mod:`lmidsl.solver.feasibility`).
 """
 from __future__ import annotations
@@ -22,15 +22,18 @@ import numpy as np
 import sympy as sp
 
 from ..errors import InputError, LmidslError
+from ..numeric.evaluate import NumericEvaluator
 from ..numeric.instance import Instance, bind
+from ..numeric.riccati import hinf_norm, storage_candidates
 from ..numeric.scaling import apply_scaling
-from ..solver.backends import fallback_solvers, get_backend
+from ..solver.backends import Route, fallback_routes, get_backend, is_first_order
+from ..solver.fallback import better
 from ..solver.conditioning import equilibrate
 from ..solver.feasibility import feasp
 from ..solver.margin import solve_model
 from ..numeric.proof import PROVED
-from ..solver.solution import evaluate_reported, lmi_certificate
-from ..solver.status import solved
+from ..solver.solution import Solution, evaluate_performance, evaluate_reported, lmi_certificate
+from ..solver.status import OPTIMAL, solved
 from ..solver.status import worst as worst_status
 from ..theorem.registry import linked_analysis
 
@@ -133,27 +136,78 @@ def _attempt(model, solver, synthesis_gamma, tolerance):
     return sol, "min", minimum
 
 
-def _solve_one(instance, model_class, solver, backend, synthesis_gamma, tolerance):
-    """(solution, method, min γ, solver used): the requested solver, else the fallbacks; each on
-    the analysis as written and, where :func:`equilibrate` proposes one, conditioned — the
-    certified answer with the lower γ is kept (each is a valid certificate)."""
-    candidates = [solver] if solver is not None else [None, *fallback_solvers(backend)]
+RICCATI_LEVELS = (1e-5, 1e-3)
+"""Levels γ = ‖G‖∞ (1 + r) tried first by the Riccati route, then the synthesis γ (and + tolerance)."""
+
+
+def riccati_point(instance: Instance, synthesis_gamma, tolerance):
+    """A certified point of a theorem declaring its bounded-real form
+    (:meth:`Theorem.bounded_real_form`) with P from the Riccati equation
+    (:mod:`lmidsl.numeric.riccati`), no SDP; None when the theorem declares none, the system is
+    unstable, or no level certifies.  The levels: python-control's norm × (1 + r) for r in
+    :data:`RICCATI_LEVELS` (γ then states the design's own norm, as the analysis minimum
+    would), then the synthesis γ and γ (1 + tolerance)."""
+    form = instance.theorem.bounded_real
+    if form is None:
+        return None
+    ev = NumericEvaluator(instance.dims, dict(instance.data), instance.params)
+    A, B, C, D = (np.atleast_2d(np.asarray(ev.visit(e), dtype=float)) for e in form.system)
+    time = instance.theorem.time
+    norm = hinf_norm(A, B, C, D, time)
+    if norm is None:
+        return None
+    levels = [norm * (1 + r) for r in RICCATI_LEVELS]
+    if synthesis_gamma is not None:
+        levels += [synthesis_gamma, synthesis_gamma * (1 + tolerance)]
+    for gamma in sorted({g for g in levels if g > norm}):
+        for eps, P in storage_candidates(A, B, C, D, gamma ** 2, time, norm):
+            values = {form.storage.name: P, form.level.name: gamma ** 2}
+            point = {**instance.data, **values}
+            lmis = lmi_certificate(instance, point)
+            if lmis and all(r.max_eig < 0 for r in lmis):
+                sol = Solution(instance.theorem.id, instance.example, "riccati", "scipy ARE", OPTIMAL,
+                               objective=gamma ** 2, gamma=evaluate_performance(instance, point),
+                               lmis=lmis, values=values, params=dict(instance.params), instance=instance)
+                sol.notes.append(f"P from the bounded-real Riccati equation at γ = {gamma:.10g} "
+                                 f"(python-control's norm {norm:.10g}; CᵀC + εI with ε = {eps:.3g})")
+                return sol
+    return None
+
+
+def _solve_one(instance, solver, backend, synthesis_gamma, tolerance):
+    """(solution, method, min γ, route used): the requested solver, else the default and the
+    fallback routes (:mod:`lmidsl.solver.fallback`); each on the analysis as written and, where
+    :func:`equilibrate` proposes one, conditioned — the certified answer with the lower γ is kept
+    (each is a valid certificate)."""
+    routes = [Route(backend, solver)] if solver is not None else \
+        [Route(backend, None), *fallback_routes(backend)]
     proposal = equilibrate(instance)
     conditionings = [None] if proposal.trivial else [None, proposal]
+    def certified(sol):
+        return sol.ok and sol.certified
+
+    if solver is None:          # no SDP where the Riccati equation gives the point
+        riccati = riccati_point(instance, synthesis_gamma, tolerance)
+        if riccati is not None and (synthesis_gamma is None or riccati.gamma <= synthesis_gamma * (1 + tolerance)):
+            return riccati, "riccati", riccati.gamma, "riccati/scipy ARE"
+
+    def enough(sol):       # certified at the synthesis level: no other route can do better
+        return certified(sol) and (synthesis_gamma is None or sol.gamma is not None
+                                   and sol.gamma <= synthesis_gamma * (1 + tolerance))
+
     result = None
-    for name in candidates:
+    for route in routes:
+        if result is not None and certified(result[0]) and is_first_order(route.solver or ""):
+            break          # a first-order solver would not sharpen a certified γ, only cost time
         for conditioning in conditionings:
             try:
-                sol, method, minimum = _attempt(model_class(instance, conditioning=conditioning), name,
-                                                synthesis_gamma, tolerance)
-            except LmidslError:      # a fallback solver that is not installed
+                model = get_backend(route.backend)(instance, conditioning=conditioning)
+                sol, method, minimum = _attempt(model, route.solver, synthesis_gamma, tolerance)
+            except LmidslError:      # a fallback backend or solver that is not installed
                 break
-            certified = sol.ok and sol.certified
-            if result is None or (certified and not (result[0].ok and result[0].certified)) or \
-                    (certified and sol.gamma is not None and result[0].gamma is not None
-                     and sol.gamma < result[0].gamma):
-                result = (sol, method, minimum, sol.solver)
-        if result is not None and result[0].ok and result[0].certified:
+            if result is None or better(result[0], sol) is sol:
+                result = (sol, method, minimum, f"{sol.backend}/{sol.solver}")
+        if enough(result[0]):
             break
     return result
 
@@ -179,8 +233,8 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
                    example=instance.example)
         scaled = apply_scaling(sub, "auto")
         scalings.append(scaled.as_dict())
-        sol, method, minimum, used = _solve_one(scaled.scaled, get_backend(backend), solver,
-                                                backend, synthesis_gamma, link.gamma_tolerance)
+        sol, method, minimum, used = _solve_one(scaled.scaled, solver, backend, synthesis_gamma,
+                                                link.gamma_tolerance)
         solvers.append(used)
         if not (sol.ok and sol.certified):
             report = feasp(scaled.scaled, backend=backend, solver=solver)

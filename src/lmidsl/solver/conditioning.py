@@ -44,6 +44,7 @@ from ..numeric.evaluate import NumericEvaluator
 from ..numeric.instance import Instance
 from ..symbolic.symbols import DECISION_TYPES, ScalarVariable, StructuredVariable
 from ..symbolic.uncertainty import scenarios
+from .fallback import better
 
 MAX_EXPONENT = 60
 PULL = 1e-2          # weight of log f = 0 for every factor (fixes the directions left free)
@@ -194,18 +195,6 @@ def equilibrate(instance: Instance) -> Equilibration:
     return result
 
 
-def _better(first, second):
-    """The solution to keep: a certified one over an uncertified one; of two certified ones, the
-    lower objective (each is a valid bound); otherwise the first."""
-    ok1, ok2 = first.ok and first.certified, second.ok and second.certified
-    if ok2 and not ok1:
-        return second
-    if ok1 and ok2 and first.objective is not None and second.objective is not None \
-            and second.objective < first.objective:
-        return second
-    return first
-
-
 def solve_conditioned(instance: Instance, model_class, solve, margin: float | None = None):
     """(solution, model): ``solve(model)`` on the theorem as written and, when
     :func:`equilibrate` proposes a scaling, on the conditioned model too; the better answer is
@@ -217,7 +206,7 @@ def solve_conditioned(instance: Instance, model_class, solve, margin: float | No
         return solution, plain
     conditioned = model_class(instance, margin=margin, conditioning=proposal)
     other = solve(conditioned)
-    kept = _better(solution, other)
+    kept = better(solution, other)
     before, after = proposal.spread
     def said(s):
         return f"{s.status}" + (f", objective {s.objective:.8g}" if s.objective is not None else "") + \

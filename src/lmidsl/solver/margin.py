@@ -58,6 +58,8 @@ def solve_model(model, solver: str | None = None, escalate: bool = True,
         calls += _solver_call_time(solution)
     if len(tried) == 1 and solution.ok and solution.certified:
         solution, calls = _reduce_margin(model, solver, solution, calls, restore_margin, **options)
+    elif solution.ok and solution.certified:
+        _flag_margin_limited(model, solution)   # an escalated margin can set the optimum
     solution.times["solver_calls"] = calls
     if len(tried) > 1:
         solution.notes.append(
@@ -84,13 +86,19 @@ def _reduce_margin(model, solver, solution: Solution, calls: float, restore: boo
     if len(tried) > 1:
         solution.notes.append("margin reduced " + " -> ".join(f"{m:g}" for m in tried)
                               + " (it was setting the optimum)")
+    _flag_margin_limited(model, solution, influence)
+    if restore and model.margin != base:
+        model.set_margin(base)
+    return solution, calls
+
+
+def _flag_margin_limited(model, solution: Solution, influence: float | None = None) -> None:
+    """Set ``margin_limited`` (with a note) when ε·Σ tr Z_k exceeds MARGIN_INFLUENCE of the objective."""
+    influence = margin_influence(model, solution) if influence is None else influence
     if influence is not None and influence > MARGIN_INFLUENCE:
         solution.margin_limited = True
         solution.notes.append(f"the strictness margin still moves the optimum by {influence:.1e} "
                               "(relative): gamma is a certified bound, not the optimum")
-    if restore and model.margin != base:
-        model.set_margin(base)
-    return solution, calls
 
 
 def _solver_call_time(solution: Solution) -> float:

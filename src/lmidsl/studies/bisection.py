@@ -22,7 +22,7 @@ from dataclasses import dataclass, field, replace
 from ..errors import InputError, LmidslError
 from ..numeric.instance import Instance
 from ..pipeline import finish_solution
-from ..solver.backends import fallback_solvers, get_backend
+from ..solver.backends import Route, fallback_routes, get_backend
 from ..solver.backends.base import DEFAULT_MARGIN
 from ..solver.margin import solve_model
 from ..solver.solution import Solution
@@ -76,12 +76,18 @@ class _Stepper:
         self.compile_time = time.perf_counter() - t0
         self.backend, self.solver, self.margin, self.options = backend, solver, margin, options
         self.steps: list = []
-        self.decided_by: str | None = None     # the solver of the last certified step
+        self.decided_by: Route | None = None   # the route of the last certified step
 
-    def solve_at(self, value: float, solver: str | None = None) -> Solution:
-        self.model.update(self.instance.with_params(**{self.parameter: float(value)}))
-        self.model.set_margin(DEFAULT_MARGIN if self.margin is None else self.margin)  # undo escalations
-        return solve_model(self.model, solver or self.solver, **self.options)
+    def solve_at(self, value: float, route: Route | None = None) -> Solution:
+        """Solve at ``value`` with the compiled model, or along another ``route`` (compiled anew
+        when it uses another backend)."""
+        instance = self.instance.with_params(**{self.parameter: float(value)})
+        margin = DEFAULT_MARGIN if self.margin is None else self.margin
+        if route is not None and route.backend != self.backend:
+            return solve_model(get_backend(route.backend)(instance, margin=margin), route.solver)
+        self.model.update(instance)
+        self.model.set_margin(margin)  # undo escalations
+        return solve_model(self.model, route.solver if route else self.solver, **self.options)
 
     def feasible(self, value: float) -> bool:
         """A certified point at ``value``?  Without a solver named, when the solver fails (any
@@ -92,14 +98,14 @@ class _Stepper:
         tried = [f"{solution.solver}: {solution.status}"]
         failed = not (solution.ok and solution.certified) and solution.status != "infeasible"
         if self.solver is None and failed:     # an infeasibility claim stands; a failure does not
-            for name in fallback_solvers(self.backend):
-                if name.lower() == (solution.solver or "").lower():
+            for route in fallback_routes(self.backend):
+                if route.backend == self.backend and route.solver.lower() == (solution.solver or "").lower():
                     continue
                 try:
-                    other = self.solve_at(value, name)
+                    other = self.solve_at(value, route)
                 except LmidslError:            # not installed here
                     continue
-                tried.append(f"{other.solver}: {other.status}")
+                tried.append(f"{other.backend}/{other.solver}: {other.status}")
                 if other.ok and other.certified:
                     solution = other
                     break
@@ -107,7 +113,7 @@ class _Stepper:
         self.steps.append({"value": float(value), "feasible": ok, "status": solution.status,
                            "solver": solution.solver, "tried": tried, "worst_eig": solution.worst_eig})
         if ok:
-            self.decided_by = solution.solver
+            self.decided_by = Route(solution.backend, solution.solver)
         return ok
 
 
@@ -165,7 +171,7 @@ def bisect(instance: Instance, *, lower: float | None = None, upper: float | Non
         result.message += (f" feasibility is not monotone in the steps (certified at {contradictions} beyond "
                            f"the infeasible end): the bracket is not trustworthy")
     if result.feasible_end is not None:
-        solution = stepper.solve_at(result.feasible_end, solver or stepper.decided_by)
+        solution = stepper.solve_at(result.feasible_end, Route(backend, solver) if solver else stepper.decided_by)
         solution.notes.append(f"bisection on {spec.parameter}: {len(stepper.steps)} solves of one compiled "
                               f"model; certificate at the feasible end {result.feasible_end:.10g}")
         result.solution = finish_solution(solution, solver=solver, backend=backend, certify=True,

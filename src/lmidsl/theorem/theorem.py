@@ -25,7 +25,7 @@ from ..symbolic.uncertainty import uncertain_symbol
 from ..symbolic.symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, RecoveredMatrix,
                       ScalarVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
                       Variable)
-from .values import (DESIGN_KINDS, FIGURES, LMI, TIME_DOMAINS, AnalysisLink, Bisection,
+from .values import (DESIGN_KINDS, FIGURES, LMI, TIME_DOMAINS, AnalysisLink, Bisection, BoundedRealForm,
                      Declaration, Derivation, ErrorSystemLink, Example, FactorStep, SignalScaling, Source,
                      check_provenance)
 
@@ -75,6 +75,7 @@ class Theorem:
         self.scalings: list[SignalScaling] = []
         self.conditioned: list[sp.MatrixExpr] = []
         self.analysis: AnalysisLink | None = None
+        self.bounded_real: BoundedRealForm | None = None   # Theorem.bounded_real_form
         self.certification: ErrorSystemLink | None = None
         self.simulator = None                  # Theorem.simulated_by
         self.linearisation: dict[str, sp.MatrixExpr] = {}
@@ -375,6 +376,22 @@ class Theorem:
             check_conformance(expr, where=at)
             check_affine(expr, where=at)
             self.conditioned.append(expr)
+
+    def bounded_real_form(self, storage, level, system: tuple):
+        """Declare that the LMIs are the bounded real lemma of ``system`` = (A, B, C, D) with
+        storage ``storage`` ≻ 0 and level ``level`` = γ² (continuous: He(PA) ⊕ −gI ⊕ −I with
+        the couplings PB, C, D; discrete: the Stein form).  Besides an SDP solver, the library
+        may then take P from the Riccati equation at a given level
+        (:mod:`lmidsl.numeric.riccati`) and prove the LMIs at that point: a certificate that
+        does not depend on an SDP solver's accuracy."""
+        at = f"{self.id}: bounded_real_form"
+        if storage.name not in self.var_decl or level.name not in self.var_decl:
+            raise TheoremDefinitionError(f"{at}: {storage} and {level} must be declared variables")
+        if len(system) != 4:
+            raise TheoremDefinitionError(f"{at}: system must be (A, B, C, D)")
+        for expr in system:
+            check_conformance(expr, where=at)
+        self.bounded_real = BoundedRealForm(storage, level, tuple(system))
 
     def linearise(self, **updates):
         """Data that are a linearisation point, with their update from a solved point.

@@ -130,6 +130,17 @@ class Example:
         return merged
 
 
+@dataclass(frozen=True)
+class BoundedRealForm:
+    """The theorem's LMIs are the bounded real lemma of ``system`` = (A, B, C, D) (expressions of
+    data) with storage ``storage`` (a symmetric variable) and level ``level`` = γ² (a scalar
+    variable), in the theorem's time domain; see :meth:`Theorem.bounded_real_form`."""
+
+    storage: Any
+    level: Any
+    system: tuple
+
+
 @dataclass
 class AnalysisLink:
     """The analysis theorem that certifies a recovered design.

@@ -24,7 +24,17 @@ class BackendInfo:
     model_class: str
     package: str                 # the pip package it needs
     default: str = ""            # the solver used when none is named
-    fallbacks: tuple = ()        # solvers tried, in order, when the default fails numerically
+    fallbacks: tuple = ()        # Routes tried, in order, when the default gives no certified point
+
+
+@dataclass(frozen=True)
+class Route:
+    """A backend and one of its solvers (:mod:`lmidsl.solver.fallback`)."""
+    backend: str
+    solver: str
+
+    def __str__(self) -> str:
+        return f"{self.backend}/{self.solver}"
 
 
 @dataclass(frozen=True)
@@ -36,9 +46,12 @@ class SolverInfo:
 
 
 BACKEND_INFO = {
+    # CVXOPT behind PICOS before CVXOPT behind cvxpy: on ill-conditioned synthesis LMIs the first
+    # certifies where the second fails (lmidsl.solver.fallback); SCS last (first-order, slow)
     "cvxpy": BackendInfo("cvxpy", ".cvxpy_backend", "CvxpyModel", "cvxpy", default="CLARABEL",
-                         fallbacks=("CVXOPT", "SCS")),
-    "picos": BackendInfo("picos", ".picos_backend", "PicosModel", "picos", default="cvxopt"),
+                         fallbacks=(Route("picos", "cvxopt"), Route("cvxpy", "CVXOPT"), Route("cvxpy", "SCS"))),
+    "picos": BackendInfo("picos", ".picos_backend", "PicosModel", "picos", default="cvxopt",
+                         fallbacks=(Route("cvxpy", "CLARABEL"), Route("cvxpy", "SCS"))),
 }
 BACKENDS = tuple(BACKEND_INFO)
 
@@ -115,16 +128,17 @@ def options_for(backend: str, solver: str, options: dict | None) -> dict:
     return out
 
 
-def fallback_solvers(backend: str) -> tuple:
-    """Solvers to try, in order, after the default one failed numerically."""
+def fallback_routes(backend: str) -> tuple:
+    """Routes to try, in order, after the backend's default solver gave no certified point."""
     return backend_info(backend).fallbacks
 
 
 def other_solver(backend: str, solver: str | None) -> str | None:
-    """The first of the backend's default and fallback solvers that is not ``solver`` (a second
-    opinion), or None when the backend has no other."""
+    """The first solver of the backend (its default, then its fallbacks on the same backend)
+    that is not ``solver`` (a second opinion), or None when the backend has no other."""
     info = backend_info(backend)
-    others = [s for s in (info.default, *info.fallbacks) if s and s.lower() != (solver or "").lower()]
+    own = [info.default] + [r.solver for r in info.fallbacks if r.backend == info.name]
+    others = [s for s in own if s and s.lower() != (solver or "").lower()]
     return others[0] if others else None
 
 
@@ -140,5 +154,5 @@ def is_first_order(solver: str) -> bool:
 
 
 __all__ = ["BACKENDS", "BACKEND_INFO", "SOLVER_INFO", "BackendInfo", "SolverInfo", "get_backend",
-           "backend_sdp_solvers", "resolve_solver", "fallback_solvers", "is_first_order", "backend_info",
+           "backend_sdp_solvers", "resolve_solver", "fallback_routes", "Route", "is_first_order", "backend_info",
            "default_options"]
