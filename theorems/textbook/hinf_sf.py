@@ -88,6 +88,7 @@ def _synthesis(name: str, time: str, analysis: Theorem) -> Theorem:
     thm.minimize(g, performance=("gamma", g))
     thm.recover(K=state_feedback_gain(W, Y))
     thm.certified_by(analysis, design=("K",))
+    thm.state_feedback_form(Y, W, g, (A, B1, B2, C1, D11, D12))
     scale_state(thm, ("A", "B1", "B2"), ("A", "C1"), recovered_cols=("K",))
     thm.well_conditioned(Y)
     thm.example("random-3", subset(random_plant(11, 3, 2, 1, 2, 1, time), SF_DATA),

@@ -22,18 +22,16 @@ import numpy as np
 import sympy as sp
 
 from ..errors import InputError, LmidslError
-from ..numeric.evaluate import NumericEvaluator
 from ..numeric.instance import Instance, bind
-from ..numeric.riccati import hinf_norm, storage_candidates
 from ..numeric.scaling import apply_scaling
 from ..solver.backends import Route, fallback_routes, get_backend, is_first_order
-from ..solver.fallback import better
+from ..solver.fallback import better, riccati_point
 from ..solver.conditioning import equilibrate
 from ..solver.feasibility import feasp
 from ..solver.margin import solve_model
 from ..numeric.proof import PROVED
-from ..solver.solution import Solution, evaluate_performance, evaluate_reported, lmi_certificate
-from ..solver.status import OPTIMAL, solved
+from ..solver.solution import evaluate_reported, lmi_certificate
+from ..solver.status import solved
 from ..solver.status import worst as worst_status
 from ..theorem.registry import linked_analysis
 
@@ -134,44 +132,6 @@ def _attempt(model, solver, synthesis_gamma, tolerance):
         if sol.status == "solver_error" and level_sol.status != "solver_error":
             sol = level_sol
     return sol, "min", minimum
-
-
-RICCATI_LEVELS = (1e-5, 1e-3)
-"""Levels γ = ‖G‖∞ (1 + r) tried first by the Riccati route, then the synthesis γ (and + tolerance)."""
-
-
-def riccati_point(instance: Instance, synthesis_gamma, tolerance):
-    """A certified point of a theorem declaring its bounded-real form
-    (:meth:`Theorem.bounded_real_form`) with P from the Riccati equation
-    (:mod:`lmidsl.numeric.riccati`), no SDP; None when the theorem declares none, the system is
-    unstable, or no level certifies.  The levels: python-control's norm × (1 + r) for r in
-    :data:`RICCATI_LEVELS` (γ then states the design's own norm, as the analysis minimum
-    would), then the synthesis γ and γ (1 + tolerance)."""
-    form = instance.theorem.bounded_real
-    if form is None:
-        return None
-    ev = NumericEvaluator(instance.dims, dict(instance.data), instance.params)
-    A, B, C, D = (np.atleast_2d(np.asarray(ev.visit(e), dtype=float)) for e in form.system)
-    time = instance.theorem.time
-    norm = hinf_norm(A, B, C, D, time)
-    if norm is None:
-        return None
-    levels = [norm * (1 + r) for r in RICCATI_LEVELS]
-    if synthesis_gamma is not None:
-        levels += [synthesis_gamma, synthesis_gamma * (1 + tolerance)]
-    for gamma in sorted({g for g in levels if g > norm}):
-        for eps, P in storage_candidates(A, B, C, D, gamma ** 2, time, norm):
-            values = {form.storage.name: P, form.level.name: gamma ** 2}
-            point = {**instance.data, **values}
-            lmis = lmi_certificate(instance, point)
-            if lmis and all(r.max_eig < 0 for r in lmis):
-                sol = Solution(instance.theorem.id, instance.example, "riccati", "scipy ARE", OPTIMAL,
-                               objective=gamma ** 2, gamma=evaluate_performance(instance, point),
-                               lmis=lmis, values=values, params=dict(instance.params), instance=instance)
-                sol.notes.append(f"P from the bounded-real Riccati equation at γ = {gamma:.10g} "
-                                 f"(python-control's norm {norm:.10g}; CᵀC + εI with ε = {eps:.3g})")
-                return sol
-    return None
 
 
 def _solve_one(instance, solver, backend, synthesis_gamma, tolerance):

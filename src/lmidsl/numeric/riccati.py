@@ -88,4 +88,43 @@ def storage_candidates(A, B, C, D, g: float, time: str, norm: float):
             yield eps, P
 
 
-__all__ = ["FRACTIONS", "bounded_real_storage", "hinf_norm", "storage_candidates"]
+def full_information_gain(A, B1, B2, C1, D11, D12, gamma: float, time: str, eps: float = 0.0):
+    """The state-feedback gain K of the H∞ full-information Riccati equation at level γ, or None.
+
+    With B = [B1 B2], D = [D11 D12] and R = DᵀD − diag(γ²I, 0), the stabilising solution X ⪰ 0 of
+
+        continuous:  AᵀX + XA + Q − (XB + C1ᵀD) R⁻¹ (BᵀX + DᵀC1) = 0,
+        discrete:    AᵀXA − X + Q − (AᵀXB + C1ᵀD)(R + BᵀXB)⁻¹(BᵀXA + DᵀC1) = 0,
+
+    Q = C1ᵀC1 + εI, exists when γ exceeds the optimal state-feedback level (D12 of full column
+    rank; Zhou, Doyle, Glover 1996, ch. 16 and 21), and F = −R⁻¹(BᵀX + DᵀC1) (discrete:
+    −(R + BᵀXB)⁻¹(BᵀXA + DᵀC1)) gives the worst disturbance (first rows) and the gain K (last
+    rows).  Nothing is claimed for K here: its closed loop is certified like any design."""
+    from scipy.linalg import solve_continuous_are, solve_discrete_are
+
+    A, B1, B2, C1, D11, D12 = (np.atleast_2d(np.asarray(m, dtype=float)) for m in (A, B1, B2, C1, D11, D12))
+    n, m1 = A.shape[0], B1.shape[1]
+    B, D = np.hstack([B1, B2]), np.hstack([D11, D12])
+    R = D.T @ D
+    R[:m1, :m1] -= gamma ** 2 * np.eye(m1)
+    Q = C1.T @ C1 + eps * np.eye(n)
+    try:
+        with np.errstate(all="ignore"):
+            if time == "continuous":
+                X = solve_continuous_are(A, B, Q, R, s=C1.T @ D)
+                F = -np.linalg.solve(R, B.T @ X + D.T @ C1)
+            else:
+                X = solve_discrete_are(A, B, Q, R, s=C1.T @ D)
+                F = -np.linalg.solve(R + B.T @ X @ B, B.T @ X @ A + D.T @ C1)
+    except (np.linalg.LinAlgError, ValueError):
+        return None
+    if not (np.all(np.isfinite(X)) and np.all(np.isfinite(F))):
+        return None
+    X = (X + X.T) / 2
+    eig = np.linalg.eigvalsh(X)
+    if eig[0] < -1e-9 * max(abs(eig[-1]), 1.0):
+        return None
+    return F[m1:, :]
+
+
+__all__ = ["FRACTIONS", "bounded_real_storage", "full_information_gain", "hinf_norm", "storage_candidates"]

@@ -25,7 +25,7 @@ from ..symbolic.uncertainty import uncertain_symbol
 from ..symbolic.symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, RecoveredMatrix,
                       ScalarVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
                       Variable)
-from .values import (DESIGN_KINDS, FIGURES, LMI, TIME_DOMAINS, AnalysisLink, Bisection, BoundedRealForm,
+from .values import (DESIGN_KINDS, FIGURES, LMI, TIME_DOMAINS, AnalysisLink, Bisection, BoundedRealForm, StateFeedbackForm,
                      Declaration, Derivation, ErrorSystemLink, Example, FactorStep, SignalScaling, Source,
                      check_provenance)
 
@@ -76,6 +76,7 @@ class Theorem:
         self.conditioned: list[sp.MatrixExpr] = []
         self.analysis: AnalysisLink | None = None
         self.bounded_real: BoundedRealForm | None = None   # Theorem.bounded_real_form
+        self.state_feedback: StateFeedbackForm | None = None  # Theorem.state_feedback_form
         self.certification: ErrorSystemLink | None = None
         self.simulator = None                  # Theorem.simulated_by
         self.linearisation: dict[str, sp.MatrixExpr] = {}
@@ -392,6 +393,21 @@ class Theorem:
         for expr in system:
             check_conformance(expr, where=at)
         self.bounded_real = BoundedRealForm(storage, level, tuple(system))
+
+    def state_feedback_form(self, Y, W, level, plant: tuple):
+        """Declare that the LMIs are the H∞ state-feedback LMIs of ``plant`` = (A, B1, B2, C1, D11,
+        D12) (Gahinet–Apkarian: the closed loop's bounded real lemma with −γI on both diagonal
+        blocks, congruence-transformed by Y = P⁻¹, W = K Y) with ``level`` = γ.  The library may
+        then build a point from the full-information Riccati equation
+        (:func:`lmidsl.numeric.riccati.full_information_gain`) when no SDP solver gives one."""
+        at = f"{self.id}: state_feedback_form"
+        if any(v.name not in self.var_decl for v in (Y, W, level)):
+            raise TheoremDefinitionError(f"{at}: {Y}, {W} and {level} must be declared variables")
+        if len(plant) != 6:
+            raise TheoremDefinitionError(f"{at}: plant must be (A, B1, B2, C1, D11, D12)")
+        for expr in plant:
+            check_conformance(expr, where=at)
+        self.state_feedback = StateFeedbackForm(Y, W, level, tuple(plant))
 
     def linearise(self, **updates):
         """Data that are a linearisation point, with their update from a solved point.

@@ -141,6 +141,18 @@ class BoundedRealForm:
     system: tuple
 
 
+@dataclass(frozen=True)
+class StateFeedbackForm:
+    """The theorem's LMIs are the H∞ state-feedback LMIs of ``plant`` = (A, B1, B2, C1, D11, D12)
+    in the form with −γI on both diagonal blocks, Y = P⁻¹ and W = K Y; see
+    :meth:`Theorem.state_feedback_form`."""
+
+    Y: Any
+    W: Any
+    level: Any
+    plant: tuple
+
+
 @dataclass
 class AnalysisLink:
     """The analysis theorem that certifies a recovered design.

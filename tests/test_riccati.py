@@ -1,0 +1,110 @@
+"""The Riccati route (lmidsl.numeric.riccati, lmidsl.solver.fallback.riccati_point): a
+bounded-real point without an SDP, checked against python-control's norm and proved in ball
+arithmetic; and the stress suite's lightly damped discrete plants, where every SDP solver fails."""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import lmidsl
+from lmidsl.numeric.riccati import bounded_real_storage, hinf_norm, storage_candidates
+from lmidsl.numeric.scaling import apply_scaling
+from lmidsl.pipeline import make_instance
+from lmidsl.solver.fallback import riccati_point
+from lmidsl.solver.solution import lmi_certificate
+
+control = pytest.importorskip("control")
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks" / "stress"))
+from cases import lists, system  # noqa: E402
+
+SHORT = {"continuous": "ct", "discrete": "dt"}
+
+
+def _random(seed: int, time: str):
+    np.random.seed(seed)
+    s = control.rss(5, 2, 3) if time == "continuous" else control.drss(5, 2, 3)
+    return s.A, s.B, s.C, s.D
+
+
+@pytest.mark.parametrize("time", ["continuous", "discrete"])
+@pytest.mark.parametrize("seed", range(4))
+def test_riccati_point_is_proved_just_above_the_norm(time, seed):
+    """brl at the Riccati point: every LMI proved, γ = ‖G‖∞ (1 + 1e-5) by SLICOT's norm."""
+    A, B, C, D = _random(seed, time)
+    data = {k: np.asarray(v).tolist() for k, v in zip("ABCD", (A, B, C, D))}
+    instance = apply_scaling(make_instance(f"textbook.brl_{SHORT[time]}", None, data), "auto").scaled
+    sol = riccati_point(instance, None, 0.0)
+    norm = float(control.norm(control.ss(A, B, C, D, 0 if time == "continuous" else True), "inf", tol=1e-12))
+    assert sol is not None
+    assert abs(sol.gamma / norm - 1 - 1e-5) < 1e-8
+    proofs = lmi_certificate(instance, {**instance.data, **sol.values}, prove=True)
+    assert [r.proof for r in proofs] == ["proved"] * len(proofs)
+
+
+@pytest.mark.parametrize("time", ["continuous", "discrete"])
+def test_no_storage_below_the_norm(time):
+    """Below the norm the Riccati equation has no stabilising solution that satisfies the LMI:
+    no candidate, or one at which the bounded-real LMI fails (the certificate decides)."""
+    A, B, C, D = _random(7, time)
+    norm = hinf_norm(A, B, C, D, time)
+    assert list(storage_candidates(A, B, C, D, (0.99 * norm) ** 2, time, norm)) == []
+    P = bounded_real_storage(A, B, C, D, (0.99 * norm) ** 2, time, 1e-9)
+    if P is not None and time == "continuous":
+        M = np.block([[A.T @ P + P @ A, P @ B, C.T], [B.T @ P, -(0.99 * norm) ** 2 * np.eye(3), D.T],
+                      [C, D, -np.eye(2)]])
+        assert np.linalg.eigvalsh(M)[-1] > 0
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_lightly_damped_discrete_plant_is_certified(seed):
+    """Stress family 'light', discrete (poles at radius ~0.9998, γ ~ 1e4): every SDP route fails
+    or is inaccurate; solve still returns γ within 1e-4 of python-control's norm, proved."""
+    data = system("light", seed, "discrete")
+    norm = float(control.linfnorm(control.ss(data["A"], data["B"], data["C"], data["D"], True))[0])
+    sol = lmidsl.solve("textbook.brl_dt", data=lists(data))
+    assert sol.verdict()[0], sol.verdict()
+    assert sol.proved
+    assert norm * (1 - 1e-9) <= sol.gamma <= norm * (1 + 1e-4)
+
+
+def _closed_loop_norm(data: dict, K, time: str) -> float:
+    A = np.asarray(data["A"]) + np.asarray(data["B2"]) @ K
+    C = np.asarray(data["C1"]) + np.asarray(data["D12"]) @ K
+    sys_ = control.ss(A, data["B1"], C, data["D11"], 0 if time == "continuous" else True)
+    poles = np.linalg.eigvals(A)
+    stable = np.all(poles.real < 0) if time == "continuous" else np.all(np.abs(poles) < 1)
+    return float(control.norm(sys_, "inf", tol=1e-12)) if stable else float("inf")
+
+
+@pytest.mark.parametrize("time", ["continuous", "discrete"])
+def test_state_feedback_point_agrees_with_the_sdp(time):
+    """The full-information Riccati point of textbook.hinf_sf on its example: every LMI holds,
+    γ ≥ the SDP's optimum (1 − 1e-6) and within 1e-2 of it; K's closed loop (python-control)
+    has norm ≤ γ."""
+    from lmidsl.solver.fallback import state_feedback_point
+
+    name = f"textbook.hinf_sf_{SHORT[time]}"
+    sdp = lmidsl.solve(name, backoff=None)
+    instance = sdp.instance
+    sol = state_feedback_point(instance)
+    assert sol is not None and sol.certified
+    assert sdp.gamma * (1 - 1e-6) <= sol.gamma <= sdp.gamma * (1 + 1e-2), (sol.gamma, sdp.gamma)
+    Y, W = np.asarray(sol.values["Y"]), np.asarray(sol.values["W"])
+    K = W @ np.linalg.inv(Y)
+    assert _closed_loop_norm(instance.data, K, time) <= sol.gamma
+
+
+@pytest.mark.parametrize("seed, time", [(1, "continuous"), (0, "discrete")])
+def test_huge_gain_state_feedback_is_certified(seed, time):
+    """Stress family 'huge_gain' (a 1e-3 actuator, γ* ~ 1e3): every SDP route ends in a solver
+    error; the Riccati route's design is certified and python-control's closed-loop norm of the
+    recovered K is ≤ γ (1 + 1e-6)."""
+    from cases import plant
+
+    data = plant(seed, time, huge=True)
+    sol = lmidsl.solve(f"textbook.hinf_sf_{SHORT[time]}", data=lists(data))
+    assert sol.verdict()[0], sol.verdict()
+    assert _closed_loop_norm(data, np.asarray(sol.design["K"]), time) <= sol.gamma * (1 + 1e-6)
