@@ -108,3 +108,14 @@ def test_huge_gain_state_feedback_is_certified(seed, time):
     sol = lmidsl.solve(f"textbook.hinf_sf_{SHORT[time]}", data=lists(data))
     assert sol.verdict()[0], sol.verdict()
     assert _closed_loop_norm(data, np.asarray(sol.design["K"]), time) <= sol.gamma * (1 + 1e-6)
+
+
+@pytest.mark.parametrize("solver", ["CVXOPT", "CLARABEL"])
+def test_named_solver_never_calls_a_stable_plant_infeasible(solver):
+    """Light family, seed 0, discrete: with the solver named (no fallback routes), CVXOPT says
+    'infeasible' and Clarabel's feasp t* ≥ 0; the verdict is 'not solved' (exit 1), never
+    'infeasible' — the stable plant's bounded-real LMI has a point (the Riccati one)."""
+    data = system("light", 0, "discrete")
+    sol = lmidsl.solve("textbook.brl_dt", data=lists(data), solver=solver)
+    assert sol.status not in ("infeasible", "marginal"), (sol.status, sol.notes)
+    assert not sol.verdict()[0] or sol.certified

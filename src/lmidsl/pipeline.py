@@ -9,7 +9,8 @@ from __future__ import annotations
 import time
 
 from .solver.backends import get_backend, other_solver
-from .solver.fallback import with_fallbacks
+from .solver.fallback import riccati_point, with_fallbacks
+from .solver.status import INFEASIBLE, INFEASIBLE_INACCURATE, NOT_SOLVED
 from .certify import certify_by_analysis
 from .theorem.checks import run_checks
 from .errors import InputError, LmidslError
@@ -220,10 +221,27 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
                                       f"with {second.solver}: {second.verdict} (t* = {second.tmin}): "
                                       "not a proof of infeasibility")
                 report = second
+        if report.verdict == "infeasible":
+            # a point from a Riccati equation that satisfies every LMI refutes any "infeasible"
+            # (stress plants, light family, discrete: feasp with CVXOPT and with Clarabel both said
+            # t* ≥ 0 on stable plants whose bounded-real LMI the Riccati point satisfies)
+            witness = riccati_point(instance, None, 0.0)
+            if witness is not None:
+                solution.notes.append(f"feasp said infeasible (t* = {report.tmin:.3g}), but a point from the "
+                                      f"Riccati equation satisfies every LMI (gamma {witness.gamma:.8g}): "
+                                      f"the problem is feasible; {solution.solver} did not solve it")
+                report.refuted_by = "Riccati"
         solution.feasp = report
         if report.verdict in ("infeasible", "marginal"):
             solution.solver_status = solution.status
             solution.status = report.verdict
+        elif solution.status in (INFEASIBLE, INFEASIBLE_INACCURATE):
+            # the solver's "infeasible" is a claim; the diagnosis did not confirm it
+            solution.solver_status = solution.status
+            solution.status = NOT_SOLVED
+            if not report.refuted_by:
+                solution.notes.append(f"{solution.solver} said {solution.solver_status}; feasp: {report.verdict}: "
+                                      "not a proof of infeasibility")
         solution.times["feasp"] = time.perf_counter() - t0
     if solution.ok:
         # THE certificate again, now proved in ball arithmetic (lmidsl.numeric.proof)

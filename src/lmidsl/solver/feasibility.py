@@ -96,6 +96,7 @@ class FeasibilityReport:
     radii: list = field(default_factory=list)
     point_certified: bool = False
     point_norm: float | None = None   # ‖x‖₂ of the feasp point (all variables stacked)
+    refuted_by: str | None = None     # a certified point found another way (e.g. "Riccati")
 
     @property
     def inconsistent(self) -> bool:
@@ -127,6 +128,8 @@ class FeasibilityReport:
 
     @property
     def verdict(self) -> str:
+        if self.refuted_by:
+            return f"feasible (a {self.refuted_by} point satisfies every LMI)"
         if self.tmin is None:
             return "undecided"
         if self.feasible:
@@ -145,6 +148,7 @@ class FeasibilityReport:
 
     def as_dict(self) -> dict:
         return {"tmin": self.tmin, "verdict": self.verdict, "feasible": self.feasible,
+                "refuted_by": self.refuted_by,
                 "point_certified": self.point_certified, "point_norm": self.point_norm,
                 "status": self.status, "margin": self.margin, "radius": self.radius,
                 "radii": self.radii,

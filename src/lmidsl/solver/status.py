@@ -16,6 +16,7 @@ UNBOUNDED = "unbounded"
 UNBOUNDED_INACCURATE = "unbounded_inaccurate"
 MARGINAL = "marginal"          # feasible, but by less than the strictness margin
 SOLVER_ERROR = "solver_error"
+NOT_SOLVED = "not_solved"      # the solver said infeasible, and the diagnosis does not confirm it
 
 SOLVED = frozenset({OPTIMAL, OPTIMAL_INACCURATE})
 
@@ -36,4 +37,4 @@ def worst(statuses) -> str:
 
 
 __all__ = ["OPTIMAL", "OPTIMAL_INACCURATE", "INFEASIBLE", "INFEASIBLE_INACCURATE", "UNBOUNDED",
-           "UNBOUNDED_INACCURATE", "MARGINAL", "SOLVER_ERROR", "SOLVED", "solved", "worst"]
+           "UNBOUNDED_INACCURATE", "MARGINAL", "SOLVER_ERROR", "NOT_SOLVED", "SOLVED", "solved", "worst"]
