@@ -45,7 +45,7 @@ def analysis_case(family: str, seed: int, time_domain: str) -> dict:
     return {"kind": "brl", "family": family, "seed": seed, "time": time_domain, "true": true,
             "gamma": sol.gamma, "rel": rel, "status": sol.status, "certified": certified,
             "reasons": reasons, "agree": rel is not None and rel <= 1e-4,
-            "seconds": time.perf_counter() - t0}
+            "route": f"{sol.backend}/{sol.solver}", "seconds": time.perf_counter() - t0}
 
 
 def synthesis_case(seed: int, time_domain: str, huge: bool) -> dict:
@@ -66,7 +66,7 @@ def synthesis_case(seed: int, time_domain: str, huge: bool) -> dict:
             "time": time_domain, "gamma": sol.gamma, "closed_loop": closed, "meets": meets,
             "status": sol.status, "certified": certified, "reasons": reasons,
             "gain_norm": float(np.linalg.norm(sol.design["K"])) if closed is not None else None,
-            "seconds": time.perf_counter() - t0}
+            "route": f"{sol.backend}/{sol.solver}", "seconds": time.perf_counter() - t0}
 
 
 def run(seeds: int) -> list[dict]:
@@ -95,6 +95,16 @@ def summary(rows: list[dict]) -> str:
         ok = sum(r["meets"] and r["certified"] for r in sf)
         lines.append(f"H∞ state feedback: {ok}/{len(sf)} = {100 * ok / len(sf):.1f} % certified with the "
                      f"closed-loop norm ≤ γ(1 + 1e-6); {np.median([r['seconds'] for r in sf]):.2f} s per case")
+    for kind, group in (("bounded real lemma", brl), ("H∞ state feedback", sf)):
+        routes = {}
+        for r in group:
+            routes[r["route"]] = routes.get(r["route"], 0) + 1
+        if routes:
+            lines.append(f"  {kind}, route of the kept answer: "
+                         + ", ".join(f"{k} {v}" for k, v in sorted(routes.items(), key=lambda kv: -kv[1]))
+                         + (" (the Riccati route starts from python-control's norm: its agreement with"
+                            " that norm is not an independent check, its proof is)"
+                            if kind.startswith("bounded") and any(k.startswith("riccati") for k in routes) else ""))
     for r in rows:
         good = (r["agree"] if r["kind"] == "brl" else r["meets"]) and r["certified"]
         if not good:
