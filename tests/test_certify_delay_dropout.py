@@ -130,6 +130,7 @@ def test_h_infinity_figure_against_finite_horizon_second_moments(designed):
     assert designed.exact.details["finite_horizon_value"] >= value * (1 - 1e-3)
 
 
+@pytest.mark.slow
 def test_theorem1_becomes_exact_as_the_noise_vanishes(designed):
     """At ξ̄1 → 1 the error system becomes deterministic and Theorem 1 (a bounded real lemma)
     is lossless: the gap between the analysis γ and the exact figure closes (4.8 % at ξ̄1 = 0.7)."""

@@ -320,6 +320,7 @@ MIN_SCALE = 0.6
 OVERFULL_PT = 2.0
 
 
+@pytest.mark.slow
 @needs_pdflatex
 @pytest.mark.parametrize("theorem_id,example", EXAMPLES, ids=[f"{t}:{e}" for t, e in EXAMPLES])
 def test_every_example_document_reads_well(theorem_id, example, tmp_path):

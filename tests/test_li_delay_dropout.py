@@ -38,6 +38,7 @@ def backed_off(request):
     return backoff_solution(request.param)
 
 
+@pytest.mark.slow
 def test_printed_gamma_within_half_percent(optimum):
     assert optimum.ok
     assert optimum.certified                          # (15) holds at the returned point
@@ -49,6 +50,7 @@ def test_printed_gamma_within_half_percent(optimum):
     json.dumps(out, default=float)
 
 
+@pytest.mark.slow
 def test_backoff_filter_certified_by_theorem1(backed_off):
     sol = backed_off
     assert sol.ok and sol.certified
@@ -124,6 +126,7 @@ def test_balanced_split():
     assert report[0]["cond"] == pytest.approx(c, rel=1e-6)
 
 
+@pytest.mark.slow
 def test_cli_set_xi(capsys):
     code = main(["solve", THM, "--example", "paper", "--set", "xi1=0.9", "--set", "xi2=0.5",
                  "--no-certify", "--json"])

@@ -43,6 +43,7 @@ def test_sweep_on_a_local_cluster_equals_the_serial_sweep_and_stores_every_point
     assert sorted(r["params"]["rbar"] for r in records) == GRID[0][1]        # each point once
 
 
+@pytest.mark.slow
 def test_existing_cluster_by_address_resumes_a_stored_sweep(tmp_path):
     """Spawned workers (a fresh interpreter, no theorem loaded): li_delay_dropout.thm2 has a
     structured variable, whose expansion lives in the symbols' metadata sent with the task."""
@@ -86,6 +87,7 @@ def test_bad_parallel_input_is_one_line_exit_2(capsys, monkeypatch, extra, fragm
     assert len(lines) == 1 and lines[0].startswith("error:") and fragment in lines[0], err
 
 
+@pytest.mark.slow
 def test_check_rows_in_parallel_equal_the_serial_rows():
     from lmidsl.studies.cross_check import check
 

@@ -58,6 +58,7 @@ def test_no_storage_below_the_norm(time):
         assert np.linalg.eigvalsh(M)[-1] > 0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(3))
 def test_lightly_damped_discrete_plant_is_certified(seed):
     """Stress family 'light', discrete (poles at radius ~0.9998, γ ~ 1e4): every SDP route fails

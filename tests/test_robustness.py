@@ -183,6 +183,7 @@ def _interrupt_after(argv, store, n_records, tmp_path, timeout=300):
     return proc.returncode, out, err
 
 
+@pytest.mark.slow
 def test_sweep_interrupted_then_resumed_loses_nothing_and_solves_nothing_twice(tmp_path):
     out = tmp_path / "out"
     argv = ["sweep", *THM3, "--grid", "rbar=0.2:0.9:150", "--out", str(out)]
@@ -226,6 +227,7 @@ def test_resume_refuses_another_grid(capsys, tmp_path):
         JsonLinesStore(tmp_path / "sweep.jsonl").open({"kind": "sweep", "grid": {"rbar": [0.2]}}, resume=True)
 
 
+@pytest.mark.slow
 def test_reproduce_interrupted_then_resumed(tmp_path):
     out = tmp_path / "rep"
     argv = ["reproduce", "--theorem", "wang_l2linf.thm3", "--theorem", "wang_l2linf.thm1",

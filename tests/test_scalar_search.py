@@ -48,6 +48,7 @@ def _instance():
                                  "lambda1": 0.0, "lambda2": 0.0})
 
 
+@pytest.mark.slow
 def test_grid_then_nelder_mead_finds_the_known_optimum_in_parallel():
     lam_star = [-A1 / (1 - A1 ** 2), -A2 / (1 - A2 ** 2)]
     gamma_star = math.sqrt(sum(1 / (1 - a ** 2) ** 2 for a in (A1, A2)))
@@ -67,6 +68,7 @@ def test_grid_then_nelder_mead_finds_the_known_optimum_in_parallel():
     assert result.best_grid.value > best.value          # the refinement improved on the grid
 
 
+@pytest.mark.slow
 def test_serial_and_parallel_grids_agree():
     axes = {"lambda1": [-0.5, 0.0], "lambda2": [0.0, 0.5]}
     serial = scalar_search(_instance(), axes, workers=1, progress=False)
