@@ -14,8 +14,9 @@ matter to the certificate: it is numpy's (and the ball-arithmetic proof's) at th
 :func:`with_fallbacks` keeps the first *good* answer (certified, solved to full accuracy, with an
 objective that the strictness margin does not set), else the best certified one (lowest
 objective: each is a valid bound), else the first answer; its notes say what each route gave.
-Once a certified answer is in hand, first-order routes (SCS) are skipped: they cost minutes and
-would not sharpen it.
+Once any route has returned a point, first-order routes (SCS) are skipped: they cost seconds to
+minutes and their 1e-4-accurate points would not sharpen it (in the papers' reproduction and the
+stress suite no kept answer came from SCS); they remain the last resort when no route returned one.
 
 A theorem that declares its bounded-real form (:meth:`Theorem.bounded_real_form`) has one more
 route with no SDP at all: :func:`riccati_point` takes the storage P from the Riccati equation at
@@ -82,16 +83,18 @@ def with_fallbacks(model, first: Solution, solve, margin: float | None = None) -
     if good(first):
         return first
     kept, tried = first, [said(first)]
+    points = first.ok           # some route returned a point (certified or not)
     for route in fallback_routes(model.backend):
         if route.backend == first.backend and route.solver.lower() == (first.solver or "").lower():
             continue
-        if kept.ok and kept.certified and is_first_order(route.solver):
-            continue           # a first-order solver would not sharpen a certified bound, only cost time
+        if points and is_first_order(route.solver):
+            continue           # a first-order point (1e-4 accurate) would not sharpen a point in hand
         try:
             other = solve(route_model(model, route, margin), route.solver)
         except LmidslError:        # not installed here
             continue
         tried.append(said(other))
+        points = points or other.ok
         kept = better(kept, other)
         if good(other):
             break
