@@ -231,13 +231,16 @@ def probability(text: str) -> float:
     return value
 
 
-def add_parallel_arguments(parser) -> None:
+def add_parallel_arguments(parser, default_workers: int | None = None) -> None:
     """``--workers N`` and ``--scheduler ADDRESS``: run the command's independent points on Dask
-    (:mod:`lmidsl.studies.parallel`); read back with :func:`parallel_spec`."""
+    (:mod:`lmidsl.studies.parallel`); read back with :func:`parallel_spec`.  ``default_workers``:
+    the N used without ``--workers`` (None: serial)."""
     group = parser.add_argument_group("parallel runs (Dask)")
+    default = ("default 1: serial, in this process" if default_workers in (None, 1) else
+               f"default {default_workers} on this machine; 1: serial, in this process")
     group.add_argument("--workers", type=positive_int, metavar="N",
-                       help="solve independent points on a local Dask cluster of N processes "
-                            "(default 1: serial, in this process)")
+                       help=f"solve independent points on a local Dask cluster of N processes ({default})")
+    parser.set_defaults(default_workers=default_workers)
     group.add_argument("--scheduler", metavar="ADDRESS",
                        help="solve them on an existing Dask cluster, e.g. tcp://host:8786 "
                             "(started with `dask scheduler` and `dask worker`)")
@@ -245,4 +248,16 @@ def add_parallel_arguments(parser) -> None:
 
 def parallel_spec(args) -> dict:
     """Keyword arguments ``workers`` and ``scheduler`` from :func:`add_parallel_arguments`."""
-    return {"workers": args.workers, "scheduler": args.scheduler}
+    workers = args.workers
+    if workers is None and not args.scheduler:          # the command's default N
+        workers = getattr(args, "default_workers", None)
+    return {"workers": workers, "scheduler": args.scheduler}
+
+
+def default_local_workers() -> int:
+    """Local Dask workers for a long job: the cores this process may use, at most 2 (reproduce's
+    rows take 0.1–8 s each; 2 workers: 50 s -> 38 s on 2 cores, docs/performance.md), 1 on one core."""
+    import os
+
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    return max(1, min(2, cores))

@@ -12,8 +12,8 @@ from ..render.progress import Progress
 from ..render.reproduction import REPORT, format_reproduction
 from ..studies.reproduce import REPRODUCED_TOLERANCE, reproduce_all
 from ..studies.store import atomic_write_text, ensure_writable_dir, strict_json
-from .common import (add_output_arguments, add_parallel_arguments, add_solve_arguments, parallel_spec,
-                     print_json, refuse, show_progress, solve_arguments)
+from .common import (add_output_arguments, add_parallel_arguments, add_solve_arguments, default_local_workers,
+                     parallel_spec, print_json, refuse, show_progress, solve_arguments)
 
 ORDER = 30
 
@@ -27,7 +27,7 @@ def register(sub):
                    help="write reproduce.jsonl (each row as it is done) and reproduce.json here")
     p.add_argument("--resume", action="store_true",
                    help="keep the rows already in DIR/reproduce.jsonl and run only the rest")
-    add_parallel_arguments(p)
+    add_parallel_arguments(p, default_workers=default_local_workers())
     p.set_defaults(run=run)
 
 
