@@ -46,7 +46,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import control
 import numpy as np
 from scipy.linalg import eigh, solve_continuous_lyapunov
 
@@ -242,6 +241,7 @@ def lti_hinf_norm(A, B, C, D, dt=True) -> tuple[float, float]:
     A, B, C, D = (np.atleast_2d(np.asarray(M, dtype=float)) for M in (A, B, C, D))
     if A.size == 0:
         return float(np.linalg.norm(D, 2)), 0.0
+    import control     # 1–2 s to import: only when a norm is computed
     peak, frequency = control.linfnorm(control.ss(A, B, C, D, dt))
     return float(peak), float(frequency)
 

@@ -17,10 +17,14 @@ unspecified) in discrete time.
 """
 from __future__ import annotations
 
-import control
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..errors import InputError
+
+if TYPE_CHECKING:       # python-control is imported where a system is built (1–2 s)
+    import control
 
 
 def timebase(time: str, sample_time: float | None = None):
@@ -38,6 +42,7 @@ def _m(data: dict, name: str):
 
 def statespace(A, B, C, D, dt) -> control.StateSpace:
     """A ``StateSpace`` from arrays, including the static case (no state: A is 0 × 0)."""
+    import control     # 1–2 s to import (scipy.signal, matplotlib): only when a loop is formed
     return control.ss(np.atleast_2d(A) if np.size(A) else np.zeros((0, 0)), B, C, D, dt)
 
 
@@ -64,6 +69,7 @@ def generalized_plant(data: dict, time: str, sample_time: float | None = None,
     ``state_feedback``: the measurement is the state (C2 = I, D21 = 0, D22 = 0), as for a gain
     u = K x.  Missing D11, D12, D21, D22 are zero.
     """
+    import control     # 1–2 s to import (scipy.signal, matplotlib): only when a loop is formed
     A, B1, B2, C1 = (_m(data, k) for k in ("A", "B1", "B2", "C1"))
     n, m1, m2, p1 = A.shape[0], B1.shape[1], B2.shape[1], C1.shape[0]
     if state_feedback:
@@ -127,6 +133,7 @@ def loop_summary(system, signal: str = "w -> z") -> dict:
     """What a user wants to know of a closed loop: stability (all poles in the open left
     half-plane or the open unit disk), the largest pole real part / modulus, and the H∞ and H2
     norms by python-control (SLICOT; ``None`` when the loop is unstable)."""
+    import control     # 1–2 s to import (scipy.signal, matplotlib): only when a loop is formed
     poles = np.linalg.eigvals(system.A) if system.nstates else np.zeros(0)
     ct = system.isctime()
     worst = float(np.max(poles.real if ct else np.abs(poles))) if poles.size else None

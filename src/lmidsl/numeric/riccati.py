@@ -26,7 +26,6 @@ norm while the Riccati route lands within ε of it.
 """
 from __future__ import annotations
 
-import control
 import numpy as np
 
 from .interconnection import timebase
@@ -66,6 +65,7 @@ def bounded_real_storage(A, B, C, D, g: float, time: str, eps: float) -> np.ndar
 
 def hinf_norm(A, B, C, D, time: str) -> float | None:
     """‖(A, B, C, D)‖∞ by python-control (SLICOT AB13DD), None when A is not stable."""
+    import control     # 1–2 s to import: only when a norm is needed
     A = np.atleast_2d(A)
     if not is_stable(A, time):
         return None

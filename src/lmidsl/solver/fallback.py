@@ -140,7 +140,6 @@ def riccati_point(instance: Instance, synthesis_gamma, tolerance):
     for gamma in sorted({g for g in levels if g > norm}):
         for eps, P in storage_candidates(A, B, C, D, gamma ** 2, time, norm):
             values = {form.storage.name: P, form.level.name: gamma ** 2}
-            point = {**instance.data, **values}
             sol = _certified_point(instance, values, gamma ** 2)
             if sol is not None:
                 sol.notes.append(f"P from the bounded-real Riccati equation at γ = {gamma:.10g} "
