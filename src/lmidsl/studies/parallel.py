@@ -106,6 +106,13 @@ def check_workers(workers, scheduler) -> None:
                          "one), not both")
 
 
+WORKER_CONFIG = {"distributed.worker.profile.enabled": False, "distributed.admin.tick.interval": "1s"}
+"""Dask settings of a local cluster: no statistical profiler (it samples the worker thread's
+stack every 10 ms and takes the GIL from cvxpy's Python canonicalisation) and a 1 s event-loop
+tick.  Measured on seed 001's model, 2 workers on 2 idle cores: 0.246–0.261 s per solve with
+Dask's defaults, 0.237–0.251 s without (a plain process pool: 0.236–0.241 s)."""
+
+
 def local_start_method() -> str:
     """How a LocalCluster starts its worker processes: ``spawn`` (Dask's default, safe) unless
     ``LMIDSL_DASK_START`` says ``fork`` or ``forkserver``.  A forked worker starts in ~0.3 s
@@ -180,7 +187,8 @@ class Runner:
         from distributed import Client, LocalCluster
         if self.scheduler is None:
             import dask
-            with dask.config.set({"distributed.worker.multiprocessing-method": local_start_method()}), \
+            with dask.config.set({"distributed.worker.multiprocessing-method": local_start_method(),
+                                  **WORKER_CONFIG}), \
                     _workers_ignore_ctrl_c():
                 self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
                                              dashboard_address=None, silence_logs=logging.CRITICAL)
