@@ -18,7 +18,7 @@ The analysis counterpart is the bounded real lemma of the error system
 from lmidsl import Source, Theorem, filter_blocks, filter_error_matrices, full_order_filter
 
 from .brl import bounded_real, scale_state
-from .hinf_of import full_order_hinf_lmis
+from .hinf_of import full_order_hinf_lmis, full_order_variables
 from .plants import filter_cases
 
 GDB = ("Geromel, de Oliveira, Bernussou, Robust filtering of discrete-time linear systems with "
@@ -61,13 +61,7 @@ def _synthesis(name: str, time: str, analysis: Theorem) -> Theorem:
                   description="min γ over X, Y, Â, B̂, Ĉ, D̂; the filter by the full-order recovery "
                               "(M Nᵀ = I − X Y).")
     (n, m1, p1, p2), d = filtering_plant(thm)
-    X = thm.var("X", n, kind="symmetric")
-    Y = thm.var("Y", n, kind="symmetric")
-    Ah = thm.var("Ah", n, n, latex=r"\hat{A}")
-    Bh = thm.var("Bh", n, p2, latex=r"\hat{B}")
-    Ch = thm.var("Ch", p1, n, latex=r"\hat{C}")
-    Dh = thm.var("Dh", p1, p2, latex=r"\hat{D}")
-    g = thm.scalar("gamma", latex=r"\gamma", description="H∞ level")
+    X, Y, Ah, Bh, Ch, Dh, g = full_order_variables(thm, n, p2, p1)
     b = filter_blocks(X, Y, Ah, Bh, Ch, Dh, *(d[k] for k in PLANT))
     full_order_hinf_lmis(thm, "(F)", b, g, X, Y)
     thm.minimize(g, performance=("gamma", g))

@@ -72,6 +72,20 @@ def _analysis(name: str, time: str) -> Theorem:
     return thm
 
 
+def full_order_variables(thm: Theorem, n, inputs, outputs):
+    """X, Y (n × n symmetric), Â (n × n), B̂ (n × inputs), Ĉ (outputs × n), D̂ (outputs × inputs)
+    and the H∞ level γ: the linearising variables of a full-order controller or filter, whose
+    input is the measurement (``inputs`` = p2) and whose output is u or the estimate."""
+    X = thm.var("X", n, kind="symmetric")
+    Y = thm.var("Y", n, kind="symmetric")
+    Ah = thm.var("Ah", n, n, latex=r"\hat{A}")
+    Bh = thm.var("Bh", n, inputs, latex=r"\hat{B}")
+    Ch = thm.var("Ch", outputs, n, latex=r"\hat{C}")
+    Dh = thm.var("Dh", outputs, inputs, latex=r"\hat{D}")
+    g = thm.scalar("gamma", latex=r"\gamma", description="H∞ level")
+    return X, Y, Ah, Bh, Ch, Dh, g
+
+
 def full_order_hinf_lmis(thm: Theorem, label: str, b: dict, g, X, Y):
     """The full-order H∞ LMI in the linearising variables (Scherer, Gahinet, Chilali 1997; the
     filter case of Geromel et al. is the same with its own blocks ``b``): continuous time
@@ -107,13 +121,7 @@ def _synthesis(name: str, time: str, analysis: Theorem) -> Theorem:
                   description="min γ over X, Y, Â, B̂, Ĉ, D̂; controller by the SGC recovery "
                               "(M Nᵀ = I − X Y), loop-shifted for D22.")
     (n, m1, m2, p1, p2), d = generalized_plant(thm)
-    X = thm.var("X", n, kind="symmetric")
-    Y = thm.var("Y", n, kind="symmetric")
-    Ah = thm.var("Ah", n, n, latex=r"\hat{A}")
-    Bh = thm.var("Bh", n, p2, latex=r"\hat{B}")
-    Ch = thm.var("Ch", m2, n, latex=r"\hat{C}")
-    Dh = thm.var("Dh", m2, p2, latex=r"\hat{D}")
-    g = thm.scalar("gamma", latex=r"\gamma", description="H∞ level")
+    X, Y, Ah, Bh, Ch, Dh, g = full_order_variables(thm, n, p2, m2)
     b = output_feedback_blocks(X, Y, Ah, Bh, Ch, Dh, d["A"], d["B1"], d["B2"], d["C1"], d["C2"],
                                d["D11"], d["D12"], d["D21"])
     full_order_hinf_lmis(thm, "(OF)", b, g, X, Y)

@@ -116,11 +116,11 @@ RICCATI_LEVELS = (1e-5, 1e-3)
 
 
 def riccati_point(instance: Instance, synthesis_gamma, tolerance):
-    """A certified point from a Riccati equation, no SDP: for a theorem declaring its
-    state-feedback form, :func:`state_feedback_point`; for one declaring its bounded-real form
-    (:meth:`Theorem.bounded_real_form`) with P from the Riccati equation
-    (:mod:`lmidsl.numeric.riccati`), no SDP; None when the theorem declares none, the system is
-    unstable, or no level certifies.  The levels: python-control's norm × (1 + r) for r in
+    """A certified point from a Riccati equation, no SDP, or None (no declared form, an unstable
+    system, or no level certifies).  A theorem declaring its state-feedback form:
+    :func:`state_feedback_point`.  One declaring its bounded-real form
+    (:meth:`Theorem.bounded_real_form`): P from the bounded-real Riccati equation
+    (:mod:`lmidsl.numeric.riccati`) at the levels python-control's norm × (1 + r), r in
     :data:`RICCATI_LEVELS` (γ then states the design's own norm, as the analysis minimum
     would), then the synthesis γ and γ (1 + tolerance)."""
     if instance.theorem.state_feedback is not None:
