@@ -24,8 +24,7 @@ from .numeric.scaling import apply_scaling
 from .theorem.registry import get_example, get_theorem
 from .solver.solution import Solution, evaluate_reported, lmi_certificate
 from .theorem.theorem import Theorem
-from .solver.backoff import DEFAULT_DELTA
-from .solver.backoff import backoff_solution, level_solution
+from .solver.backoff import DEFAULT_DELTA, backoff_solution, level_solution
 
 AUTO_DELTAS = (DEFAULT_DELTA, 10 * DEFAULT_DELTA)
 """δ of the automatic back-off, in order: hinf_of_ct plant-14 (γ* = 5554.6) gets no certified
