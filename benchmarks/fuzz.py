@@ -1,8 +1,9 @@
-"""The long fuzz run: ≥ 10,000 random theorems through the builder and the cvxpy compiler, each
-compared with numpy's evaluation of its block matrices (see tests/fuzzing.py), then the command
-line's input parsing properties of tests/test_fuzz.py with many more examples.
+"""The long fuzz run: ≥ 10,000 random theorems through the builder and a backend's compiler (cvxpy
+by default, ``--backend direct`` for the direct one), each compared with numpy's evaluation of its
+block matrices (see tests/fuzzing.py), then the command line's input parsing properties of
+tests/test_fuzz.py with many more examples.
 
-    python benchmarks/fuzz.py [--cases 10000] [--start 0] [--parse-examples 2000]
+    python benchmarks/fuzz.py [--cases 10000] [--start 0] [--backend cvxpy] [--parse-examples 2000]
 
 Prints the counts (same / refused / mismatch / crash), the kinds of refusal, and every crash or
 mismatch with its seed (re-run one with ``python -c "from fuzzing import run_case; print(run_case(SEED))"``
@@ -35,6 +36,7 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cases", type=int, default=10000)
     parser.add_argument("--start", type=int, default=0, help="first seed")
+    parser.add_argument("--backend", default="cvxpy", help="the compiler under test (cvxpy, direct, picos)")
     parser.add_argument("--parse-examples", type=int, default=2000,
                         help="hypothesis examples for each command-line parsing property (0: skip)")
     args = parser.parse_args()
@@ -43,7 +45,7 @@ def main() -> int:
     failures = []
     t0 = time.perf_counter()
     for seed in range(args.start, args.start + args.cases):
-        outcome, detail = run_case(seed)
+        outcome, detail = run_case(seed, args.backend)
         counts[outcome] += 1
         if outcome == "refused":
             refusals[kind_of(detail)] += 1
@@ -53,7 +55,7 @@ def main() -> int:
             print(f"  {seed - args.start + 1} cases, {dict(counts)}, {time.perf_counter() - t0:.0f} s",
                   file=sys.stderr, flush=True)
     elapsed = time.perf_counter() - t0
-    print(f"builder/compiler fuzz: {args.cases} cases (seeds {args.start}..{args.start + args.cases - 1}) "
+    print(f"builder/compiler fuzz ({args.backend}): {args.cases} cases (seeds {args.start}..{args.start + args.cases - 1}) "
           f"in {elapsed:.0f} s")
     for outcome in ("same", "refused", "mismatch", "crash"):
         print(f"  {outcome:9s} {counts[outcome]}")

@@ -6,7 +6,7 @@ variables of every kind (full, symmetric, diagonal, scalar), parameters and deri
 and one or two LMIs of random block structure whose blocks are random conforming expressions
 (products, transposes, inverses and powers of data, ``He``, parameters times terms, zero
 blocks); now and then something a theorem must refuse (a product of two variables, a bad
-shape, a non-finite datum).  :func:`run_case` binds it, compiles it with the cvxpy backend,
+shape, a non-finite datum).  :func:`run_case` binds it, compiles it with a backend (cvxpy or direct),
 assigns random values to the variables and compares every assembled LMI matrix with numpy's
 evaluation of the same block matrix.  The outcome is 'same', 'refused' (an
 :class:`~lmidsl.errors.LmidslError` with a one-line message), 'mismatch' or 'crash'.
@@ -173,12 +173,12 @@ def random_case(seed: int) -> Case:
     return case
 
 
-def run_case(seed: int) -> tuple[str, str]:
-    """('same' | 'refused' | 'mismatch' | 'crash', detail)."""
+def run_case(seed: int, backend: str = "cvxpy") -> tuple[str, str]:
+    """('same' | 'refused' | 'mismatch' | 'crash', detail) of one random theorem compiled by ``backend``."""
     try:
         case = random_case(seed)
         instance = bind(case.thm, case.inputs)
-        model = get_backend("cvxpy")(instance)
+        model = get_backend(backend)(instance)
         values = random_point(instance, np.random.default_rng(seed + 1))
         model.assign(values)
         compiled = model.lmi_values()

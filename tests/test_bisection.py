@@ -24,7 +24,9 @@ def test_single_system_decay_rate_is_minus_max_real_eigenvalue():
     assert len(result.steps) <= int(np.ceil(np.log2(10 / 1e-6))) + 2
 
 
-def test_compiled_once(monkeypatch):
+def test_compiled_once_on_cvxpy(monkeypatch):
+    """On cvxpy the parameter is a cp.Parameter: one compile, every step re-solves (DPP).  The
+    direct backend recompiles at each step (cheap) and ends in the same interval."""
     made = []
     real = bis.get_backend
 
@@ -38,8 +40,11 @@ def test_compiled_once(monkeypatch):
         return Counted
 
     monkeypatch.setattr(bis, "get_backend", counting)
-    result = bis.bisect(make_instance("decay_rate.quadratic", "single"))
+    result = bis.bisect(make_instance("decay_rate.quadratic", "single"), backend="cvxpy")
     assert len(result.steps) > 10 and len(made) == 1
+    monkeypatch.undo()
+    direct = bis.bisect(make_instance("decay_rate.quadratic", "single"))
+    assert direct.interval == pytest.approx(result.interval, abs=2 * result.tol)
 
 
 def test_polytope_bisection_agrees_with_a_fine_grid():

@@ -31,7 +31,7 @@ def test_solve_json_fields():
     for key in ("theorem", "example", "backend", "solver", "status", "objective", "gamma", "lmis",
                 "recovered", "times"):
         assert key in data, key
-    assert data["backend"] == "cvxpy" and data["solver"] == "CLARABEL"
+    assert data["backend"] == "direct" and data["solver"] == "CLARABEL"
     assert data["gamma"] == pytest.approx(0.3373, rel=5e-3)
     assert data["objective"] == pytest.approx(data["gamma"] ** 2, rel=1e-9)
     assert [l["label"] for l in data["lmis"]] == ["(30)", "(31)", "P1 > 0", "P3 > 0"]

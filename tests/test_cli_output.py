@@ -127,7 +127,7 @@ def test_check_fits_100_columns():
     assert_fits(out)
     assert "0.3367405" in out                        # numbers are never folded
     assert "largest eigenvalue of each LMI" in out
-    assert "check [2/2] picos:cvxopt" in err
+    assert "check [3/3] picos:cvxopt" in err         # clarabel: on the direct and cvxpy backends
 
 
 def test_closed_pipe_is_not_an_error():
@@ -180,7 +180,7 @@ def test_check_takes_solver_as_well_as_solvers():
                              "--json")
     assert code == 0, err
     rows = json.loads(out)["rows"]
-    assert [(r["backend"], r["solver"]) for r in rows] == [("cvxpy", "CLARABEL")]
+    assert [(r["backend"], r["solver"]) for r in rows] == [("direct", "CLARABEL"), ("cvxpy", "CLARABEL")]
 
 
 def test_a_flag_a_command_cannot_honour_is_refused_in_one_line():

@@ -1,5 +1,5 @@
 """Property tests (hypothesis) of the builder, the compiler and the command line's input
-parsing: every random theorem compiles (cvxpy backend) to the same matrices as numpy's
+parsing: every random theorem compiles (cvxpy and direct backends) to the same matrices as numpy's
 evaluation of its block matrices, or is refused with a one-line :class:`LmidslError`; every
 random ``--set`` value and ``--grid`` text is bound or refused in one line.  The default run is
 short; ``python benchmarks/fuzz.py`` runs ≥ 10,000 cases."""
@@ -22,10 +22,11 @@ from lmidsl.studies.sweep import parse_grid  # noqa: E402
 FAST = settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
+@pytest.mark.parametrize("backend", ["cvxpy", "direct"])
 @FAST
-@given(st.integers(min_value=0, max_value=2 ** 32 - 1))
-def test_random_theorems_compile_to_the_numpy_matrices_or_are_refused(seed):
-    outcome, detail = run_case(seed)
+@given(seed=st.integers(min_value=0, max_value=2 ** 32 - 1))
+def test_random_theorems_compile_to_the_numpy_matrices_or_are_refused(backend, seed):
+    outcome, detail = run_case(seed, backend)
     assert outcome in ("same", "refused"), detail
 
 

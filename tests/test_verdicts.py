@@ -164,6 +164,7 @@ def test_a_solver_panic_is_a_solver_error_and_the_next_solver_answers(monkeypatc
     """Clarabel (Rust) panics with pyo3's PanicException, a BaseException: it must become the
     status "solver_error" of that solver, and `solve` must go on to the other solvers."""
     import cvxpy as cp
+    from lmidsl.solver.backends import direct_backend
 
     class PanicException(BaseException):
         pass
@@ -176,6 +177,12 @@ def test_a_solver_panic_is_a_solver_error_and_the_next_solver_answers(monkeypatc
         return real_solve(self, *args, **kwargs)
 
     monkeypatch.setattr(cp.Problem, "solve", panicking)
+
+    class PanickingClarabel:                    # the direct backend's call of Clarabel
+        def __init__(self, *args, **kwargs):
+            raise PanicException("Eigval error: Eigen(1)")
+
+    monkeypatch.setattr(direct_backend.clarabel, "DefaultSolver", PanickingClarabel)
     data = {"A": A3.tolist(), "B": B3.tolist(), "C": C3.tolist(), "D": D3.tolist()}
     true = control.linfnorm(control.ss(A3, B3, C3, D3))[0]
     sol = lmidsl.solve(BRL, data=data)

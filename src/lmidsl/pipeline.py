@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import time
 
-from .solver.backends import get_backend, other_solver
+from .solver.backends import choose_backend, get_backend, second_opinion
 from .solver.fallback import riccati_point, with_fallbacks
 from .solver.status import INFEASIBLE, INFEASIBLE_INACCURATE, NOT_SOLVED
 from .certify import certify_by_analysis
@@ -73,7 +73,7 @@ ILL_CONDITIONED = 1e6
 """A recovery inverting a matrix of larger condition number is backed off from (``backoff="auto"``)."""
 
 
-def solve_instance(instance: Instance, solver: str | None = None, backend: str = "cvxpy",
+def solve_instance(instance: Instance, solver: str | None = None, backend: str | None = None,
                    margin: float | None = None, certify: bool = True, scaling="auto",
                    backoff: float | None = None, diagnose: bool = True, **options) -> Solution:
     """Compile, solve, recover the filter and (optionally) certify it by analysis.
@@ -85,6 +85,7 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str =
     well-conditioned recovery (:mod:`lmidsl.solver.backoff`); ``"auto"``: only when the filter recovered
     at the optimum fails its analysis certificate (or its recovery fails), with δ = 10⁻².
     """
+    backend = choose_backend(backend, solver)
     applied = apply_scaling(instance, scaling)
     solution, model = solve_conditioned(applied.scaled, get_backend(backend),
                                         lambda m: solve_model(m, solver, **options), margin)
@@ -183,7 +184,7 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
     return candidate
 
 
-def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=True,
+def finish_solution(solution: Solution, solver=None, backend=None, certify=True,
                     diagnose=True, margin: float | None = None) -> Solution:
     """Feasibility diagnosis, recovery (mapped back through any scaling) and analysis
     certificate, in place.
@@ -193,6 +194,7 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
     "marginal": feasible by less than the margin); the solver's own word stays in
     ``solver_status``.  An infeasible problem is a result, not an error.
     """
+    backend = choose_backend(backend, solver)
     instance = solution.instance
     original = solution.scaling.original if solution.scaling is not None else instance
     solution.analysis = None
@@ -209,12 +211,13 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
                 solution.notes.append(f"feasp as written said infeasible (t* = {report.tmin:.3g}); on the "
                                       f"conditioned LMIs: {conditioned.verdict} (t* = {conditioned.tmin})")
                 report = conditioned
-        other = other_solver(backend, report.solver) if report.verdict == "infeasible" else None
+        other = second_opinion(backend, report.solver) if report.verdict == "infeasible" else None
         if other is not None:
             # ... and a second solver's, also when the user named one: one solver's t* ≥ 0 is not
             # a proof (solver="CLARABEL" called a stable plant with a pole at radius 0.99982
             # "infeasible"; CVXOPT finds it strictly feasible)
-            second = feasp(instance, backend=backend, solver=other, detail=False, margin=feasp_margin)
+            second = feasp(instance, backend=other.backend, solver=other.solver, detail=False,
+                           margin=feasp_margin)
             if second.verdict != "infeasible":
                 solution.notes.append(f"feasp with {report.solver} said infeasible (t* = {report.tmin:.3g}); "
                                       f"with {second.solver}: {second.verdict} (t* = {second.tmin}): "
@@ -272,12 +275,13 @@ def finish_solution(solution: Solution, solver=None, backend="cvxpy", certify=Tr
 
 
 def solve(theorem, example: str | None = None, data: dict | None = None,
-          overrides: dict | None = None, solver: str | None = None, backend: str = "cvxpy",
+          overrides: dict | None = None, solver: str | None = None, backend: str | None = None,
           margin: float | None = None, certify: bool = True, scaling="auto",
           backoff="auto", diagnose: bool = True, **options) -> Solution:
     """Solve a theorem on an example or data; returns a :class:`Solution`.  By default
     (``backoff="auto"``) a design that its analysis does not certify at the optimum, or whose
     recovery is ill-conditioned, is recovered at γ² ≤ (1 + 10⁻²) γ*² instead (both reported)."""
+    backend = choose_backend(backend, solver)
     t0 = time.perf_counter()
     instance = make_instance(theorem, example, data, overrides)
     bind_time = time.perf_counter() - t0

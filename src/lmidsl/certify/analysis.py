@@ -24,7 +24,7 @@ import sympy as sp
 from ..errors import InputError, LmidslError
 from ..numeric.instance import Instance, bind
 from ..numeric.scaling import apply_scaling
-from ..solver.backends import Route, fallback_routes, get_backend, is_first_order
+from ..solver.backends import choose_backend, Route, fallback_routes, get_backend, is_first_order
 from ..solver.fallback import better, riccati_point
 from ..solver.conditioning import equilibrate
 from ..solver.feasibility import feasp
@@ -157,9 +157,10 @@ def _solve_one(instance, solver, backend, synthesis_gamma, tolerance):
 
     result = None
     for route in routes:
-        if is_first_order(route.solver or ""):
+        if solver is None and is_first_order(route.solver or ""):
             # SCS's 1e-4-accurate points did not certify an analysis in the papers' reproduction
             # (75 % of its time once went there), nor in the gallery: the route costs seconds
+            # (a solver the user names is used, first-order or not)
             continue
         for conditioning in conditionings:
             try:
@@ -184,8 +185,9 @@ def analysis_theorem_for(instance: Instance):
 
 
 def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gamma=None,
-                        solver: str | None = None, backend: str = "cvxpy") -> AnalysisCertificate:
+                        solver: str | None = None, backend: str | None = None) -> AnalysisCertificate:
     """Solve the analysis counterpart of ``instance.theorem`` with ``filter_matrices`` fixed."""
+    backend = choose_backend(backend, solver)
     link = instance.theorem.analysis
     analysis = analysis_theorem_for(instance)
     vertices = range(instance.nvertices) if instance.nvertices > 1 else [None]

@@ -19,7 +19,7 @@ import json
 import math
 
 from ..errors import InputError
-from ..solver.backends import BACKENDS, options_for, resolve_solver
+from ..solver.backends import BACKENDS, DEFAULT_BACKEND, choose_backend, options_for, resolve_solver
 from ..studies.store import strict_json
 
 #: the flags every solving command accepts (tests/test_cli_output.py checks each command)
@@ -35,9 +35,10 @@ def add_solve_arguments(parser, *, theorem: bool = True, solver_help: str | None
         parser.add_argument("--example", help="a named example of the theorem")
     add_data_arguments(parser)
     parser.add_argument("--backend", choices=list(BACKENDS),
-                        help=f"modelling backend ({', '.join(BACKENDS)}; default cvxpy)")
-    parser.add_argument("--solver", help=solver_help or "solver name (default: clarabel on cvxpy, "
-                        "cvxopt on picos); any installed SDP solver of the backend")
+                        help=f"modelling backend ({', '.join(BACKENDS)}; default {DEFAULT_BACKEND}: "
+                             "lmidsl's own standard form for Clarabel)")
+    parser.add_argument("--solver", help=solver_help or "solver name (default: clarabel on direct and "
+                        "cvxpy, cvxopt on picos); any installed SDP solver of the backend")
     parser.add_argument("--solver-option", dest="solver_options", action="append", default=[],
                         metavar="[[BACKEND:]SOLVER:]KEY=VALUE",
                         help="a solver option, VALUE as JSON (e.g. max_iter=50, or clarabel:max_iter=50 "
@@ -76,7 +77,8 @@ def refuse(args, reason: str, *flags: str) -> None:
 
 
 def backend_of(args) -> str:
-    return getattr(args, "backend", None) or "cvxpy"
+    """``--backend``, else the backend that has ``--solver`` (:func:`~lmidsl.solver.backends.choose_backend`)."""
+    return choose_backend(getattr(args, "backend", None), getattr(args, "solver", None))
 
 
 def add_instance_arguments(parser) -> None:

@@ -19,7 +19,8 @@ for seed 001 and Clarabel reports "inaccurate"; if every solve fails, the optimu
 with the failure recorded.
 
 The record reports the condition numbers of every E_i before (at the optimum) and after, and
-the solves it took.  Implemented for the cvxpy backend.
+the solves it took.  Written in cvxpy: a model of the direct backend is compiled again for cvxpy
+(same LMIs, margin and conditioning) for the search.
 
 When that search fails (its solver fails in the thin slab, or its point is not certified),
 :func:`level_solution` is the fallback: the *level problem* "every LMI, objective ≤ β* + δ|β*|"
@@ -40,7 +41,7 @@ import sympy as sp
 
 from ..errors import InputError, LmidslError, SolverUnavailableError
 from ..numeric.evaluate import NumericEvaluator
-from .backends import Route, fallback_routes, is_first_order
+from .backends import Route, fallback_routes, get_backend, is_first_order
 from .fallback import route_model
 from .status import solved
 
@@ -72,7 +73,10 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
     instance = model.instance
     theorem = instance.theorem
     if model.backend != "cvxpy":
-        raise SolverUnavailableError(f"back-off is implemented for the cvxpy backend, not {model.backend}")
+        # the condition search is written in cvxpy: the same LMIs, margin and conditioning there
+        if model.backend != "direct":
+            raise SolverUnavailableError(f"back-off is implemented for the cvxpy and direct backends, not {model.backend}")
+        model = get_backend("cvxpy")(instance, margin=model.margin, conditioning=model.conditioning)
     if not theorem.conditioned:
         raise InputError(f"{theorem.id}: declares no well_conditioned expressions; back-off has nothing to improve")
     if theorem.objective is None or solution.objective is None:

@@ -42,7 +42,7 @@ import sympy as sp
 
 from ..numeric.instance import Instance
 from .solution import lmi_certificate, with_location
-from .backends import get_backend
+from .backends import choose_backend, get_backend
 from .status import solved
 
 DEFAULT_RADIUS = 1e6
@@ -238,7 +238,31 @@ def _tmin(model, chosen, radius, solver, options):
     problem = model.make_problem(t, constraints)
     status, value, _, _ = model.run_solver(solver, problem, **options)
     ok = solved(status) and value is not None
-    return (float(value) if ok else None), status
+    if not ok:
+        return None, status
+    achieved = _achieved_t(model, chosen)
+    # the returned point realises t = max λ_max(N) over the strict LMIs: t* is at most that,
+    # whatever the solver's objective says (an "optimal" Clarabel point on pan_impulsive.lemma1's
+    # (13) alone had t = 8.4e-5 and λ_max = −0.0079, its residual 0.013 at ‖x‖ ~ 8e5)
+    return (min(float(value), achieved) if achieved is not None else float(value)), status
+
+
+def _achieved_t(model, chosen) -> float | None:
+    """max λ_max(N) over the chosen strict LMIs at the model's current point (numpy), or None
+    when a chosen non-strict LMI does not hold there (to 1e-9 of its scale)."""
+    worst = None
+    for c in chosen:
+        N = model.expression_value(c.N)
+        if N is None:
+            return None
+        N = np.atleast_2d(np.asarray(N, dtype=float))
+        top = float(np.linalg.eigvalsh((N + N.T) / 2)[-1])
+        if not c.strict:
+            if top > 1e-9 * max(1.0, float(np.abs(N).max())):
+                return None
+            continue
+        worst = top if worst is None else max(worst, top)
+    return worst
 
 
 def stacked_norm(values: dict) -> float:
@@ -251,7 +275,7 @@ def stacked_norm(values: dict) -> float:
     return float(np.linalg.norm(np.concatenate(parts))) if parts else 0.0
 
 
-def feasp(instance: Instance, backend: str = "cvxpy", solver: str | None = None,
+def feasp(instance: Instance, backend: str | None = None, solver: str | None = None,
           radius: float = DEFAULT_RADIUS, margin: float | None = None, detail: bool | None = None,
           max_radius: float = MAX_RADIUS, conditioning=None, **options) -> FeasibilityReport:
     """The feasp diagnosis of ``instance`` (see the module docstring).
@@ -260,6 +284,7 @@ def feasp(instance: Instance, backend: str = "cvxpy", solver: str | None = None,
     per-LMI 'alone' and 'without' problems.  ``conditioning``: solve the auxiliary problems on
     the conditioned LMIs (:mod:`lmidsl.solver.conditioning`); t* is then in their units.
     """
+    backend = choose_backend(backend, solver)
 
     model = get_backend(backend)(instance, margin=margin, conditioning=conditioning)
     compiled = compiled_lmis(model)

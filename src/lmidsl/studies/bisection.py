@@ -22,7 +22,7 @@ from dataclasses import dataclass, field, replace
 from ..errors import InputError, LmidslError
 from ..numeric.instance import Instance
 from ..pipeline import finish_solution
-from ..solver.backends import Route, fallback_routes, get_backend
+from ..solver.backends import choose_backend, Route, fallback_routes, get_backend
 from ..solver.backends.base import DEFAULT_MARGIN
 from ..solver.margin import solve_model
 from ..solver.solution import Solution
@@ -137,10 +137,11 @@ def _spec(theorem, lower, upper, tol, goal, parameter=None) -> Bisection:
 
 def bisect(instance: Instance, *, lower: float | None = None, upper: float | None = None,
            tol: float | None = None, goal: str | None = None, parameter: str | None = None,
-           solver: str | None = None, backend: str = "cvxpy", margin: float | None = None,
+           solver: str | None = None, backend: str | None = None, margin: float | None = None,
            **options) -> BisectionResult:
     """Bisect the theorem's declared parameter (or ``parameter``) on ``instance`` (see the
     module docstring); ``lower``, ``upper``, ``tol``, ``goal`` override the declaration."""
+    backend = choose_backend(backend, solver)
     t0 = time.perf_counter()
     theorem = instance.theorem
     spec = _spec(theorem, lower, upper, tol, goal, parameter)
@@ -181,9 +182,10 @@ def bisect(instance: Instance, *, lower: float | None = None, upper: float | Non
 
 
 def grid(instance: Instance, values, *, parameter: str | None = None, solver: str | None = None,
-         backend: str = "cvxpy", margin: float | None = None, **options) -> list[dict]:
+         backend: str | None = None, margin: float | None = None, **options) -> list[dict]:
     """The certificate at each value of the declared bisection parameter (or ``parameter``),
     compiled once."""
+    backend = choose_backend(backend, solver)
     spec = instance.theorem.bisection
     if parameter is None and spec is None:
         raise InputError(f"{instance.theorem.id} declares no bisection parameter (Theorem.bisect)")

@@ -24,7 +24,7 @@ from ..errors import InputError
 from ..numeric.instance import Instance
 from ..numeric.evaluate import NumericEvaluator
 from ..pipeline import finish_solution
-from ..solver.backends import get_backend
+from ..solver.backends import choose_backend, get_backend
 
 
 @dataclass
@@ -90,13 +90,14 @@ def next_point(instance: Instance, values: dict) -> dict:
 
 def successive_lmi(instance: Instance, *, starts: list[dict] | None = None, max_iter: int = 30,
                    rtol: float = 1e-4, atol: float = 0.0, solver: str | None = None,
-                   backend: str = "cvxpy", margin: float | None = None, progress: bool = True,
+                   backend: str | None = None, margin: float | None = None, progress: bool = True,
                    desc: str | None = None, certify: bool = True) -> BMIResult:
     """Iterate the theorem's LMI over its linearisation point; return the best solution.
 
     ``starts``: initial points (dicts of the linearisation data); default: the instance's data.
     The best solution gets the theorem's recovery and analysis certificate (``certify``).
     """
+    backend = choose_backend(backend, solver)
 
     theorem = instance.theorem
     if not theorem.linearisation:

@@ -14,6 +14,7 @@ from dataclasses import asdict, dataclass, fields
 
 from ..pipeline import solve
 from ..errors import Interrupted, LmidslError
+from ..solver.backends import DEFAULT_BACKEND
 from ..solver.status import solved
 from ..theorem.registry import all_theorems, get_theorem
 from ..theorem.values import OUTCOMES, PROVENANCE
@@ -178,7 +179,7 @@ def reproduce_all(solver: str | None = None, theorems: list[str] | None = None, 
         jsonl = JsonLinesStore(store)
         header = {"kind": "reproduce", "solver": solver, "theorems": sorted(theorems) if theorems else None}
         chosen = {k: v for k, v in solve_options.items()      # defaults leave the header as it was
-                  if v is not None and (k, v) != ("backend", "cvxpy")}
+                  if v is not None and (k, v) != ("backend", DEFAULT_BACKEND)}
         if chosen:
             header["options"] = chosen
         names = {f.name for f in fields(ReproductionRow)}

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..numeric.instance import Instance
-from ..solver.backends import get_backend
+from ..solver.backends import choose_backend, get_backend
 from ..solver.feasibility import DEFAULT_RADIUS, JointFeasp
 from .parallel import Runner, Task
 
@@ -93,10 +93,10 @@ class SearchResult:
 class Evaluator:
     """θ ↦ SearchPoint on one compiled model (built once, scalars updated as parameters)."""
 
-    def __init__(self, instance: Instance, objective: str, backend: str = "cvxpy",
+    def __init__(self, instance: Instance, objective: str, backend: str | None = None,
                  solver: str | None = None, margin: float | None = None, radius: float | None = None,
                  options: dict | None = None):
-
+        backend = choose_backend(backend, solver)
         self.instance = instance
         self.objective = objective
         self.solver = solver
@@ -194,7 +194,7 @@ def refine(evaluate: Evaluator, start: SearchPoint, names: list, steps: list,
 def scalar_search(instance: Instance, axes: dict, objective: str | None = None, *,
                   refine_best: bool = False, workers: int | None = None, progress: bool | None = None,
                   scheduler: str | None = None,
-                  solver: str | None = None, backend: str = "cvxpy", margin: float | None = None,
+                  solver: str | None = None, backend: str | None = None, margin: float | None = None,
                   radius: float | None = None, maxfev: int = 80, **options) -> SearchResult:
     """Grid over ``axes`` ({name: [values]}), then (``refine_best``) Nelder–Mead from the best point.
 
@@ -204,6 +204,7 @@ def scalar_search(instance: Instance, axes: dict, objective: str | None = None, 
     ``workers`` / ``scheduler``: where the grid points are evaluated (:func:`evaluate_grid`); the
     refinement is sequential, in this process.
     """
+    backend = choose_backend(backend, solver)
     theorem = instance.theorem
     names = list(axes)
     _check(instance, names)

@@ -24,7 +24,7 @@ from ..pipeline import make_instance
 from ..numeric.proof import PROVED
 from ..solver.margin import solve_model
 from ..solver.solution import lmi_certificate
-from ..solver.backends import get_backend
+from ..solver.backends import choose_backend, get_backend
 from ..errors import InputError, Interrupted
 from .parallel import Runner, Task, check_workers, items_as_finished, worker_state
 from .store import JsonLinesStore, atomic_path, atomic_write_text, strict_json
@@ -160,7 +160,7 @@ class SweepResult:
 
 
 def sweep(theorem, grids: list, example: str | None = None, data: dict | None = None,
-          overrides: dict | None = None, solver: str | None = None, backend: str = "cvxpy",
+          overrides: dict | None = None, solver: str | None = None, backend: str | None = None,
           margin: float | None = None, scaling="auto", progress=None, store=None,
           resume: bool = False, max_points: int = MAX_POINTS, workers: int | None = None,
           scheduler: str | None = None, **options) -> SweepResult:
@@ -176,6 +176,7 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
     (:mod:`lmidsl.studies.parallel`).  Points are stored as they finish, in any order; the
     result lists them in grid order.
     """
+    backend = choose_backend(backend, solver)
     check_workers(workers, scheduler)
     size = grid_size(grids)
     if size > max_points:

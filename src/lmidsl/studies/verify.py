@@ -37,7 +37,7 @@ from ..certify.montecarlo import monte_carlo
 from ..certify.synthesis import synthesis_lmis
 from ..theorem.registry import linked_analysis
 from ..pipeline import as_theorem, make_instance, solve_instance
-from ..solver.backends import get_backend
+from ..solver.backends import choose_backend, get_backend
 from ..solver.conditioning import solve_conditioned
 from ..solver.margin import solve_model
 from ..solver.status import SOLVED
@@ -251,7 +251,7 @@ def _disturbance(choice, figure, horizon: int, m: int):
 def verify(theorem, example: str | None = None, data: dict | None = None, overrides: dict | None = None,
            design=None, gamma: float | None = None, runs: int = 10000, seed: int | None = 0,
            confidence: float = 0.95, disturbance="worst", horizon: int = 50,
-           solver: str | None = None, backend: str = "cvxpy", backoff=None, margin: float | None = None,
+           solver: str | None = None, backend: str | None = None, backoff=None, margin: float | None = None,
            progress=None, **options) -> Verification:
     """Certify a designed, printed (``design='printed'``) or given (``design={name: matrix}``) design
     (a filter, controller, ...).
@@ -264,6 +264,7 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
     ``progress(stage)`` is called with each stage's name as it starts (synthesis, analysis,
     exact figure, Monte Carlo).
     """
+    backend = choose_backend(backend, solver)
     step = progress or (lambda stage: None)
 
     thm = as_theorem(theorem)
