@@ -19,8 +19,7 @@ for seed 001 and Clarabel reports "inaccurate"; if every solve fails, the optimu
 with the failure recorded.
 
 The record reports the condition numbers of every E_i before (at the optimum) and after, and
-the solves it took.  Written in cvxpy: a model of the direct backend is compiled again for cvxpy
-(same LMIs, margin and conditioning) for the search.
+the solves it took.
 
 When that search fails (its solver fails in the thin slab, or its point is not certified),
 :func:`level_solution` is the fallback: the *level problem* "every LMI, objective ≤ β* + δ|β*|"
@@ -39,9 +38,9 @@ import math
 import numpy as np
 import sympy as sp
 
-from ..errors import InputError, LmidslError, SolverUnavailableError
+from ..errors import InputError, LmidslError
 from ..numeric.evaluate import NumericEvaluator
-from .backends import Route, fallback_routes, get_backend, is_first_order
+from .backends import Route, fallback_routes, is_first_order
 from .fallback import route_model
 from .status import solved
 
@@ -67,16 +66,13 @@ DEFAULT_DELTA = 1e-2
 
 def backoff_solution(model, solution, delta: float, solver=None, iterations: int = 12,
                      decades: float = 6.0, **options):
-    """A new :class:`~lmidsl.solver.solution.Solution` at the back-off point (see module docstring)."""
-    import cvxpy as cp
+    """A new :class:`~lmidsl.solver.solution.Solution` at the back-off point (see module docstring).
 
+    Written on the backend hooks (variables, ``lmi_constraint``, ``make_problem``), so it runs on
+    any backend; t is a backend parameter where the backend has mutable ones (cvxpy: one compile,
+    every step re-solves), else each step assembles the problem again (direct: milliseconds)."""
     instance = model.instance
     theorem = instance.theorem
-    if model.backend != "cvxpy":
-        # the condition search is written in cvxpy: the same LMIs, margin and conditioning there
-        if model.backend != "direct":
-            raise SolverUnavailableError(f"back-off is implemented for the cvxpy and direct backends, not {model.backend}")
-        model = get_backend("cvxpy")(instance, margin=model.margin, conditioning=model.conditioning)
     if not theorem.conditioned:
         raise InputError(f"{theorem.id}: declares no well_conditioned expressions; back-off has nothing to improve")
     if theorem.objective is None or solution.objective is None:
@@ -88,41 +84,54 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
     blocks = []
     for expr in theorem.conditioned:
         size = int(sp.sympify(expr.shape[0]).xreplace(instance.dims))
-        blocks.append((compiler.visit(expr), np.eye(size)))
+        blocks.append((compiler.visit(expr), np.eye(size), size))
     beta_opt = float(solution.objective)
     bound = beta_opt + delta * abs(beta_opt)
-    base = list(model.problem.constraints) + [objective <= bound]
+    base = [c for _, c in model.constraints] + [objective <= bound]
     name = model.solver_name(solver)
 
-    t_var = cp.Variable()
-    # the backend's own call: options as for any solve, a solver's crash is a status, no warnings
-    status, _, message, _ = model.run_solver(
-        name, problem=cp.Problem(cp.Maximize(t_var), base + [E >> t_var * Id for E, Id in blocks]), **options)
+    t_var = model.new_scalar("t_backoff", False)
+    # max t s.t. E ⪰ t I: t I − E ⪯ 0; the backend's own call: a solver's crash is a status
+    status, _, message, _ = model.run_solver(name, problem=model.make_problem(
+        -t_var, base + [model.lmi_constraint(t_var * Id - E, n, None) for E, Id, n in blocks]), **options)
     if status == "solver_error":
         solution.backoff = {"delta": delta, "failed": f"{name} failed on the first conditioning solve "
                             f"({message}); try another solver or a larger δ", "solves": 1}
         return solution
     solves = 1
-    if t_var.value is None or not t_var.value > 0:
+    t_value = model.value_of(t_var) if solved(status) else None
+    if t_value is None or not t_value > 0:
         raise LmidslError(f"{theorem.id}: back-off: no point with objective ≤ {bound:.6g} and positive "
                           f"definite {', '.join(map(str, theorem.conditioned))}")
-    t_max = float(t_var.value)
+    t_max = float(t_value)
 
-    t = cp.Parameter(nonneg=True, value=t_max)
-    kappa = cp.Variable()
-    cons = base + [E >> t * Id for E, Id in blocks] + [E << kappa * Id for E, Id in blocks]
-    problem = cp.Problem(cp.Minimize(kappa), cons)
+    kappa = model.new_scalar("kappa_backoff", False)
+    upper = [model.lmi_constraint(E - kappa * Id, n, None) for E, Id, n in blocks]    # E ⪯ κ I
+
+    def conditioning_problem(t):
+        """min κ s.t. the LMIs, objective ≤ bound, t I ⪯ E ⪯ κ I."""
+        return model.make_problem(kappa, base + [model.lmi_constraint(t * Id - E, n, None)
+                                                 for E, Id, n in blocks] + upper)
+
+    if model.mutable_parameters:
+        t_param = model.new_parameter("t_backoff_level", t_max)
+        fixed = conditioning_problem(t_param)
+
+        def problem_at(t):
+            model.set_parameter(t_param, t)
+            return fixed
+    else:
+        problem_at = conditioning_problem
 
     def ratio(u):
         nonlocal solves
-        t.value = math.exp(u)
-        status, *_ = model.run_solver(name, problem=problem, **options)
+        t = math.exp(u)
+        status, *_ = model.run_solver(name, problem=problem_at(t), **options)
         if status == "solver_error":
             return math.inf
         solves += 1
-        if not solved(status) or kappa.value is None:
-            return math.inf
-        return float(kappa.value) / t.value
+        value = model.value_of(kappa) if solved(status) else None
+        return math.inf if value is None else float(value) / t
 
     lo, hi = math.log(t_max) - decades * math.log(10), math.log(t_max * (1 - 1e-3))
     a, b = hi - GOLDEN * (hi - lo), lo + GOLDEN * (hi - lo)
@@ -141,22 +150,24 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
         solution.backoff = {"delta": delta, "failed": f"every conditioning solve failed with {name} "
                             f"(objective ≤ {bound:.6g}); try a larger δ", "solves": solves}
         return solution
-    t.value = math.exp(best)
+    t_best = math.exp(best)
     saved = model.problem
-    model.problem = problem
+    model.problem = problem_at(t_best)
     try:
         new = model.solve(solver, **options)
     finally:
         model.problem = saved
     solves += 1
-    new.objective = float(objective.value) if objective.value is not None else None
+    value = model.expression_value(objective) if new.ok else None
+    new.objective = None if value is None else float(np.asarray(value).reshape(-1)[0])
     new.times["solve"] = new.times.get("solve", 0.0)
     before = condition_numbers(instance, solution.values)
     after = condition_numbers(instance, new.values) if new.ok else {}
+    k_value = model.value_of(kappa) if new.ok else None
     new.backoff = {
         "delta": delta, "objective_opt": beta_opt, "objective_bound": bound,
         "objective": new.objective, "gamma_opt": solution.gamma, "gamma": new.gamma,
-        "t": float(t.value), "t_max": t_max, "kappa": float(kappa.value) if kappa.value is not None else None,
+        "t": t_best, "t_max": t_max, "kappa": float(k_value) if k_value is not None else None,
         "cond_before": before, "cond_after": after, "solves": solves,
         "optimum_lmis": [r.as_dict() for r in solution.lmis],
     }

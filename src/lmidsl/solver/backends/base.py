@@ -121,6 +121,9 @@ class CompiledModel:
 
     backend = "abstract"
     compiler_class = BackendCompiler
+    #: whether :meth:`set_parameter` changes a number inside a built problem (cvxpy); otherwise
+    #: parameters are numbers and a problem with new ones is built again (PICOS, direct)
+    mutable_parameters = True
 
     def __init__(self, instance: Instance, margin: float | None = None, reuse: bool = False,
                  conditioning: Equilibration | None = None):

@@ -110,6 +110,7 @@ class DirectCompiler(BackendCompiler):
 class DirectModel(CompiledModel):
     backend = "direct"
     compiler_class = DirectCompiler
+    mutable_parameters = False
 
     def __init__(self, instance, margin=None, reuse=False, conditioning=None):
         self.space = VariableSpace()

@@ -92,6 +92,7 @@ class PicosCompiler(BackendCompiler):
 class PicosModel(CompiledModel):
     backend = "picos"
     compiler_class = PicosCompiler
+    mutable_parameters = False
 
     def __init__(self, instance, margin=None, reuse=False, conditioning=None):
         self._scalars: set[str] = set()
