@@ -44,7 +44,7 @@ from ..numeric.evaluate import NumericEvaluator
 from ..numeric.instance import Instance
 from ..symbolic.symbols import DECISION_TYPES, ScalarVariable, StructuredVariable
 from ..symbolic.uncertainty import scenarios
-from .fallback import better, good
+from .fallback import better
 
 MAX_EXPONENT = 60
 PULL = 1e-2          # weight of log f = 0 for every factor (fixes the directions left free)
@@ -196,15 +196,15 @@ def equilibrate(instance: Instance) -> Equilibration:
 
 
 def solve_conditioned(instance: Instance, model_class, solve, margin: float | None = None):
-    """(solution, model): ``solve(model)`` on the theorem as written and, when that answer is
-    not good (certified, optimal, not set by the margin: :func:`~lmidsl.solver.fallback.good`)
-    and :func:`equilibrate` proposes a scaling, on the conditioned model too; the better answer
-    is kept and the notes say what each gave.  A good answer as written is kept without a
-    second solve: the conditioned problem has the same optimum, and its solve doubled the time
-    of every design (seed 001: 0.2 s each)."""
+    """(solution, model): ``solve(model)`` on the theorem as written and, when
+    :func:`equilibrate` proposes a scaling, on the conditioned model too; the better answer is
+    kept and the notes say what each gave.  Both are solved even when the first is certified and
+    "optimal": on badly scaled data the answer as written can be a certified bound far above the
+    optimum (the BRL with B × 1e-6, C × 1e6: 35.15 as written, 0.48871 conditioned)."""
     plain = model_class(instance, margin=margin)
     solution = solve(plain)
-    if good(solution):
+    proposal = equilibrate(instance)
+    if proposal.trivial:
         return solution, plain
     proposal = equilibrate(instance)
     if proposal.trivial:
