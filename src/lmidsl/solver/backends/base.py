@@ -45,7 +45,7 @@ def _times(value, factor: float):
 _CLASSIFIED: dict = {}
 
 
-def _classify(expr) -> tuple[bool, bool]:
+def classify(expr) -> tuple[bool, bool]:
     """(contains a decision variable, contains a parameter).
 
     Cached by identity (the entry keeps the expression alive, so the id stays valid): theorem
@@ -73,7 +73,7 @@ class BackendCompiler(ExpressionWalker):
         self.constants = NumericEvaluator(model.instance.dims, model.instance.data, {}, vertex)
 
     def _dispatch(self, expr):
-        has_decision, has_param = _classify(expr)
+        has_decision, has_param = classify(expr)
         if not has_decision:
             if not has_param:
                 return self.constants.visit(expr)
@@ -129,13 +129,19 @@ class CompiledModel:
                  conditioning: Equilibration | None = None):
         """``conditioning``: the congruence and variable scaling to compile with
         (:func:`lmidsl.solver.conditioning.equilibrate`); None compiles the theorem as written."""
-        t0 = time.perf_counter()
         self.instance = instance
         self.conditioning = conditioning
         self.equilibration = conditioning if conditioning is not None else Equilibration()
         self.reuse = reuse  # True: the backend keeps its compiled form for re-solves (sweeps)
         self.margin = DEFAULT_MARGIN if margin is None else float(margin)
         self._variables: dict = {}
+        self._compile()
+
+    def _compile(self) -> None:
+        """The walk: every LMI at every vertex and scenario, the objective, the problem.  The
+        variables made so far are kept (a backend that recompiles on :meth:`update` reuses them)."""
+        t0 = time.perf_counter()
+        instance = self.instance
         self._parameters: dict = {}
         self._congruence: dict = {}   # LMI key -> diagonal of T (the congruence of conditioning)
         self.constraints: list = []
@@ -143,7 +149,7 @@ class CompiledModel:
         self.current_lmi = None       # (label, vertex, point) being compiled, for error messages
         theorem = instance.theorem
         # a model that is re-solved keeps ε as a backend parameter; a one-shot model a number
-        self._margin_parameter = self.new_parameter("margin", self.margin) if reuse else self.margin
+        self._margin_parameter = self.new_parameter("margin", self.margin) if self.reuse else self.margin
         for index, lmi in enumerate(theorem.lmis):
             negative = lmi.negative_form()
             t = [self.equilibration.row(index, i) for i in range(negative.nblocks)]

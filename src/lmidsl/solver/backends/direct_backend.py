@@ -29,7 +29,8 @@ from scipy import sparse
 from ...errors import InputError, SolverUnavailableError
 from . import backend_info
 from .affine import Affine, Cone, VariableSpace, block
-from .base import BackendCompiler, CompiledModel, solver_crashed
+from ...symbolic.symbols import StructuredVariable
+from .base import BackendCompiler, CompiledModel, classify, solver_crashed
 
 DEFAULT_SOLVER = backend_info("direct").default
 
@@ -101,10 +102,42 @@ class ConicProblem:
 
 
 class DirectCompiler(BackendCompiler):
-    """The shared compiling walk into the affine algebra."""
+    """The shared compiling walk into the affine algebra; the value of a sub-expression without
+    parameters is kept in the model across recompiles (:meth:`DirectModel.update`)."""
+
+    def _dispatch(self, expr):
+        if not _parameter_free(expr):
+            return super()._dispatch(expr)
+        static = self.model._static
+        key = (id(expr), self.vertex)
+        hit = static.get(key)
+        if hit is not None and hit[0] is expr:
+            return hit[1]
+        value = super()._dispatch(expr)
+        if len(static) > 100_000:        # scenario copies of uncertain LMIs are new trees each time
+            static.clear()
+        static[key] = (expr, value)
+        return value
 
     def trace(self, a):
         return a.trace() if isinstance(a, Affine) else super().trace(a)
+
+
+_PARAMETER_FREE: dict = {}
+
+
+def _parameter_free(expr) -> bool:
+    """No parameter in ``expr``, nor in the expansion of a structured variable in it (cached by
+    identity: theorem trees are immutable)."""
+    hit = _PARAMETER_FREE.get(id(expr))
+    if hit is not None and hit[0] is expr:
+        return hit[1]
+    free = not classify(expr)[1] and all(
+        _parameter_free(a.expansion) for a in expr.atoms(StructuredVariable))
+    if len(_PARAMETER_FREE) > 100_000:
+        _PARAMETER_FREE.clear()
+    _PARAMETER_FREE[id(expr)] = (expr, free)
+    return free
 
 
 class DirectModel(CompiledModel):
@@ -116,6 +149,7 @@ class DirectModel(CompiledModel):
         self.space = VariableSpace()
         self._nonneg: list[Cone] = []
         self._last = None          # (problem, clarabel solution) of the last solve
+        self._static: dict = {}    # (id, vertex) -> value of a parameter-free sub-expression
         super().__init__(instance, margin, reuse, conditioning)
 
     # -- leaves ------------------------------------------------------------------------
@@ -135,11 +169,14 @@ class DirectModel(CompiledModel):
         raise NotImplementedError("direct-backend parameters are numbers; update() recompiles")
 
     def update(self, instance) -> None:
-        """New parameter values: recompile (the walk is cheap; Clarabel has no parameters)."""
-        self.__init__(instance, margin=self.margin, reuse=self.reuse, conditioning=self.conditioning)
+        """New parameter values (same data): compile again, with the same variables and the
+        parameter-free sub-expressions from the last compile (Clarabel has no parameters)."""
+        self.instance = instance
+        self._compile()
 
     def set_margin(self, margin: float) -> None:
-        self.__init__(self.instance, margin=margin, reuse=self.reuse, conditioning=self.conditioning)
+        self.margin = float(margin)
+        self._compile()
 
     # -- assembly ----------------------------------------------------------------------
     def assemble(self, rows):
