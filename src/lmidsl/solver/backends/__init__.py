@@ -46,10 +46,11 @@ class SolverInfo:
 
 
 BACKEND_INFO = {
-    # lmidsl's own standard form, handed to Clarabel without a modelling layer; every other route
-    # after it, cvxpy's Clarabel first (the same solver on cvxpy's canonicalisation)
+    # lmidsl's own standard form, handed to Clarabel without a modelling layer; then CVXOPT
+    # through PICOS (it certifies where Clarabel is inaccurate: lmidsl.solver.fallback), Clarabel
+    # on cvxpy's canonicalisation of the same LMIs, CVXOPT through cvxpy, SCS last
     "direct": BackendInfo("direct", ".direct_backend", "DirectModel", "clarabel", default="CLARABEL",
-                          fallbacks=(Route("cvxpy", "CLARABEL"), Route("picos", "cvxopt"),
+                          fallbacks=(Route("picos", "cvxopt"), Route("cvxpy", "CLARABEL"),
                                      Route("cvxpy", "CVXOPT"), Route("cvxpy", "SCS"))),
     # CVXOPT behind PICOS before CVXOPT behind cvxpy: on ill-conditioned synthesis LMIs the first
     # certifies where the second fails (lmidsl.solver.fallback); SCS last (first-order, slow)
