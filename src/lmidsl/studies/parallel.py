@@ -106,6 +106,8 @@ def check_workers(workers, scheduler) -> None:
                          "one), not both")
 
 
+#: one solver thread in each local worker (one worker per core): lmidsl.solver.backends.direct_backend
+WORKER_ENV = {"LMIDSL_SOLVER_THREADS": "1"}
 WORKER_CONFIG = {"distributed.worker.profile.enabled": False, "distributed.admin.tick.interval": "1s"}
 """Dask settings of a local cluster: no statistical profiler (it samples the worker thread's
 stack every 10 ms and takes the GIL from cvxpy's Python canonicalisation) and a 1 s event-loop
@@ -191,7 +193,8 @@ class Runner:
                                   **WORKER_CONFIG}), \
                     _workers_ignore_ctrl_c():
                 self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
-                                             dashboard_address=None, silence_logs=logging.CRITICAL)
+                                             dashboard_address=None, silence_logs=logging.CRITICAL,
+                                             env=WORKER_ENV)
             self._client = Client(self._cluster, set_as_default=False)
             return self
         _check_address(self.scheduler)
