@@ -59,6 +59,7 @@ def reference_pool(workers: int, n: int) -> dict:
 
     from lmidsl.numeric.scaling import apply_scaling
     from lmidsl.pipeline import make_instance
+    from lmidsl.solver.backends import DEFAULT_BACKEND
     from lmidsl.studies.sweep import SweepTask, parse_grid
 
     grids = [parse_grid(g) for g in (f"xi1=0.05:0.95:{n}", f"xi2=0.05:0.95:{n}")]
@@ -66,7 +67,7 @@ def reference_pool(workers: int, n: int) -> dict:
     points = [dict(zip(("xi1", "xi2"), combo)) for combo in itertools.product(*[v for _, v in grids])]
     context = multiprocessing.get_context("fork")
     with ProcessPoolExecutor(workers, mp_context=context, initializer=_pool_init,
-                             initargs=(SweepTask(base, "cvxpy", None, None, {}),)) as pool:
+                             initargs=(SweepTask(base, DEFAULT_BACKEND, None, None, {}),)) as pool:
         solved = list(pool.map(_pool_solve, points))
     return {"points": [p.as_dict() for p in solved]}
 
