@@ -145,8 +145,11 @@ class CheckResult:
         if len(self.trusted) == 1:
             return f"one trusted row only, nothing to compare: {what}"
         spread = self.spread
-        return (f"{len(self.trusted)} trusted row(s) agree within {self.tolerance:g} (relative on "
-                f"{self.compared}): best {what}" + (f", spread {spread:.1e}" if spread is not None else ""))
+        # the same solver behind two modelling layers (direct:CLARABEL, cvxpy:CLARABEL) is one
+        # solver's opinion twice: say how many different solvers agree
+        solvers = len({r.solver.lower() for r in self.trusted})
+        return (f"{len(self.trusted)} trusted row(s) of {solvers} solver(s) agree within {self.tolerance:g} "
+                f"(relative on {self.compared}): best {what}" + (f", spread {spread:.1e}" if spread is not None else ""))
 
     def as_dict(self) -> dict:
         return {
