@@ -197,3 +197,15 @@ def test_update_keeps_parameter_free_parts_and_equals_a_fresh_compile(theorem, e
     for key in ref:
         np.testing.assert_allclose(got[key], ref[key], rtol=0, atol=1e-12 * max(1.0, np.abs(ref[key]).max()))
     np.testing.assert_allclose(got[next(iter(ref))], numpy_lmis(changed, point)[next(iter(ref))], atol=1e-10)
+
+
+@pytest.mark.parametrize("theorem,example", [("wang_l2linf.thm3", "paper-full"),
+                                             ("pan_impulsive.lemma1", "paper-printed"),
+                                             ("wang_l2linf.cor1", "two-vertex")])
+def test_feasp_agrees_with_cvxpy(theorem, example):
+    """feasp's t* (every strict LMI ⪯ tI, the stacked variables within the radius: a second-order
+    cone here, cvxpy's norm atom there) and its verdict agree between the two backends."""
+    instance = make_instance(theorem, example)
+    a, b = feasp(instance, backend="direct", detail=False), feasp(instance, backend="cvxpy", detail=False)
+    assert a.verdict == b.verdict
+    assert a.tmin == pytest.approx(b.tmin, rel=1e-3, abs=1e-6)
