@@ -209,3 +209,25 @@ def test_feasp_agrees_with_cvxpy(theorem, example):
     a, b = feasp(instance, backend="direct", detail=False), feasp(instance, backend="cvxpy", detail=False)
     assert a.verdict == b.verdict
     assert a.tmin == pytest.approx(b.tmin, rel=1e-3, abs=1e-6)
+
+
+@pytest.mark.parametrize("backend", ["direct", "picos"])
+def test_recompiling_backends_keep_their_conditioning(backend):
+    """update() / set_margin() of a backend that compiles again keep the conditioning congruence:
+    the LMI matrices equal a fresh conditioned model's (PICOS dropped it before 2026-11-24)."""
+    from lmidsl.solver.conditioning import equilibrate
+    A = np.array([[-1.0, 2.0, 0.0], [-2.0, -1.0, 0.5], [0.0, 0.0, -3.0]])
+    data = {"A": A.tolist(), "B": [[1e-6], [0.0], [1e-6]], "C": [[1e6, 5e5, 0.0]], "D": [[0.0]]}
+    instance = make_instance("textbook.brl_ct", data=data)
+    proposal = equilibrate(instance)
+    assert not proposal.trivial
+    model = get_backend(backend)(instance, conditioning=proposal)
+    model.set_margin(1e-6)
+    fresh = get_backend(backend)(instance, margin=1e-6, conditioning=proposal)
+    assert model.conditioning is proposal
+    point = random_point(instance, np.random.default_rng(2))
+    model.assign(point)
+    fresh.assign(point)
+    got, ref = model.lmi_values(), fresh.lmi_values()
+    for key in ref:
+        np.testing.assert_allclose(got[key], ref[key], rtol=1e-12, atol=1e-12 * np.abs(ref[key]).max())

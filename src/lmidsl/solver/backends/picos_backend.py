@@ -118,11 +118,11 @@ class PicosModel(CompiledModel):
 
     def update(self, instance) -> None:
         """Take new parameter values: PICOS cannot change a built problem's numbers, so recompile."""
-        self.__init__(instance, margin=self.margin, reuse=self.reuse)
+        self.__init__(instance, margin=self.margin, reuse=self.reuse, conditioning=self.conditioning)
 
     def set_margin(self, margin: float) -> None:
         """A new strictness margin: recompile (see :meth:`update`)."""
-        self.__init__(self.instance, margin=margin, reuse=self.reuse)
+        self.__init__(self.instance, margin=margin, reuse=self.reuse, conditioning=self.conditioning)
 
     # -- assembly ----------------------------------------------------------------------
     def assemble(self, rows):
