@@ -142,7 +142,7 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
     certified; a point is kept only if certified — it must not cost a certificate, and an
     uncertified back-off point (a thin slab, an inaccurate solve) can be worse than the optimum
     (hinf_of_dt plant-2: an unstable controller where the optimum's is stable); otherwise the
-    optimum (``finish`` done on it already) is returned with the notes.  Seed 001 at δ = 1 %:
+    optimum is returned with the notes (:func:`solve_instance` certifies it if it has not yet).  Seed 001 at δ = 1 %:
     the level point has cond(Z), cond(X − Z) = 130, 675 and γ 0.38287 in 0.14 s; the search
     136, 137 and γ 0.38290 in 3.4 s.  Without ``reason`` (the user's δ) the search first, the
     level problem when it fails, and the answer is returned as it is."""
@@ -295,7 +295,6 @@ def solve(theorem, example: str | None = None, data: dict | None = None,
     """Solve a theorem on an example or data; returns a :class:`Solution`.  By default
     (``backoff="auto"``) a design that its analysis does not certify at the optimum, or whose
     recovery is ill-conditioned, is recovered at γ² ≤ (1 + 10⁻²) γ*² instead (both reported)."""
-    backend = choose_backend(backend, solver)
     t0 = time.perf_counter()
     instance = make_instance(theorem, example, data, overrides)
     bind_time = time.perf_counter() - t0

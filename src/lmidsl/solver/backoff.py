@@ -12,7 +12,8 @@ for a relative back-off δ > 0 and the optimum β* of the objective, this module
 for fixed t > 0, and chooses t by golden-section search on log t to minimise κ(t)/t, which
 bounds cond(E_i) for every i.  κ(t) is convex and nondecreasing in t, so κ(t)/t is
 quasi-convex and the search finds its minimum over t ∈ [10⁻⁶ t_max, t_max], where t_max is the
-largest t feasible at all.  t is a backend parameter: each step re-solves without recompiling.
+largest t feasible at all.  On a backend with mutable parameters (cvxpy) t is one, and each step
+re-solves without recompiling; elsewhere (direct, PICOS) each step assembles the problem again.
 For the objective γ² (β), δ on β means about δ/2 on γ.  Default δ = 10⁻² (≈ 0.5 % on γ): with
 10⁻³ the slab objective ≤ (1 + δ)β* is so thin that CVXOPT fails on every conditioning solve
 for seed 001 and Clarabel reports "inaccurate"; if every solve fails, the optimum is returned
@@ -21,15 +22,17 @@ with the failure recorded.
 The record reports the condition numbers of every E_i before (at the optimum) and after, and
 the solves it took.
 
-When that search fails (its solver fails in the thin slab, or its point is not certified),
-:func:`level_solution` is the fallback: the *level problem* "every LMI, objective ≤ β* + δ|β*|"
-with no objective of its own, along the default and the fallback routes
+:func:`level_solution` is the other method: the *level problem* "every LMI, objective ≤ β* + δ|β*|"
+with no objective of its own, in one solve along the default and the fallback routes
 (:mod:`lmidsl.solver.fallback`).  An interior-point solver returns a central point of that slab,
 away from the boundary where the recovery's matrices are singular; it does not minimise the
 condition numbers, only moves off the boundary.  Measured on ``textbook.hinf_of_ct`` plant-6
 (γ* = 794.055 by hinfsyn, I − XY singular at the optimum): the search fails with Clarabel; the
 level problem at δ = 10⁻³ through PICOS/CVXOPT gives γ = 794.82 and a controller whose closed
-loop has norm 794.50 (python-control).
+loop has norm 794.50 (python-control).  Which method runs first is decided by
+:func:`lmidsl.pipeline.backed_off`: the level problem for the automatic back-off (one solve
+instead of about fifteen), the search for a δ the user gives; the other when the first gives no
+certified point.
 """
 from __future__ import annotations
 
@@ -39,7 +42,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import InputError, LmidslError
-from ..numeric.evaluate import NumericEvaluator
+from ..numeric.evaluate import NumericEvaluator, eigenvalues
 from .backends import Route, fallback_routes, is_first_order
 from .fallback import route_model
 from .status import solved
@@ -54,8 +57,7 @@ def condition_numbers(instance, values: dict) -> dict:
     ev = NumericEvaluator(instance.dims, point, instance.params)
     out = {}
     for expr in instance.theorem.conditioned:
-        M = np.atleast_2d(ev.visit(expr))
-        eig = np.linalg.eigvalsh((M + M.T) / 2)
+        eig = eigenvalues(ev.visit(expr))
         out[str(expr)] = {"cond": float(eig[-1] / eig[0]) if eig[0] > 0 else float("inf"),
                           "min_eig": float(eig[0]), "max_eig": float(eig[-1])}
     return out

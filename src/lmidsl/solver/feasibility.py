@@ -40,6 +40,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
+from ..numeric.evaluate import max_eigenvalue
 from ..numeric.instance import Instance
 from .solution import lmi_certificate, with_location
 from .backends import choose_backend, get_backend
@@ -255,8 +256,7 @@ def _achieved_t(model, chosen) -> float | None:
         N = model.expression_value(c.N)
         if N is None:
             return None
-        N = np.atleast_2d(np.asarray(N, dtype=float))
-        top = float(np.linalg.eigvalsh((N + N.T) / 2)[-1])
+        top = max_eigenvalue(N)
         if not c.strict:
             if top > 1e-9 * max(1.0, float(np.abs(N).max())):
                 return None

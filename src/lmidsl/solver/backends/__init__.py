@@ -193,6 +193,6 @@ def is_first_order(solver: str) -> bool:
     return bool(info and info.first_order)
 
 
-__all__ = ["BACKENDS", "DEFAULT_BACKEND", "choose_backend", "second_opinion", "BACKEND_INFO", "SOLVER_INFO", "BackendInfo", "SolverInfo", "get_backend",
-           "backend_sdp_solvers", "resolve_solver", "fallback_routes", "Route", "is_first_order", "backend_info",
-           "default_options"]
+__all__ = ["BACKENDS", "DEFAULT_BACKEND", "BACKEND_INFO", "SOLVER_INFO", "BackendInfo", "SolverInfo",
+           "Route", "get_backend", "choose_backend", "second_opinion", "backend_sdp_solvers",
+           "resolve_solver", "fallback_routes", "is_first_order", "backend_info", "default_options"]

@@ -24,7 +24,8 @@ from ...numeric.evaluate import NumericEvaluator
 from ..solution import Solution, evaluate_performance, lmi_certificate
 from ..conditioning import Equilibration
 from ..status import solved
-from ...symbolic.symbols import DECISION_TYPES, DerivedParam, Param, ScalarVariable, expand_derived
+from ...symbolic.symbols import (DECISION_TYPES, DerivedParam, Param, ScalarVariable, StructuredVariable,
+                                 expand_derived)
 from ...symbolic.uncertainty import scenarios
 from ...symbolic.walker import ExpressionWalker
 
@@ -46,7 +47,8 @@ _CLASSIFIED: dict = {}
 
 
 def classify(expr) -> tuple[bool, bool]:
-    """(contains a decision variable, contains a parameter).
+    """(contains a decision variable, contains a parameter), the parameters inside a structured
+    variable's expansion included.
 
     Cached by identity (the entry keeps the expression alive, so the id stays valid): theorem
     trees are immutable and compiled again at every bind, and sympy's deep equality is too slow
@@ -57,7 +59,8 @@ def classify(expr) -> tuple[bool, bool]:
         return hit[1]
     atoms = expr.atoms(sp.Symbol, sp.MatrixSymbol)
     result = (any(isinstance(a, DECISION_TYPES) for a in atoms),
-              any(isinstance(a, (Param, DerivedParam)) for a in atoms))
+              any(isinstance(a, (Param, DerivedParam)) or
+                  isinstance(a, StructuredVariable) and classify(a.expansion)[1] for a in atoms))
     if len(_CLASSIFIED) > 100_000:
         _CLASSIFIED.clear()
     _CLASSIFIED[id(expr)] = (expr, result)

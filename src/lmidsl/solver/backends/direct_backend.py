@@ -30,7 +30,6 @@ from scipy import sparse
 from ...errors import InputError, SolverUnavailableError
 from . import backend_info
 from .affine import Affine, Cone, VariableSpace, block
-from ...symbolic.symbols import StructuredVariable
 from .base import BackendCompiler, CompiledModel, classify, solver_crashed
 
 DEFAULT_SOLVER = backend_info("direct").default
@@ -112,7 +111,7 @@ class DirectCompiler(BackendCompiler):
     parameters is kept in the model across recompiles (:meth:`DirectModel.update`)."""
 
     def _dispatch(self, expr):
-        if not _parameter_free(expr):
+        if classify(expr)[1]:
             return super()._dispatch(expr)
         static = self.model._static
         key = (id(expr), self.vertex)
@@ -127,23 +126,6 @@ class DirectCompiler(BackendCompiler):
 
     def trace(self, a):
         return a.trace() if isinstance(a, Affine) else super().trace(a)
-
-
-_PARAMETER_FREE: dict = {}
-
-
-def _parameter_free(expr) -> bool:
-    """No parameter in ``expr``, nor in the expansion of a structured variable in it (cached by
-    identity: theorem trees are immutable)."""
-    hit = _PARAMETER_FREE.get(id(expr))
-    if hit is not None and hit[0] is expr:
-        return hit[1]
-    free = not classify(expr)[1] and all(
-        _parameter_free(a.expansion) for a in expr.atoms(StructuredVariable))
-    if len(_PARAMETER_FREE) > 100_000:
-        _PARAMETER_FREE.clear()
-    _PARAMETER_FREE[id(expr)] = (expr, free)
-    return free
 
 
 class DirectModel(CompiledModel):
