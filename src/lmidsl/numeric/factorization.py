@@ -72,9 +72,14 @@ def square_pair(shape):
     return [(rows, rows), (cols, cols)]
 
 
+def _split_i_minus_xzinv(M):
+    """The balanced split of M = I − XZ⁻¹ (a named function, so that theorems pickle)."""
+    return balanced_split(M, "I - X Z^-1")
+
+
 rs_split = Factorization(
     "balanced R Sᵀ split",
     "R, S nonsingular with R Sᵀ = M; balanced SVD split, cond(R) = cond(S) = √cond(M)",
     square_pair,
-    lambda M: balanced_split(M, "I - X Z^-1"),
+    _split_i_minus_xzinv,
 )

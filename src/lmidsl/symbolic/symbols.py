@@ -45,10 +45,11 @@ def _meta_property(key: str, default=None):
     return property(getter, setter)
 
 
-def metadata_snapshot() -> dict:
-    """The symbols' metadata table (a copy): it lives in this process, not in the symbols, so
-    an expression pickled to another process (a Dask worker) needs it sent along."""
-    return {key: dict(meta) for key, meta in _METADATA.items()}
+def metadata_snapshot(tags=None) -> dict:
+    """The symbols' metadata table (a copy; only the entries of ``tags`` if given): it lives in
+    this process, not in the symbols, so an expression pickled to another process (a Dask
+    worker) or to the theorem build cache needs it sent along."""
+    return {key: dict(meta) for key, meta in _METADATA.items() if tags is None or key[0] in tags}
 
 
 def restore_metadata(snapshot: dict) -> None:

@@ -34,6 +34,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import InputError, LmidslError
+from . import build_cache
 
 if TYPE_CHECKING:       # the registry itself never builds a theorem: `lmidsl list` reads an index
     from .theorem import Theorem
@@ -134,6 +135,20 @@ def _import(kind: str, where):
     return module
 
 
+def _theorems_of(kind: str, where) -> list:
+    """The ``THEOREMS`` of one theorem module: from the build cache (:mod:`.build_cache`) when
+    nothing it was built from changed, else by executing the module (and caching the result)."""
+    label, files = _label(kind, where), _location_files(kind, where)
+    cached = build_cache.load(label, files)
+    if cached is not None:
+        return cached
+    modules_before = set(sys.modules)
+    module = _import(kind, where)
+    theorems = list(getattr(module, "THEOREMS", []))
+    build_cache.store(label, files, module, theorems, [m for m in sys.modules if m not in modules_before])
+    return theorems
+
+
 def _label(kind: str, where) -> str:
     return f"{BUILTIN_PACKAGE}.{where}" if kind == "builtin" else str(where)
 
@@ -146,7 +161,7 @@ def _load_module(module_name: str, dirs: tuple) -> dict[str, tuple]:
     found: dict[str, tuple] = {}
     for kind, where in _module_locations(dirs).get(module_name, []):
         try:
-            module = _import(kind, where)
+            theorems = _theorems_of(kind, where)
         except (KeyboardInterrupt, SystemExit):
             raise
         except BaseException as exc:
@@ -156,7 +171,7 @@ def _load_module(module_name: str, dirs: tuple) -> dict[str, tuple]:
                 raise
             _PROBLEMS.setdefault(str(where), _file_error(exc, Path(where), kind))
             continue
-        for thm in getattr(module, "THEOREMS", []):
+        for thm in theorems:
             _add(found, thm, _label(kind, where))
     return found
 
@@ -189,20 +204,21 @@ def all_theorems() -> dict[str, Theorem]:
 
 def theorem_files() -> list[Path]:
     """Every file whose content decides what the theorems are (for the cached index of ``list``)."""
-    dirs = _dirs_key()
-    files = []
-    for places in _module_locations(dirs).values():
-        for kind, where in places:
-            if kind == "builtin":
-                package = importlib.util.find_spec(BUILTIN_PACKAGE).submodule_search_locations[0]
-                where = Path(package) / where
-            where = Path(where)
-            if where.is_dir():     # a package: its modules and any data files it reads
-                files += sorted(f for f in where.rglob("*") if f.is_file() and "__pycache__" not in f.parts
-                                and not f.name.startswith(".") and f.suffix not in (".pyc", ".pyo"))
-            else:
-                files.append(where)
-    return files
+    return [f for places in _module_locations(_dirs_key()).values() for kind, where in places
+            for f in _location_files(kind, where)]
+
+
+def _location_files(kind: str, where) -> list[Path]:
+    """The files of one theorem module: the file, or every file under the package's folder
+    (its modules and any data files it reads)."""
+    if kind == "builtin":
+        package = Path(importlib.util.find_spec(BUILTIN_PACKAGE).submodule_search_locations[0])
+        where = package / where if (package / where).is_dir() else package / f"{where}.py"
+    where = Path(where)
+    if where.is_dir():
+        return sorted(f for f in where.rglob("*") if f.is_file() and "__pycache__" not in f.parts
+                      and not f.name.startswith(".") and f.suffix not in (".pyc", ".pyo"))
+    return [where]
 
 
 def get_theorem(theorem_id: str) -> Theorem:

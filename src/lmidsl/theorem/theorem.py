@@ -24,7 +24,7 @@ from ..symbolic.shapes import check_conformance, dims_equal, fmt_shape
 from ..symbolic.uncertainty import uncertain_symbol
 from ..symbolic.symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, RecoveredMatrix,
                       ScalarVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
-                      Variable)
+                      Variable, metadata_snapshot, restore_metadata)
 from .values import (DESIGN_KINDS, FIGURES, LMI, TIME_DOMAINS, AnalysisLink, Bisection, BoundedRealForm, StateFeedbackForm,
                      Declaration, Derivation, ErrorSystemLink, Example, FactorStep, SignalScaling, Source,
                      check_provenance)
@@ -83,6 +83,18 @@ class Theorem:
         self.examples: dict[str, Example] = {}
         self.reported: dict[str, sp.Expr] = {}
         self.checks: list = []
+
+    # -- pickling ----------------------------------------------------------------------
+    def __getstate__(self) -> dict:
+        """A pickled theorem (the build cache, a Dask worker) carries the metadata of its symbols
+        (LaTeX names, descriptions, definitions), which lives in a table of this process."""
+        return {**self.__dict__,
+                "_symbol_metadata": metadata_snapshot({self.id, f"{self.id}#derivation"})}
+
+    def __setstate__(self, state: dict) -> None:
+        state = dict(state)
+        restore_metadata(state.pop("_symbol_metadata", {}))
+        self.__dict__.update(state)
 
     # -- declarations -------------------------------------------------------------------
     def __repr__(self) -> str:

@@ -34,10 +34,25 @@ from .base import BackendCompiler, CompiledModel, classify, solver_crashed
 
 DEFAULT_SOLVER = backend_info("direct").default
 
-#: Clarabel's linear-algebra threads (0: Clarabel's choice, every core).  Parallel runs set
-#: ``LMIDSL_SOLVER_THREADS=1`` in their local workers: N workers on N cores, one thread each
-#: (two threads per solve on a 2-core machine were 10 % slower than one even serially, seed 001).
+#: Clarabel's linear-algebra threads (0: by problem size, :func:`solver_threads`).  Parallel runs
+#: set ``LMIDSL_SOLVER_THREADS=1`` in their local workers: N workers on N cores, one thread each.
 THREADS = int(os.environ.get("LMIDSL_SOLVER_THREADS", "0") or 0)
+
+#: Below this many PSD-cone rows (svec entries, all LMIs together) one thread is faster than
+#: Clarabel's default of every core; measured on 2 cores (seed 000 family, Theorem 3 of seed 001):
+#: 1486 rows 0.15 s on 1 thread vs 0.17 s on 2, 2294 rows 1.82 s vs 2.04 s, 4386 rows 9.6 s vs
+#: 9.4 s, and n = 20 (16,000 rows) 55 s vs 40 s.
+SINGLE_THREAD_ROWS = 3000
+
+
+def solver_threads(problem) -> int:
+    """Clarabel's ``max_threads`` for ``problem``: ``LMIDSL_SOLVER_THREADS`` if set, else one
+    thread for small problems (thread start-up costs more than it saves) and 0 (every core)
+    for large ones."""
+    if THREADS:
+        return THREADS
+    psd_rows = sum(c.size for c in problem.cones if c.kind == "psd")
+    return 1 if psd_rows < SINGLE_THREAD_ROWS else 0
 
 #: Clarabel's statuses, named as the other backends name them (cvxpy's mapping of the same solver)
 _STATUS = {
@@ -202,8 +217,7 @@ class DirectModel(CompiledModel):
         problem = self.problem if problem is None else problem
         settings = clarabel.DefaultSettings()
         settings.verbose = False
-        if THREADS:
-            settings.max_threads = THREADS
+        settings.max_threads = solver_threads(problem)
         for key, value in options.items():
             if not hasattr(settings, key):
                 raise InputError(f"unknown Clarabel setting {key!r} (e.g. max_iter, tol_gap_rel, tol_feas)")
