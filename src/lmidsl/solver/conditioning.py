@@ -206,9 +206,6 @@ def solve_conditioned(instance: Instance, model_class, solve, margin: float | No
     proposal = equilibrate(instance)
     if proposal.trivial:
         return solution, plain
-    proposal = equilibrate(instance)
-    if proposal.trivial:
-        return solution, plain
     conditioned = model_class(instance, margin=margin, conditioning=proposal)
     other = solve(conditioned)
     kept = better(solution, other)

@@ -31,11 +31,10 @@ import pickle
 import re
 import sys
 import sysconfig
-import tempfile
 from functools import lru_cache
 from pathlib import Path
 
-from .index import cache_dir
+from .index import cache_dir, write_atomically
 
 FORMAT = 1
 _LMIDSL_ROOT = Path(__file__).resolve().parents[1]
@@ -158,14 +157,4 @@ def store(label: str, files: list[Path], module, theorems: list, new_modules: li
     path = _entry_path(label, entry_key(label, files))
     entry = {"format": FORMAT, "dependencies": _dependencies(new_modules, files), "theorems": pickled}
     data = pickle.dumps(entry, protocol=pickle.HIGHEST_PROTOCOL)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        for old in path.parent.glob(f"{_slug(label)}-*.pickle"):      # one entry per module
-            if old != path:
-                old.unlink(missing_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".theorems-", suffix=".pickle")
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        os.replace(tmp, path)
-    except OSError:
-        pass
+    write_atomically(path, data, replaces=f"{_slug(label)}-*.pickle")      # one entry per module

@@ -80,20 +80,22 @@ def theorem_index(use_cache: bool = True) -> list[dict]:
         pass
     entries = build_index()
     if not _registry().load_problems(unreported=False):
-        _write(path, {"key": key, "theorems": entries})
+        write_atomically(path, json.dumps({"key": key, "theorems": entries}), replaces="theorem-index-*.json")
     return entries
 
 
-def _write(path: Path, data: dict) -> None:
-    """Write the index atomically; a cache that cannot be written is not kept (no error)."""
+def write_atomically(path: Path, content: str | bytes, replaces: str | None = None) -> None:
+    """Write ``path`` whole or not at all (a temporary file renamed over it), first removing the
+    files of its folder matching the glob ``replaces`` (older versions it supersedes).  A cache
+    that cannot be written is simply not kept: no error."""
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        for old in path.parent.glob("theorem-index-*.json"):   # one index at a time
+        for old in path.parent.glob(replaces) if replaces else ():
             if old != path:
                 old.unlink(missing_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".theorem-index-", suffix=".json")
-        with os.fdopen(fd, "w") as fh:
-            json.dump(data, fh)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}-")
+        with os.fdopen(fd, "wb" if isinstance(content, bytes) else "w") as fh:
+            fh.write(content)
         os.replace(tmp, path)
     except OSError:
         pass

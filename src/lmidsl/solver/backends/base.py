@@ -57,10 +57,16 @@ def classify(expr) -> tuple[bool, bool]:
     hit = _CLASSIFIED.get(id(expr))
     if hit is not None and hit[0] is expr:
         return hit[1]
-    atoms = expr.atoms(sp.Symbol, sp.MatrixSymbol)
-    result = (any(isinstance(a, DECISION_TYPES) for a in atoms),
-              any(isinstance(a, (Param, DerivedParam)) or
-                  isinstance(a, StructuredVariable) and classify(a.expansion)[1] for a in atoms))
+    if isinstance(expr, (sp.Symbol, sp.MatrixSymbol)):          # a leaf: what it is
+        result = (isinstance(expr, DECISION_TYPES),
+                  isinstance(expr, (Param, DerivedParam)) or
+                  isinstance(expr, StructuredVariable) and classify(expr.expansion)[1])
+    else:                                                       # from its arguments, each cached
+        decision = parameter = False
+        for arg in expr.args:
+            d, p = classify(arg)
+            decision, parameter = decision or d, parameter or p
+        result = (decision, parameter)
     if len(_CLASSIFIED) > 100_000:
         _CLASSIFIED.clear()
     _CLASSIFIED[id(expr)] = (expr, result)
