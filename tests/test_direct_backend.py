@@ -231,3 +231,18 @@ def test_recompiling_backends_keep_their_conditioning(backend):
     got, ref = model.lmi_values(), fresh.lmi_values()
     for key in ref:
         np.testing.assert_allclose(got[key], ref[key], rtol=1e-12, atol=1e-12 * np.abs(ref[key]).max())
+
+
+def test_small_problems_run_clarabel_on_one_thread(monkeypatch):
+    """One thread below SINGLE_THREAD_ROWS PSD rows (faster there on 2 cores), Clarabel's own
+    choice (0: every core) above, and LMIDSL_SOLVER_THREADS wins over both."""
+    from lmidsl.solver.backends import direct_backend
+
+    small = get_backend("direct")(make_instance("wang_l2linf.thm3", "paper-full")).problem
+    rows = sum(c.size for c in small.cones if c.kind == "psd")
+    assert rows < direct_backend.SINGLE_THREAD_ROWS
+    assert direct_backend.solver_threads(small) == 1
+    monkeypatch.setattr(direct_backend, "SINGLE_THREAD_ROWS", rows)
+    assert direct_backend.solver_threads(small) == 0
+    monkeypatch.setattr(direct_backend, "THREADS", 3)
+    assert direct_backend.solver_threads(small) == 3
