@@ -203,9 +203,11 @@ def console_main() -> None:
     Freeing the million objects of sympy's and the theorems' caches one by one at exit took 0.1 s
     of a 1.5 s ``solve``.  Output is flushed and the ``atexit`` handlers (logging, temporary
     directories, Dask) run first; with another thread still running, the normal exit (which
-    waits for it) is kept.  ``main(argv)`` itself returns, for tests and embedding."""
+    waits for it) is kept, and so it is under a profiler or a tracer (``python -m cProfile``,
+    coverage), which write their results at the normal exit.  ``main(argv)`` itself returns, for
+    tests and embedding."""
     code = main()
-    if threading.active_count() > 1:
+    if threading.active_count() > 1 or sys.getprofile() is not None or sys.gettrace() is not None:
         sys.exit(code)
     for stream in (sys.stdout, sys.stderr):
         try:

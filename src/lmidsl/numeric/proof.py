@@ -152,19 +152,24 @@ class BallEvaluator(ExpressionWalker):
 def negative_definite(N: np.ndarray, strict: bool = True) -> tuple[str, str]:
     """(verdict, why) for ``N ≺ 0`` from the ball LDLᵀ of −(N + Nᵀ)/2 (see the module docstring)."""
     n = N.shape[0]
-    A = [[-(N[i, j] + N[j, i]) / 2 for j in range(n)] for i in range(n)]
-    L = [[arb(0)] * n for _ in range(n)]
-    d = []
+    N = np.asarray(N, dtype=object)
+    A = -(N + N.T) / 2
+    L = np.empty((n, n), dtype=object)      # column j below the diagonal: L[j+1:, j]
+    d = np.empty(n, dtype=object)
     for j in range(n):
-        pivot = A[j][j] - sum((L[j][k] * L[j][k] * d[k] for k in range(j)), arb(0))
+        # pivot d_j = A_jj − Σ_k L_jk² d_k; column L_ij = (A_ij − Σ_k L_ik L_jk d_k) / d_j, i > j
+        # (dot products of object arrays: every product and sum is a ball operation)
+        w = L[j, :j] * d[:j]
+        pivot = A[j, j] - np.dot(L[j, :j], w) if j else A[j, j]
         if not pivot > 0:
             if pivot < 0:
                 return VIOLATED, f"pivot {j + 1} of the LDLᵀ of −N is negative ({pivot.mid()})"
             why = f"pivot {j + 1} of the LDLᵀ of −N contains 0 ({pivot})"
             return NUMERICAL, why + ("" if strict else "; a non-strict LMI is proved only if strict")
-        d.append(pivot)
-        for i in range(j + 1, n):
-            L[i][j] = (A[i][j] - sum((L[i][k] * L[j][k] * d[k] for k in range(j)), arb(0))) / pivot
+        d[j] = pivot
+        if j + 1 < n:
+            column = A[j + 1:, j] - L[j + 1:, :j].dot(w) if j else A[j + 1:, j]
+            L[j + 1:, j] = column / pivot
     return PROVED, f"LDLᵀ of −N in {PRECISION}-bit ball arithmetic: {n} positive pivots"
 
 
