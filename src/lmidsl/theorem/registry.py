@@ -11,7 +11,8 @@ models and simulators beside its theorem file).  Theorem modules are looked for 
 
 A theorem id is ``<module>.<name>``; :func:`get_theorem` executes only the modules called
 ``<module>`` (and every module only when none of them defines the id), so solving one theorem does
-not execute every theorem file.
+not execute every theorem file.  A module whose files (and lmidsl) are unchanged since it was last
+built is not executed at all: its theorems come from the build cache (:mod:`.build_cache`).
 
 A theorem file is code and runs with the user's rights; lmidsl isolates one file from another
 but does not sandbox it.  A user file that fails to load (a syntax error, an exception) is
