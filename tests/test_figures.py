@@ -8,9 +8,10 @@ from lmidsl.render.style import FORMATS, LABELS, figure, save
 from lmidsl.studies.sweep import SweepPoint, SweepResult
 
 
-def _result(names):
-    grid = {n: [0.1, 0.5, 0.9] for n in names}
-    values = list(np.ndindex(*(3,) * len(names)))
+def _result(names, counts=None):
+    counts = counts or (3,) * len(names)
+    grid = {n: [0.1, 0.5, 0.9][:c] for n, c in zip(names, counts)}
+    values = list(np.ndindex(*counts))
     points = [SweepPoint({n: grid[n][i] for n, i in zip(names, idx)}, "optimal", 1.0 + sum(idx),
                          1.0, -1e-8, 0.01, 0.01, 0.02, proved=True) for idx in values]
     return SweepResult("paper.thm2", "paper", "CLARABEL", grid, points,
@@ -39,6 +40,19 @@ def test_sweep_figure_png_and_pdf_mathtext_labels_no_internal_names(tmp_path, mo
     assert {r"$\bar{\xi}_1$", r"$\bar{\xi}_2$", LABELS["gamma"]} <= set(two)
     for text in one + two:
         assert not any(bad in text for bad in ("paper.thm2", "CLARABEL", "xi1", "seed"))
+
+
+def test_a_two_parameter_grid_with_a_single_value_on_an_axis_is_a_line(tmp_path, monkeypatch):
+    """A 3 × 1 (or 1 × 1) grid: γ along the axis that varies, the fixed value in the label (a
+    contour map needs 2 × 2 points: matplotlib raised, and `sweep` ended in an internal error)."""
+    import matplotlib.pyplot as plt
+    seen = []
+    monkeypatch.setattr(plt, "close", lambda fig: seen.append(_texts(fig)))
+    for counts in ((3, 1), (1, 3), (1, 1)):
+        written = sweep_figure(_result(["xi1", "xi2"], counts), tmp_path / f"s{counts}")
+        assert all(p.stat().st_size > 5000 for p in written)
+    assert seen[0][0] == r"$\bar{\xi}_1$ ($\bar{\xi}_2$ = 0.1)"
+    assert seen[1][0] == r"$\bar{\xi}_2$ ($\bar{\xi}_1$ = 0.1)"
 
 
 def test_parameter_label_falls_back_to_the_name():

@@ -15,15 +15,20 @@ def parameter_label(result, name: str) -> str:
 
 def sweep_figure(result, path, title: str | None = None, formats=None) -> list:
     """γ* of a :class:`~lmidsl.studies.sweep.SweepResult` over its grid: a line for one
-    parameter, a surface beside a contour map for two.  Saved as ``path`` in every format of
+    parameter (or for two of which one takes a single value), a surface beside a contour map for
+    two.  Saved as ``path`` in every format of
     :data:`lmidsl.render.style.FORMATS` (or ``formats``); the paths written.  The title is
     ``title`` only: the figure names no theorem id or solver."""
     names = list(result.grid)
     gamma = result.gamma_array()
-    if len(names) == 1:
+    varying = [n for n in names if len(result.grid[n]) > 1]
+    if len(names) == 1 or (len(names) == 2 and len(varying) < 2):
+        # one parameter, or two of which one (or none) takes a single value: γ along the other
+        along = varying[0] if varying else names[0]
+        fixed = [f"{parameter_label(result, n)} = {result.grid[n][0]:g}" for n in names if n != along]
         fig, ax = figure()
-        ax.plot(result.grid[names[0]], gamma, "o-", ms=3)
-        ax.set_xlabel(parameter_label(result, names[0]))
+        ax.plot(result.grid[along], np.asarray(gamma).reshape(-1), "o-", ms=3)
+        ax.set_xlabel(parameter_label(result, along) + (f" ({', '.join(fixed)})" if fixed else ""))
         ax.set_ylabel(LABELS["gamma"])
     elif len(names) == 2:
         x, y = np.meshgrid(result.grid[names[0]], result.grid[names[1]], indexing="ij")

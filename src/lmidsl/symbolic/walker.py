@@ -122,10 +122,16 @@ class ExpressionWalker(Walker):
         super().__init__(where)
         self.dims = dims
         self.vertex = vertex  # one walker per vertex: the cache holds one vertex's values
+        self._sizes: dict = {}
 
     def size(self, dim) -> int:
-        """A dimension expression as an integer under the bound dimensions."""
-        return int(sp.sympify(dim).xreplace(self.dims))
+        """A dimension expression as an integer under the bound dimensions (memoised: a block
+        matrix asks for the same few dimensions hundreds of times)."""
+        try:
+            return self._sizes[dim]
+        except KeyError:
+            value = self._sizes[dim] = int(sp.sympify(dim).xreplace(self.dims))
+            return value
 
     # -- operations a target may spell differently ---------------------------------------
     def add(self, a, b):
