@@ -5,11 +5,16 @@ import json
 import os
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
+
+# lmidsl's caches (theorem index, built theorems) in a folder of the test runs, not the user's:
+# the tests' temporary theorem files would leave entries there (subprocesses inherit it)
+os.environ.setdefault("LMIDSL_CACHE_DIR", os.path.join(tempfile.gettempdir(), "lmidsl-tests-cache"))
 
 
 def load_theorem_module(stem: str, alias: str | None = None):

@@ -4,6 +4,7 @@ symbols' metadata restored), and an entry is never used once anything it was bui
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 import textwrap
@@ -138,7 +139,7 @@ print("THEOREM FILE RAN", "lmidsl.theorems.wang_l2linf.theorems" in sys.modules,
 
 
 def test_a_second_solve_does_not_run_the_theorem_file(tmp_path):
-    env = {k: v for k, v in __import__("os").environ.items() if not k.startswith("LMIDSL_")}
+    env = {k: v for k, v in os.environ.items() if not k.startswith("LMIDSL_")}
     env["LMIDSL_CACHE_DIR"] = str(tmp_path / "cache")
     runs = []
     for _ in range(2):
@@ -175,3 +176,15 @@ def test_user_functions_are_pickled_by_value(cache, tmp_path):
     [thm] = build_cache.load(label, files)
     assert thm.helper(21) == 42
     assert module.__name__ not in sys.modules
+
+
+def test_old_entries_are_evicted(cache, monkeypatch):
+    """At most MAX_ENTRIES entries: the oldest go (moved or deleted theorem files leave entries
+    that no key asks for again)."""
+    monkeypatch.setattr(build_cache, "MAX_ENTRIES", 2)
+    for i, name in enumerate(("decay_rate", "wang_l2linf", "li_delay_dropout")):
+        _store_and_load("builtin", name)
+        for entry in cache.glob(f"lmidsl.theorems.{name}-*.pickle"):   # distinct times on any file system
+            os.utime(entry, (1_000_000 + i, 1_000_000 + i))
+    kept = sorted(p.name.split("-")[0] for p in cache.glob("*.pickle"))
+    assert kept == ["lmidsl.theorems.li_delay_dropout", "lmidsl.theorems.wang_l2linf"]

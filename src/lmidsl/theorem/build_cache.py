@@ -17,7 +17,8 @@ cloudpickle and loaded in its place when nothing it was built from has changed:
   pickled **by value** (``cloudpickle.register_pickle_by_value``), so loading the entry does not
   import, and so execute, the theorem file; the library's own functions are pickled by reference.
 * An entry that cannot be read (another format, a truncated file) is removed and the module is
-  built; a module that cannot be pickled is simply not cached.  One entry per module is kept.
+  built; a module that cannot be pickled is simply not cached.  One entry per module is kept,
+  and at most :data:`MAX_ENTRIES` in all.
 
 Where: ``cache_dir()/theorems`` (:mod:`.index`: ``LMIDSL_CACHE_DIR``, ``XDG_CACHE_HOME``,
 ``~/.cache/lmidsl``).  ``LMIDSL_CACHE=off`` (or ``0``, ``no``) turns the cache off.
@@ -37,6 +38,7 @@ from pathlib import Path
 from .index import cache_dir, write_atomically
 
 FORMAT = 1
+MAX_ENTRIES = 200          # theorem modules with an entry; the least recently written go first
 _LMIDSL_ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -158,3 +160,15 @@ def store(label: str, files: list[Path], module, theorems: list, new_modules: li
     entry = {"format": FORMAT, "dependencies": _dependencies(new_modules, files), "theorems": pickled}
     data = pickle.dumps(entry, protocol=pickle.HIGHEST_PROTOCOL)
     write_atomically(path, data, replaces=f"{_slug(label)}-*.pickle")      # one entry per module
+    _evict(path.parent)
+
+
+def _evict(folder: Path) -> None:
+    """Keep the newest :data:`MAX_ENTRIES` entries (theorem files that moved or were deleted
+    leave entries no key will ask for again)."""
+    try:
+        entries = sorted(folder.glob("*.pickle"), key=lambda p: p.stat().st_mtime, reverse=True)
+        for old in entries[MAX_ENTRIES:]:
+            old.unlink(missing_ok=True)
+    except OSError:
+        pass
