@@ -152,3 +152,26 @@ def test_solver_option_parsing():
 def test_bad_input_exits_2():
     code, _, stderr = run_cli(*THM3, "--solvers", "nosuch:x")
     assert code == 2 and stderr.startswith("error:") and len(stderr.strip().splitlines()) == 1
+
+
+def test_check_backs_off_as_solve_does_and_compares_the_optima():
+    """H∞ filter, random-3: at the optimum the recovered filter is not certified on any row (its
+    analysis γ was 7572 and 416 against 2.665), so `check` said NO TRUSTED ANSWER (exit 1) while
+    `lmidsl solve` certified a design after its automatic back-off.  Now each row backs off as
+    solve does; the value compared is the optimum's, which the solvers agree on, and each design
+    is certified at its back-off point."""
+    from lmidsl.pipeline import solve
+
+    result = check("textbook.hinf_filter_ct", example="random-3", solvers="direct:clarabel,picos:cvxopt")
+    alone = solve("textbook.hinf_filter_ct", "random-3")
+    assert alone.backoff and alone.verdict()[0]
+    direct = next(r for r in result.rows if r.backend == "direct")
+    assert direct.backoff_gamma is not None and direct.certified and direct.trusted
+    assert direct.gamma == pytest.approx(alone.backoff["gamma_opt"], rel=1e-6)   # the optimum's γ
+    assert direct.backoff_gamma == pytest.approx(alone.gamma, rel=1e-3)
+    assert direct.gamma < direct.backoff_gamma <= direct.gamma * 1.011               # δ = 1 % on γ²
+    assert direct.optimum_lmis and max(r["max_eig"] for r in direct.optimum_lmis) < 0
+    assert result.agree and result.exit_code == 0
+    for row in result.rows:
+        if row.value is not None and row.certified:
+            assert abs(row.value - direct.value) <= 1e-3 * direct.value

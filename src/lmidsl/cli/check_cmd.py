@@ -66,6 +66,11 @@ def format_check(result) -> str:
     if eig_rows:
         lines += ["largest eigenvalue of each LMI at the returned point (N < 0 holds when negative):",
                   format_table(["LMI"] + [f"{r.backend}:{r.solver}" for r in solved], eig_rows), ""]
+    backed = [f"  {r.name}: γ {r.backoff_gamma:.8g}" for r in result.rows if r.backoff_gamma is not None]
+    if backed:
+        lines += ["designs from the automatic back-off (the design recovered at the optimum was not "
+                  "certified; as `lmidsl solve`): status and gamma are the optimum's, max eig and "
+                  "analysis the back-off point's:"] + backed + [""]
     notes = [f"  {r.name}: {r.error or r.reason}" + (f" ({r.message})" if r.message and not r.error else "")
              for r in result.rows if not r.trusted]
     if notes:

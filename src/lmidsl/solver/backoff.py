@@ -169,6 +169,7 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
     new.backoff = {
         "delta": delta, "objective_opt": beta_opt, "objective_bound": bound,
         "objective": new.objective, "gamma_opt": solution.gamma, "gamma": new.gamma,
+        "status_opt": solution.status,
         "t": t_best, "t_max": t_max, "kappa": float(k_value) if k_value is not None else None,
         "cond_before": before, "cond_after": after, "solves": solves,
         "optimum_lmis": [r.as_dict() for r in solution.lmis],
@@ -203,6 +204,7 @@ def level_solution(model, optimum, delta: float, solver=None, **options):
             new.backoff = {
                 "delta": delta, "method": "level problem", "objective_opt": beta_opt,
                 "objective_bound": bound, "objective": new.objective, "gamma_opt": optimum.gamma,
+                "status_opt": optimum.status,
                 "gamma": new.gamma, "cond_before": condition_numbers(model.instance, optimum.values),
                 "cond_after": condition_numbers(model.instance, new.values), "solves": len(tried),
                 "tried": tried, "optimum_lmis": [r.as_dict() for r in optimum.lmis]}

@@ -59,6 +59,8 @@ class CheckRow:
     analysis_passed: bool | None = None               # None: theorem has no analysis counterpart
     wall_time: float = 0.0
     solver_time: float | None = None
+    backoff_gamma: float | None = None                 # the design's γ when solve backed off
+    optimum_lmis: list = field(default_factory=list)   # the optimum's certificate, then
     certified: bool = False
     trusted: bool = False
     reason: str = ""                                   # why not certified / not trusted
@@ -86,6 +88,7 @@ class CheckRow:
             "analysis": None if self.analysis_passed is None and self.analysis_gamma is None else
             {"theorem": self.analysis_theorem, "gamma": self.analysis_gamma, "passed": self.analysis_passed},
             "wall_time": self.wall_time, "solver_time": self.solver_time,
+            "backoff_gamma": self.backoff_gamma,
             "certified": self.certified, "trusted": self.trusted, "reason": self.reason,
             "value": self.value, "rel_diff": self.rel_diff, "disagrees": self.disagrees,
         }
@@ -260,7 +263,11 @@ def run_row(instance, backend: str, solver: str, options: dict, margin=None, cer
     try:
         with warnings.catch_warnings(record=True) as caught:  # solver warnings go into the row
             warnings.simplefilter("always")
-            sol = solve_instance(instance, solver, backend, margin, certify, **options)
+            # the automatic back-off of `lmidsl solve`, except for a first-order solver (its
+            # point is not accurate enough for the back-off's level problem and search)
+            automatic = certify and not is_first_order(solver)
+            sol = solve_instance(instance, solver, backend, margin, certify,
+                                 backoff="auto" if automatic else None, **options)
     except LmidslError as exc:
         row.status, row.error = "error", str(exc)
     except Exception as exc:  # a solver crash is an answer too: a row with its error
@@ -274,6 +281,16 @@ def run_row(instance, backend: str, solver: str, options: dict, margin=None, cer
                 notes.append(text)
         row.status, row.message = sol.status, "; ".join(notes)
         row.objective, row.gamma = sol.objective, sol.gamma
+        backoff = sol.backoff or {}
+        if "objective_opt" in backoff:
+            # as `lmidsl solve`: the design recovered at the optimum was not certified, so the
+            # design is the back-off point's; the value compared is the optimum's, on which the
+            # solvers must agree (back-off points of different solvers differ by up to δ)
+            row.objective, row.gamma = backoff["objective_opt"], backoff.get("gamma_opt")
+            row.status = backoff.get("status_opt", row.status)     # the solve whose value is compared
+            row.backoff_gamma = sol.gamma
+            row.optimum_lmis = list(backoff.get("optimum_lmis") or [])
+            row.message = "; ".join([*notes, f"design from the automatic back-off at {_gamma_text(sol)}"])
         row.lmis = [r.as_dict() for r in sol.lmis]
         row.solver_time = sol.times.get("solver")
         analysis = getattr(sol, "analysis", None)
@@ -301,19 +318,27 @@ def _judge(row: CheckRow, sol, instance) -> None:
         where = f" @ vertex {worst.vertex}" if worst.vertex is not None else ""
         row.reason = f"certificate fails: max eig of {worst.label}{where} = {worst.max_eig:+.2e}"
         return
+    if row.optimum_lmis and max(r["max_eig"] for r in row.optimum_lmis) >= 0:
+        row.reason = "certificate fails at the optimum (the back-off point's holds)"
+        return
     needs_analysis = theorem.analysis is not None and bool(theorem.recovery)
     if needs_analysis and row.analysis_passed is False:
         g = "infeasible" if row.analysis_gamma is None else f"gamma {row.analysis_gamma:.6g}"
         row.reason = f"analysis does not certify the recovered filter ({g})"
         return
     row.certified = True
-    if sol.status != "optimal":
-        row.reason = f"certified bound only: solver status {sol.status}"
+    if row.status != "optimal":
+        row.reason = f"certified bound only: solver status {row.status}"
     elif is_first_order(row.solver):
         row.reason = "certified bound only: first-order solver (low accuracy)"
     else:
         row.trusted = True
         row.reason = "trusted"
+
+
+def _gamma_text(sol) -> str:
+    value = sol.gamma if sol.gamma is not None else sol.objective
+    return "no value" if value is None else f"{'γ' if sol.gamma is not None else 'objective'} {value:.8g}"
 
 
 def compare(rows: list[CheckRow], tolerance: float) -> CheckRow | None:
