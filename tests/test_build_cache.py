@@ -188,3 +188,23 @@ def test_old_entries_are_evicted(cache, monkeypatch):
             os.utime(entry, (1_000_000 + i, 1_000_000 + i))
     kept = sorted(p.name.split("-")[0] for p in cache.glob("*.pickle"))
     assert kept == ["lmidsl.theorems.li_delay_dropout", "lmidsl.theorems.wang_l2linf"]
+
+
+def test_a_pickled_theorem_carries_the_metadata_of_another_theorems_symbols():
+    """A theorem whose LMI uses another theorem's variable (a printed form written with the solved
+    theorem's P) brings that symbol's LaTeX name along when pickled alone."""
+    import pickle
+
+    from lmidsl import Source, Theorem
+
+    owner = Theorem("pickletest.owner", "o", Source("p", "eq", "c"))
+    n = owner.dim("n")
+    P = owner.var("P", n, kind="symmetric", latex=r"\mathcal{P}")
+    owner.positive(P)
+    user = Theorem("pickletest.user", "u", Source("p", "eq", "c"))
+    user.lmi("(1)", [[-P]])
+    data = pickle.dumps(user)
+    del symbols._METADATA[("pickletest.owner", "P")]
+    assert P.latex_name is None
+    pickle.loads(data)
+    assert P.latex_name == r"\mathcal{P}"

@@ -87,9 +87,12 @@ class Theorem:
     # -- pickling ----------------------------------------------------------------------
     def __getstate__(self) -> dict:
         """A pickled theorem (the build cache, a Dask worker) carries the metadata of its symbols
-        (LaTeX names, descriptions, definitions), which lives in a table of this process."""
-        return {**self.__dict__,
-                "_symbol_metadata": metadata_snapshot({self.id, f"{self.id}#derivation"})}
+        (LaTeX names, descriptions, definitions), which lives in a table of this process: its
+        own and those of another theorem's symbols its LMIs use (a printed form written with the
+        solved theorem's variables)."""
+        tags = {self.id, f"{self.id}#derivation"}
+        tags |= {getattr(s, "tag", None) for lmi in self.lmis for s in lmi.symbols()}
+        return {**self.__dict__, "_symbol_metadata": metadata_snapshot(tags)}
 
     def __setstate__(self, state: dict) -> None:
         state = dict(state)
