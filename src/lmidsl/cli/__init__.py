@@ -108,7 +108,7 @@ def command_index() -> list[CommandEntry]:
     one of them changed."""
     folder = Path(__file__).parent
     paths = sorted(folder.glob("*_cmd.py"))
-    stamp = [[str(p), p.stat().st_size, p.stat().st_mtime_ns] for p in paths]
+    stamp = [[str(p), st.st_size, st.st_mtime_ns] for p, st in ((p, p.stat()) for p in paths)]
     cache = cache_dir() / "commands.json"
     try:
         data = json.loads(cache.read_text())
