@@ -96,3 +96,27 @@ def test_check_rows_in_parallel_equal_the_serial_rows():
     assert [(r.backend, r.solver) for r in both.rows] == [(r.backend, r.solver) for r in serial.rows]
     assert [r.gamma for r in both.rows] == pytest.approx([r.gamma for r in serial.rows], abs=1e-6)
     assert both.agree == serial.agree
+
+
+def test_leaving_the_runner_mid_stream_cancels_before_the_client_closes(monkeypatch):
+    """An interrupt between two results leaves the result stream suspended; closing the runner
+    must finish it (cancelling what is queued) while the client lives, not leave its clean-up to
+    the garbage collector, which printed "IOLoop is closed" as a traceback (CI, stop 22)."""
+    import gc
+    import sys
+
+    from lmidsl.pipeline import make_instance
+    from lmidsl.studies.sweep import SweepTask
+
+    ignored = []
+    monkeypatch.setattr(sys, "unraisablehook", ignored.append)
+    task = SweepTask(make_instance(*THM3[:1], "paper-full"), "direct", None, None, {})
+    with pytest.raises(KeyboardInterrupt):
+        with parallel.Runner(workers=2) as runner:
+            stream = iter(runner.map(task, [{"rbar": r} for r in GRID[0][1]]))
+            next(stream)
+            raise KeyboardInterrupt
+    assert stream.gi_frame is None                    # finished by close(), not left to the collector
+    del stream
+    gc.collect()
+    assert ignored == []

@@ -173,6 +173,7 @@ class Runner:
         self.workers = 1 if workers is None else workers
         self.scheduler = scheduler or None
         self._cluster = self._client = None
+        self._streams: list = []      # the open result generators, closed before the client
 
     @property
     def parallel(self) -> bool:
@@ -215,6 +216,9 @@ class Runner:
         self.close()
 
     def close(self) -> None:
+        for stream in self._streams:  # runs their `finally` (cancel) while the client still lives
+            stream.close()
+        self._streams = []
         for thing in (self._client, self._cluster):
             if thing is not None:
                 try:
@@ -233,7 +237,9 @@ class Runner:
             return Results(((i, worker_state(task)(item)) for i, item in enumerate(items)), len(items))
         if self._client is None:
             raise RuntimeError("Runner.map outside its `with` block")
-        return Results(self._dask_map(task, items), len(items))
+        stream = self._dask_map(task, items)
+        self._streams.append(stream)
+        return Results(stream, len(items))
 
     def _dask_map(self, task: Task, items: list):
         from distributed import as_completed
@@ -266,7 +272,19 @@ class Runner:
                 yield from zip(done, results)
                 submit()
         finally:
-            client.cancel(list(indices) + [shared])
+            _cancel_quietly(client, list(indices) + [shared])
+
+
+def _cancel_quietly(client, futures: list) -> None:
+    """Cancel ``futures`` unless the client is already gone.  The generator that owns them may be
+    closed by the garbage collector after ``Runner.close`` (an interrupt): cancelling then would
+    print "IOLoop is closed" as an ignored exception, and there is nothing left to cancel."""
+    if client.status not in ("running", "connecting"):
+        return
+    try:
+        client.cancel(futures)
+    except Exception:            # closed between the check and the call: the same situation
+        pass
 
 
 def items_as_finished(results: Results, items: list, put) -> Results:
