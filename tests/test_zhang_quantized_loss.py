@@ -190,11 +190,15 @@ def test_successive_lmi_is_monotone_and_stops():
     res = successive_lmi(inst, starts=[{"Sbar": np.eye(2), "P3bar": 100 * np.eye(2)}], max_iter=25,
                          rtol=1e-4, progress=False)
     gam = [x for x in res.gammas if x is not None]
-    assert len(gam) >= 2 and "converged" in res.stop_reason
+    assert len(gam) >= 2 and ("converged" in res.stop_reason or "rose" in res.stop_reason)
+    if "rose" in res.stop_reason:      # the last step went past the solver's accuracy: stopped there
+        assert gam[-1] > gam[-2] * (1 + 1e-4)
+        gam = gam[:-1]
     assert all(b <= a * (1 + 1e-5) for a, b in zip(gam, gam[1:]))
+    assert res.gamma == min(gam)
     exact = solve_instance(make_instance(f"{Z}.exact", example="paper-N2-robust", overrides={"N": 1}),
                            certify=False)
-    assert exact.gamma * (1 - 1e-4) <= res.gamma <= exact.gamma * 1.01
+    assert exact.gamma * (1 - 1e-4) <= res.gamma <= exact.gamma * 1.001
     assert res.best.recovered["Af"].shape == (2, 2)
 
 

@@ -47,7 +47,7 @@ class NumericEvaluator(ExpressionWalker):
         return float(self.params[symbol.name])
 
     def block(self, rows):
-        return np.block([[np.atleast_2d(b) for b in row] for row in rows])
+        return block_matrix([[np.atleast_2d(b) for b in row] for row in rows])
 
     def inverse(self, a, expr):
         a = np.atleast_2d(a)
@@ -64,6 +64,29 @@ class NumericEvaluator(ExpressionWalker):
 
     def scale(self, c, a):
         return c * np.asarray(a)
+
+
+def block_matrix(rows) -> np.ndarray:
+    """[[M_ij]] from a list of rows of 2-D arrays: ``np.block`` for the 2-level case, filled
+    into one preallocated array (``np.block``'s general nesting checks cost more than the copy
+    for the many small blocks of an LMI).  Block (i, j) must be height_i × width_j, with the
+    heights read from the first column and the widths from the first row."""
+    heights = [row[0].shape[0] for row in rows]
+    widths = [b.shape[1] for b in rows[0]]
+    dtype = np.result_type(*[b for row in rows for b in row])
+    out = np.empty((sum(heights), sum(widths)), dtype=dtype)
+    r0 = 0
+    for row, h in zip(rows, heights):
+        if len(row) != len(widths):
+            raise ValueError(f"block rows of {len(widths)} and {len(row)} blocks")
+        c0 = 0
+        for b, w in zip(row, widths):
+            if b.shape != (h, w):
+                raise ValueError(f"a {b.shape[0]}x{b.shape[1]} block where {h}x{w} is expected")
+            out[r0:r0 + h, c0:c0 + w] = b
+            c0 += w
+        r0 += h
+    return out
 
 
 def eigenvalues(M: np.ndarray) -> np.ndarray:
@@ -87,4 +110,4 @@ def evaluate_block_matrix(evaluator: NumericEvaluator, spec) -> np.ndarray:
     """The full symmetric matrix of a :class:`~lmidsl.symbolic.blocks.BlockMatrixSpec`, block by block."""
     q = spec.nblocks
     lower = [[np.atleast_2d(evaluator.visit(spec.lower[i][j])) for j in range(i + 1)] for i in range(q)]
-    return np.block([[lower[i][j] if j <= i else lower[j][i].T for j in range(q)] for i in range(q)])
+    return block_matrix([[lower[i][j] if j <= i else lower[j][i].T for j in range(q)] for i in range(q)])

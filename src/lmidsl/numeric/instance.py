@@ -18,7 +18,8 @@ from ..errors import InputError, ShapeMismatchError, TheoremDefinitionError, Unu
 from .evaluate import NumericEvaluator, asymmetry
 from ..symbolic.numbers import finite_matrix, finite_number, positive_integer
 from ..symbolic.shapes import fmt_shape
-from ..symbolic.symbols import Dim, ScalarVariable, expand_derived
+from ..symbolic.parameter_values import NotRealError, parameter_value
+from ..symbolic.symbols import Dim, ScalarVariable
 from ..theorem.theorem import Theorem
 from ..symbolic.uncertainty import bind_points
 from ..symbolic.uncertainty import scenarios
@@ -71,13 +72,12 @@ def _evaluate_params(theorem: Theorem, base: dict) -> dict:
                 raise InputError(f"{theorem.id}: parameter {name} = {value} is outside its domain "
                                  f"{interval}" + (f": {note}" if note else ""))
         values[name] = float(value)
-    subs = {decl.symbol: values[name] for name, decl in theorem.param_decl.items()}
+    base_values = dict(values)
     for name, decl in theorem.derived_decl.items():
-        value = expand_derived(decl.symbol.definition).xreplace(subs)
         try:
-            values[name] = float(value)
-        except TypeError:
-            raise InputError(f"{theorem.id}: derived parameter {name} = {value} is not a real number") from None
+            values[name] = parameter_value(decl.symbol.definition, base_values)
+        except NotRealError as exc:
+            raise InputError(f"{theorem.id}: derived parameter {name} = {exc} is not a real number") from None
         if not np.isfinite(values[name]):
             raise InputError(f"{theorem.id}: derived parameter {name} is not finite at these parameters")
     return values

@@ -29,6 +29,7 @@ from flint import arb, arb_mat, ctx
 
 from ..symbolic.symbols import DerivedParam
 from ..symbolic.walker import ExpressionWalker
+from .evaluate import block_matrix
 
 PRECISION = 212          # bits of the balls' midpoints (about 64 decimal digits)
 
@@ -91,7 +92,7 @@ class BallEvaluator(ExpressionWalker):
         return out
 
     def block(self, rows):
-        return np.block([[np.atleast_2d(b) for b in row] for row in rows])
+        return block_matrix([[np.atleast_2d(b) for b in row] for row in rows])
 
     def inverse(self, a, expr):
         a = np.atleast_2d(a)
@@ -182,8 +183,8 @@ def prove_block_matrix(evaluator_args: tuple, spec, strict: bool = True) -> tupl
         q = spec.nblocks
         lower = [[np.atleast_2d(evaluator.visit(spec.lower[i][j])) for j in range(i + 1)]
                  for i in range(q)]
-        N = np.block([[lower[i][j] if j <= i else lower[j][i].T for j in range(q)]
-                      for i in range(q)])
+        N = block_matrix([[lower[i][j] if j <= i else lower[j][i].T for j in range(q)]
+                          for i in range(q)])
         return negative_definite(N, strict)
     except (ZeroDivisionError, ValueError, TypeError, KeyError) as exc:
         return NUMERICAL, f"no ball evaluation ({type(exc).__name__}: {exc})"

@@ -6,10 +6,14 @@ case: −S⁻¹ ⪯ −S̄ − S̄ᵀ + S̄ᵀSS̄ for every S̄, with equality 
 previous solution stays feasible at the updated point, the sequence of optimal γ is
 non-increasing; the driver stops when γ stops improving:
 
-    (γ_{k−1} − γ_k) ≤ rtol · γ_{k−1} + atol,   or k = max_iter,   or the LMI becomes infeasible
+    (γ_{k−1} − γ_k) ≤ rtol · γ_{k−1} + atol,   or k = max_iter,   or the LMI becomes infeasible,
+    or γ_k − γ_{k−1} > rtol · γ_{k−1} + atol (a rise: an inaccurate step moved the point)
 
 and keeps the best certified solution met (every LMI's largest eigenvalue < 0 at the returned
-point), with the history of γ.  ``starts`` runs the iteration from
+point), with the history of γ.  Each step is solved as ``solve`` solves one LMI problem: as
+written and equilibrated (:func:`~lmidsl.solver.conditioning.solve_conditioned`), with margin
+escalation; the linearisation point can spread the coefficients over 2⁵⁰, where the problem as
+written ends in the solver's "insufficient progress".  ``starts`` runs the iteration from
 several initial points (the paper's "choose several suitable S̄, P̄3") and keeps the best.
 """
 from __future__ import annotations
@@ -25,6 +29,8 @@ from ..numeric.instance import Instance
 from ..numeric.evaluate import NumericEvaluator
 from ..pipeline import finish_solution
 from ..solver.backends import choose_backend, get_backend
+from ..solver.conditioning import solve_conditioned
+from ..solver.margin import solve_model
 
 
 @dataclass
@@ -116,7 +122,9 @@ def successive_lmi(instance: Instance, *, starts: list[dict] | None = None, max_
             reason = f"max_iter = {max_iter}"
             for k in range(max_iter):
                 t0 = time.perf_counter()
-                sol = get_backend(backend)(current, margin=margin).solve(solver)
+                # each step solved as `solve` solves: as written and conditioned, margin escalation
+                sol, _ = solve_conditioned(current, get_backend(backend),
+                                           lambda model: solve_model(model, solver), margin)
                 result.history.append(Step(k, sol.status if sol.certified or not sol.ok else "not certified",
                                            sol.gamma, sol.worst_eig, time.perf_counter() - t0, s))
                 if bar is not None:
@@ -131,6 +139,12 @@ def successive_lmi(instance: Instance, *, starts: list[dict] | None = None, max_
                     best_gamma = sol.gamma
                     result.best, result.best_start = sol, s
                     result.point = {n: np.asarray(current.data[n]) for n in theorem.linearisation}
+                if previous is not None and sol.gamma - previous > rtol * previous + atol:
+                    # exact solves never rise (the previous solution stays feasible): an
+                    # inaccurate step moved the point; going on would follow the error
+                    reason = (f"gamma rose at iteration {k} ({previous:.6g} -> {sol.gamma:.6g}): the "
+                              f"solver's accuracy is reached")
+                    break
                 if previous is not None and previous - sol.gamma <= rtol * previous + atol:
                     reason = f"converged at iteration {k} (improvement below rtol = {rtol:g})"
                     break

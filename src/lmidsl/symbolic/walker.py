@@ -31,8 +31,41 @@ from .symbols import (DataMatrix, DerivedParam, Dim, Param, ScalarVariable, Stru
                       Variable)
 
 
-_SIGNED_TERMS: dict = {}  # id(MatAdd) -> (MatAdd, [(sign, term)]); theorem trees are immutable
+_STRUCTURE: dict = {}     # (id(node), how) -> (node, its parts); theorem trees are immutable
 _METHODS: dict = {}       # (walker class, node class) -> the _visit_ function, or None
+
+
+def structure(expr, parts):
+    """``parts(expr)`` (a node's operands in the form a walk uses), computed once per node: sympy
+    recomputes them at every access (a block matrix's blocks are read through a sympy matrix
+    entry by entry), and the same trees are walked at every point of a sweep."""
+    key = (id(expr), parts)
+    hit = _STRUCTURE.get(key)
+    if hit is not None and hit[0] is expr:
+        return hit[1]
+    value = parts(expr)
+    if len(_STRUCTURE) > 100_000:
+        _STRUCTURE.clear()
+    _STRUCTURE[key] = (expr, value)
+    return value
+
+
+def _signed_terms(expr) -> list:
+    """(sign, term) pairs of a sum, with a −1 coefficient taken out of the term, + terms first."""
+    terms = []
+    for term in expr.args:
+        if isinstance(term, sp.MatMul) and term.args[0] == -1:
+            terms.append((-1, sp.MatMul(*term.args[1:]) if len(term.args) > 2 else term.args[1]))
+        else:
+            terms.append((1, term))
+    terms.sort(key=lambda st: -st[0])
+    return terms
+
+
+def _block_rows(expr) -> list:
+    """The blocks of a ``BlockMatrix`` as a list of rows."""
+    b = expr.blocks
+    return [[b[i, j] for j in range(b.cols)] for i in range(b.rows)]
 
 
 def _method_for(walker_cls, node_cls):
@@ -191,27 +224,9 @@ class ExpressionWalker(Walker):
     def negate(self, a):
         return -a
 
-    @staticmethod
-    def _signed_terms(expr):
-        """(sign, term) pairs of a sum, with a −1 coefficient taken out of the term (cached)."""
-        hit = _SIGNED_TERMS.get(id(expr))
-        if hit is not None and hit[0] is expr:
-            return hit[1]
-        terms = []
-        for term in expr.args:
-            if isinstance(term, sp.MatMul) and term.args[0] == -1:
-                terms.append((-1, sp.MatMul(*term.args[1:]) if len(term.args) > 2 else term.args[1]))
-            else:
-                terms.append((1, term))
-        terms.sort(key=lambda st: -st[0])
-        if len(_SIGNED_TERMS) > 100_000:
-            _SIGNED_TERMS.clear()
-        _SIGNED_TERMS[id(expr)] = (expr, terms)
-        return terms
-
     def _visit_MatAdd(self, expr):
         # a − b rather than a + (−1)·b: one node fewer per term in the target algebra
-        terms = self._signed_terms(expr)
+        terms = structure(expr, _signed_terms)
         sign, first = terms[0]
         total = self.visit(first) if sign > 0 else self.negate(self.visit(first))
         for sign, term in terms[1:]:
@@ -219,7 +234,7 @@ class ExpressionWalker(Walker):
         return total
 
     def _visit_MatMul(self, expr):
-        coeff, matrices = expr.as_coeff_matrices()
+        coeff, matrices = structure(expr, sp.MatMul.as_coeff_matrices)
         product = reduce(self.matmul, (self.visit(m) for m in matrices))
         if coeff == 1:
             return product
@@ -251,8 +266,7 @@ class ExpressionWalker(Walker):
         return self.zeros(self.size(expr.rows), self.size(expr.cols))
 
     def _visit_BlockMatrix(self, expr):
-        b = expr.blocks
-        return self.block([[self.visit(b[i, j]) for j in range(b.cols)] for i in range(b.rows)])
+        return self.block([[self.visit(b) for b in row] for row in structure(expr, _block_rows)])
 
     def _visit_BlockDiagMatrix(self, expr):
         blocks = expr.args

@@ -24,8 +24,8 @@ from ...numeric.evaluate import NumericEvaluator
 from ..solution import Solution, evaluate_performance, lmi_certificate
 from ..conditioning import Equilibration
 from ..status import solved
-from ...symbolic.symbols import (DECISION_TYPES, DerivedParam, Param, ScalarVariable, StructuredVariable,
-                                 expand_derived)
+from ...symbolic.parameter_values import parameter_value
+from ...symbolic.symbols import DECISION_TYPES, DerivedParam, Param, ScalarVariable, StructuredVariable
 from ...symbolic.uncertainty import scenarios
 from ...symbolic.walker import ExpressionWalker
 
@@ -207,8 +207,7 @@ class CompiledModel:
         params = self.instance.params
         if isinstance(expr, (Param, DerivedParam)):
             return float(params[expr.name])
-        subs = {s: params[s.name] for s in expand_derived(expr).free_symbols if isinstance(s, Param)}
-        return float(expand_derived(expr).xreplace(subs))
+        return parameter_value(expr, params)
 
     def parameter_for(self, expr):
         """One backend parameter per distinct scalar expression of parameters."""
