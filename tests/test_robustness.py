@@ -169,18 +169,44 @@ def _records(path):
     return lines[0]["header"], [line["record"] for line in lines[1:]]
 
 
-def _interrupt_after(argv, store, n_records, tmp_path, timeout=300):
+def _interrupt_after(argv, store, n_records, tmp_path, timeout=300, group=False):
+    """Run lmidsl, send SIGINT once ``store`` holds ``n_records``; ``group``: to the whole process
+    group, as Ctrl-C at a terminal does (workers included), else to lmidsl's process only."""
     proc = subprocess.Popen([sys.executable, "-m", "lmidsl", *argv], cwd=ROOT, env=_env(tmp_path),
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=group)
     deadline = time.time() + timeout
     while time.time() < deadline and proc.poll() is None:
         if store.exists() and len(store.read_text().splitlines()) >= 1 + n_records:
             break
         time.sleep(0.05)
     assert proc.poll() is None, "finished before it could be interrupted: " + proc.stderr.read()
-    proc.send_signal(signal.SIGINT)
+    if group:
+        os.killpg(proc.pid, signal.SIGINT)
+    else:
+        proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=120)
     return proc.returncode, out, err
+
+
+@pytest.mark.slow
+def test_ctrl_c_to_a_sweep_on_local_workers_ends_it_cleanly(tmp_path):
+    """Ctrl-C reaches every process of the terminal's group: the workers (forked from a fork
+    server started with SIGINT ignored) go on quietly, the main process stores what finished,
+    closes the cluster, and exits 130 with one message; no process of the run is left."""
+    import psutil
+
+    out = tmp_path / "out"
+    argv = ["sweep", *THM3, "--grid", "rbar=0.2:0.9:150", "--out", str(out), "--workers", "2"]
+    code, _, err = _interrupt_after(argv, out / "sweep.jsonl", 4, tmp_path, group=True)
+    assert code == 130, err
+    assert "interrupted after" in err and "--resume" in err and "Traceback" not in err
+    _, before = _records(out / "sweep.jsonl")
+    assert len(before) >= 4
+    time.sleep(2)
+    left = [p for p in psutil.process_iter(["cmdline", "environ"])
+            if (p.info["environ"] or {}).get("LMIDSL_CACHE_DIR") == str(tmp_path / "cache")]
+    assert not left, [p.info["cmdline"] for p in left]
 
 
 @pytest.mark.slow

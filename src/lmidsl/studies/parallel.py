@@ -18,15 +18,17 @@ theorem built in Python, not in any file, travels too, with the symbols' metadat
 Results come back as they finish (``distributed.as_completed``); at most two tasks per worker
 thread are in flight, so a grid of 10⁵ points does not sit in the scheduler at once; items are
 batched so that a task lasts about :data:`TARGET_TASK_SECONDS` (one item a task while items are
-slow, many when they take milliseconds).
+slow, many when they take milliseconds) but holds at most remaining / (2 · worker threads) items
+(guided self-scheduling: batches shrink towards the end, so no worker is left with a long last
+task while the others idle).
 """
 from __future__ import annotations
 
 import collections
 import contextlib
-import itertools
 import logging
 import multiprocessing
+from multiprocessing import forkserver
 import os
 import signal
 import sys
@@ -39,8 +41,10 @@ from ..symbolic.symbols import metadata_snapshot, restore_metadata
 
 #: tasks set up and kept per process (each may hold a compiled model)
 CACHE_SIZE = 4
-#: items are batched so a task lasts about this long (Dask's per-task cost is ~ms)
-TARGET_TASK_SECONDS = 0.2
+#: items are batched so a task lasts about this long (Dask's per-task cost, scheduler and client,
+#: is ~6 ms of the main process's CPU, which on a machine with as many workers as cores is taken
+#: from a worker)
+TARGET_TASK_SECONDS = 1.0
 MAX_BATCH = 256
 #: connecting to ``--scheduler`` and waiting for its first worker
 CONNECT_TIMEOUT = 10
@@ -108,24 +112,73 @@ def check_workers(workers, scheduler) -> None:
 
 #: one solver thread in each local worker (one worker per core): lmidsl.solver.backends.direct_backend
 WORKER_ENV = {"LMIDSL_SOLVER_THREADS": "1"}
-WORKER_CONFIG = {"distributed.worker.profile.enabled": False, "distributed.admin.tick.interval": "1s"}
-"""Dask settings of a local cluster: no statistical profiler (it samples the worker thread's
-stack every 10 ms and takes the GIL from cvxpy's Python canonicalisation) and a 1 s event-loop
-tick.  Measured on seed 001's model, 2 workers on 2 idle cores: 0.246–0.261 s per solve with
-Dask's defaults, 0.237–0.251 s without (a plain process pool: 0.236–0.241 s)."""
+WORKER_CONFIG = {"distributed.worker.profile.enabled": False, "distributed.admin.tick.interval": "1s",
+                 "distributed.worker.memory.monitor-interval": "1s",
+                 "distributed.admin.system-monitor.interval": "2s",
+                 "distributed.scheduler.work-stealing": False,
+                 "distributed.scheduler.active-memory-manager.start": False,
+                 "distributed.deploy.cluster-repr-interval": "10s"}
+"""Dask settings of a local cluster, which shares the machine's cores with its own workers:
+
+* no statistical profiler (it samples the worker thread's stack every 10 ms and takes the GIL
+  from cvxpy's Python canonicalisation) and a 1 s event-loop tick.  Measured on seed 001's
+  model, 2 workers on 2 idle cores: 0.246–0.261 s per solve with Dask's defaults, 0.237–0.251 s
+  without (a plain process pool: 0.236–0.241 s);
+* the nannies' memory monitor every 1 s (not 0.1 s), the system monitor every 2 s, no work
+  stealing (at most two tasks per worker thread are queued: nothing to steal) and no active
+  memory manager (nothing is replicated but the task itself).  An idle cluster of 2 workers
+  then costs 14 ms of CPU a second instead of 36 ms."""
+
+
+#: what the fork server imports once, before it forks the local workers (each then starts with
+#: them imported: a sweep's worker needs no import to unpickle its task and compile)
+FORKSERVER_PRELOAD = ["distributed.nanny", "distributed.worker", "lmidsl.studies.sweep",
+                      "lmidsl.solver.backends.direct_backend", "lmidsl.numeric.proof"]
+#: the environment the fork server starts with, so its workers inherit it: one thread per
+#: worker in the BLAS and OpenMP pools (what Dask sets before spawning a worker,
+#: ``distributed.nanny.pre-spawn-environ``, which reaches a forked worker only this way)
+FORKSERVER_ENV = {"OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1",
+                  "MALLOC_TRIM_THRESHOLD_": "65536"}
 
 
 def local_start_method() -> str:
-    """How a LocalCluster starts its worker processes: ``spawn`` (Dask's default, safe) unless
-    ``LMIDSL_DASK_START`` says ``fork`` or ``forkserver``.  A forked worker starts in ~0.3 s
-    with lmidsl, sympy, cvxpy and this process's compiled model already imported (against
-    3–20 s spawned on a loaded 2-core machine), but forking a process with live threads can
-    hang the child: one forked worker did, after its parent had solved (docs/performance.md)."""
-    method = os.environ.get("LMIDSL_DASK_START") or "spawn"
+    """How a LocalCluster starts its worker processes: ``forkserver`` unless
+    ``LMIDSL_DASK_START`` says ``spawn`` or ``fork``.
+
+    * ``forkserver``: a fresh single-threaded interpreter imports lmidsl once
+      (:data:`FORKSERVER_PRELOAD`, started early by :func:`start_local_workers_early`) and forks
+      each worker from itself: workers start with everything imported, and no process with
+      live threads is forked;
+    * ``spawn``: each worker is a fresh interpreter that imports lmidsl itself (1–2 s a worker);
+    * ``fork``: workers are forks of this process — fastest, with the compiled model inherited,
+      but forking a process with live threads can hang the child: one forked worker did, after
+      its parent had solved (docs/performance.md)."""
+    method = os.environ.get("LMIDSL_DASK_START") or "forkserver"
     if method not in multiprocessing.get_all_start_methods():
         raise InputError(f"LMIDSL_DASK_START={method!r}: not a start method here "
                          f"({', '.join(multiprocessing.get_all_start_methods())})")
     return method
+
+
+def start_local_workers_early(workers: int | None, scheduler: str | None) -> None:
+    """Start the fork server of a local parallel run now (a no-op otherwise): its imports then
+    run while this process binds and compiles the theorem, and the cluster's workers fork from
+    it as soon as the cluster starts.  It starts with SIGINT ignored, which its workers inherit
+    (:func:`_workers_ignore_ctrl_c`), and with :data:`FORKSERVER_ENV`."""
+    if scheduler or workers is None or workers < 2 or local_start_method() != "forkserver":
+        return
+    forkserver.set_forkserver_preload(FORKSERVER_PRELOAD)
+    saved = {k: os.environ.get(k) for k in FORKSERVER_ENV}
+    os.environ.update(FORKSERVER_ENV)
+    try:
+        with _workers_ignore_ctrl_c():
+            forkserver.ensure_running()
+    finally:
+        for key, value in saved.items():
+            if value is None:
+                os.environ.pop(key, None)
+            else:
+                os.environ[key] = value
 
 
 @contextlib.contextmanager
@@ -246,16 +299,15 @@ class Runner:
 
         client = self._client
         shared = client.scatter(task, broadcast=True, hash=False)
-        queue = iter(enumerate(items))
-        batch, window, checked = 1, 2 * self._threads(), time.monotonic()
+        queue = collections.deque(enumerate(items))
+        batch, threads, checked = 1, self._threads(), time.monotonic()
         indices: dict = {}
         finished = as_completed(loop=client.loop)
 
         def submit() -> None:
-            while len(indices) < window:
-                chunk = list(itertools.islice(queue, batch))
-                if not chunk:
-                    return
+            while queue and len(indices) < 2 * threads:
+                size = max(1, min(batch, -(-len(queue) // (2 * threads))))   # ⌈remaining / 2P⌉
+                chunk = [queue.popleft() for _ in range(min(size, len(queue)))]
                 future = client.submit(run_batch, shared, [item for _, item in chunk], pure=False)
                 indices[future] = [i for i, _ in chunk]
                 finished.add(future)
@@ -268,7 +320,7 @@ class Runner:
                 per_item = seconds / max(1, len(done))
                 batch = max(1, min(MAX_BATCH, int(TARGET_TASK_SECONDS / max(per_item, 1e-6))))
                 if time.monotonic() - checked > 2:        # an adaptive cluster may have grown
-                    window, checked = 2 * self._threads(), time.monotonic()
+                    threads, checked = self._threads(), time.monotonic()
                 yield from zip(done, results)
                 submit()
         finally:

@@ -18,7 +18,7 @@ from ..solver.backends import DEFAULT_BACKEND
 from ..solver.status import solved
 from ..theorem.registry import all_theorems, get_theorem
 from ..theorem.values import OUTCOMES, PROVENANCE
-from .parallel import Runner, Task, check_workers, items_as_finished
+from .parallel import Runner, Task, check_workers, items_as_finished, start_local_workers_early
 from .store import JsonLinesStore
 from .verify import figures_for_solution, worst_index
 
@@ -167,6 +167,7 @@ def reproduce_all(solver: str | None = None, theorems: list[str] | None = None, 
     ``workers`` / ``scheduler``: rows run in parallel on Dask (:mod:`lmidsl.studies.parallel`;
     workers find the theorems by id in their own registry), stored as they finish."""
     check_workers(workers, scheduler)
+    start_local_workers_early(workers, scheduler)
     order = list(PROVENANCE)
     for tid in theorems or []:
         get_theorem(tid)                  # an unknown id is a one-line error, not zero rows

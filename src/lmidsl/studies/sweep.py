@@ -26,7 +26,8 @@ from ..solver.margin import solve_model
 from ..solver.solution import lmi_certificate
 from ..solver.backends import choose_backend, get_backend
 from ..errors import InputError, Interrupted
-from .parallel import Runner, Task, check_workers, items_as_finished, worker_state
+from .parallel import (Runner, Task, check_workers, items_as_finished, start_local_workers_early,
+                       worker_state)
 from .store import JsonLinesStore, atomic_path, atomic_write_text, strict_json
 from ..numeric.scaling import apply_scaling
 
@@ -178,6 +179,7 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
     """
     backend = choose_backend(backend, solver)
     check_workers(workers, scheduler)
+    start_local_workers_early(workers, scheduler)
     size = grid_size(grids)
     if size > max_points:
         raise InputError(f"--grid: {size} points exceed the maximum of {max_points} "
