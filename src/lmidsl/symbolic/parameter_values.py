@@ -17,8 +17,6 @@ the expression at the failing node.
 from __future__ import annotations
 
 import math
-from functools import reduce
-
 import sympy as sp
 
 from .symbols import DerivedParam, Param, expand_derived
@@ -50,9 +48,6 @@ class ParameterEvaluator(ExpressionWalker):
 
     def _visit_DerivedParam(self, expr: DerivedParam):
         return self.visit(expr.definition)
-
-    def _visit_Mul(self, expr):
-        return reduce(lambda a, b: a * b, (self.visit(a) for a in expr.args))
 
     def _visit_Pow(self, expr):
         base, exp = self.visit(expr.args[0]), expr.args[1]
