@@ -47,7 +47,7 @@ class NumericEvaluator(ExpressionWalker):
         return float(self.params[symbol.name])
 
     def block(self, rows):
-        return block_matrix([[np.atleast_2d(b) for b in row] for row in rows])
+        return assemble_blocks(rows)
 
     def inverse(self, a, expr):
         a = np.atleast_2d(a)
@@ -66,11 +66,13 @@ class NumericEvaluator(ExpressionWalker):
         return c * np.asarray(a)
 
 
-def block_matrix(rows) -> np.ndarray:
-    """[[M_ij]] from a list of rows of 2-D arrays: ``np.block`` for the 2-level case, filled
-    into one preallocated array (``np.block``'s general nesting checks cost more than the copy
-    for the many small blocks of an LMI).  Block (i, j) must be height_i × width_j, with the
-    heights read from the first column and the widths from the first row."""
+def assemble_blocks(rows) -> np.ndarray:
+    """[[M_ij]] from a list of rows of blocks (numbers or arrays, each taken as 2-D): ``np.block``
+    for the 2-level case, filled into one preallocated array (``np.block``'s general nesting
+    checks cost more than the copy for the many small blocks of an LMI).  Block (i, j) must be
+    height_i × width_j, with the heights read from the first column and the widths from the
+    first row."""
+    rows = [[np.atleast_2d(b) for b in row] for row in rows]
     heights = [row[0].shape[0] for row in rows]
     widths = [b.shape[1] for b in rows[0]]
     dtype = np.result_type(*[b for row in rows for b in row])
@@ -106,8 +108,10 @@ def asymmetry(M: np.ndarray) -> float:
     return float(np.linalg.norm(M - M.T) / max(1.0, np.linalg.norm(M)))
 
 
-def evaluate_block_matrix(evaluator: NumericEvaluator, spec) -> np.ndarray:
-    """The full symmetric matrix of a :class:`~lmidsl.symbolic.blocks.BlockMatrixSpec`, block by block."""
+def evaluate_block_matrix(evaluator: ExpressionWalker, spec) -> np.ndarray:
+    """The full symmetric matrix of a :class:`~lmidsl.symbolic.blocks.BlockMatrixSpec`, block by
+    block: the lower triangle evaluated by ``evaluator`` (floats, or balls for the proofs), the
+    upper triangle its transpose."""
     q = spec.nblocks
     lower = [[np.atleast_2d(evaluator.visit(spec.lower[i][j])) for j in range(i + 1)] for i in range(q)]
-    return block_matrix([[lower[i][j] if j <= i else lower[j][i].T for j in range(q)] for i in range(q)])
+    return assemble_blocks([[lower[i][j] if j <= i else lower[j][i].T for j in range(q)] for i in range(q)])

@@ -29,7 +29,7 @@ from flint import arb, arb_mat, ctx
 
 from ..symbolic.symbols import DerivedParam
 from ..symbolic.walker import ExpressionWalker
-from .evaluate import block_matrix
+from .evaluate import assemble_blocks, evaluate_block_matrix
 
 PRECISION = 212          # bits of the balls' midpoints (about 64 decimal digits)
 
@@ -92,7 +92,7 @@ class BallEvaluator(ExpressionWalker):
         return out
 
     def block(self, rows):
-        return block_matrix([[np.atleast_2d(b) for b in row] for row in rows])
+        return assemble_blocks(rows)
 
     def inverse(self, a, expr):
         a = np.atleast_2d(a)
@@ -179,13 +179,7 @@ def prove_block_matrix(evaluator_args: tuple, spec, strict: bool = True) -> tupl
     saved = ctx.prec
     ctx.prec = PRECISION
     try:
-        evaluator = BallEvaluator(*evaluator_args)
-        q = spec.nblocks
-        lower = [[np.atleast_2d(evaluator.visit(spec.lower[i][j])) for j in range(i + 1)]
-                 for i in range(q)]
-        N = block_matrix([[lower[i][j] if j <= i else lower[j][i].T for j in range(q)]
-                          for i in range(q)])
-        return negative_definite(N, strict)
+        return negative_definite(evaluate_block_matrix(BallEvaluator(*evaluator_args), spec), strict)
     except (ZeroDivisionError, ValueError, TypeError, KeyError) as exc:
         return NUMERICAL, f"no ball evaluation ({type(exc).__name__}: {exc})"
     finally:

@@ -31,7 +31,7 @@ from functools import lru_cache
 import numpy as np
 
 from ...errors import TheoremDefinitionError
-from ...numeric.evaluate import block_matrix
+from ...numeric.evaluate import assemble_blocks
 
 _INT = np.int64
 _EMPTY_I = np.zeros(0, dtype=_INT)
@@ -317,8 +317,7 @@ def block(rows) -> Affine:
     heights = [row[0].shape[0] for row in cells]
     widths = [x.shape[1] for x in cells[0]]
     total_c = sum(widths)
-    const = block_matrix([[np.atleast_2d(x.const) if isinstance(x, Affine) else x for x in row]
-                          for row in cells])
+    const = assemble_blocks([[x.const if isinstance(x, Affine) else x for x in row] for row in cells])
     parts_r, parts_c, parts_v = [], [], []
     r0 = 0
     for i, row in enumerate(cells):
