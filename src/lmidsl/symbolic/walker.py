@@ -36,9 +36,11 @@ _METHODS: dict = {}       # (walker class, node class) -> the _visit_ function, 
 
 
 def structure(expr, parts):
-    """``parts(expr)`` (a node's operands in the form a walk uses), computed once per node: sympy
-    recomputes them at every access (a block matrix's blocks are read through a sympy matrix
-    entry by entry), and the same trees are walked at every point of a sweep."""
+    """``parts(expr)`` computed once per node (a node's operands in the form a walk uses, or a
+    property such as what it contains), cached by identity; the entry keeps the node alive, so
+    its id stays valid.  Sympy recomputes operands at every access (a block matrix's blocks are
+    read through a sympy matrix entry by entry), and the same trees are walked at every point
+    of a sweep."""
     key = (id(expr), parts)
     hit = _STRUCTURE.get(key)
     if hit is not None and hit[0] is expr:

@@ -27,7 +27,7 @@ from ..status import solved
 from ...symbolic.parameter_values import parameter_value
 from ...symbolic.symbols import DECISION_TYPES, DerivedParam, Param, ScalarVariable, StructuredVariable
 from ...symbolic.uncertainty import scenarios
-from ...symbolic.walker import ExpressionWalker
+from ...symbolic.walker import ExpressionWalker, structure
 
 
 def solver_crashed(exc: BaseException, expected: tuple = ()) -> bool:
@@ -43,34 +43,27 @@ def _times(value, factor: float):
     return value if factor == 1.0 else value * factor
 
 
-_CLASSIFIED: dict = {}
-
-
 def classify(expr) -> tuple[bool, bool]:
     """(contains a decision variable, contains a parameter), the parameters inside a structured
     variable's expansion included.
 
-    Cached by identity (the entry keeps the expression alive, so the id stays valid): theorem
-    trees are immutable and compiled again at every bind, and sympy's deep equality is too slow
-    to pay on every lookup.
+    Cached per node by identity (:func:`~lmidsl.symbolic.walker.structure`): theorem trees are
+    immutable and compiled again at every bind, and sympy's deep equality is too slow to pay on
+    every lookup.
     """
-    hit = _CLASSIFIED.get(id(expr))
-    if hit is not None and hit[0] is expr:
-        return hit[1]
+    return structure(expr, _classify)
+
+
+def _classify(expr) -> tuple[bool, bool]:
     if isinstance(expr, (sp.Symbol, sp.MatrixSymbol)):          # a leaf: what it is
-        result = (isinstance(expr, DECISION_TYPES),
-                  isinstance(expr, (Param, DerivedParam)) or
-                  isinstance(expr, StructuredVariable) and classify(expr.expansion)[1])
-    else:                                                       # from its arguments, each cached
-        decision = parameter = False
-        for arg in expr.args:
-            d, p = classify(arg)
-            decision, parameter = decision or d, parameter or p
-        result = (decision, parameter)
-    if len(_CLASSIFIED) > 100_000:
-        _CLASSIFIED.clear()
-    _CLASSIFIED[id(expr)] = (expr, result)
-    return result
+        return (isinstance(expr, DECISION_TYPES),
+                isinstance(expr, (Param, DerivedParam)) or
+                isinstance(expr, StructuredVariable) and classify(expr.expansion)[1])
+    decision = parameter = False                                # from its arguments, each cached
+    for arg in expr.args:
+        d, p = classify(arg)
+        decision, parameter = decision or d, parameter or p
+    return decision, parameter
 
 
 class BackendCompiler(ExpressionWalker):
