@@ -72,10 +72,9 @@ def _evaluate_params(theorem: Theorem, base: dict) -> dict:
                 raise InputError(f"{theorem.id}: parameter {name} = {value} is outside its domain "
                                  f"{interval}" + (f": {note}" if note else ""))
         values[name] = float(value)
-    base_values = dict(values)
     for name, decl in theorem.derived_decl.items():
         try:
-            values[name] = parameter_value(decl.symbol.definition, base_values)
+            values[name] = parameter_value(decl.symbol.definition, values)
         except NotRealError as exc:
             raise InputError(f"{theorem.id}: derived parameter {name} = {exc} is not a real number") from None
         if not np.isfinite(values[name]):
