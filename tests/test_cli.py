@@ -115,7 +115,7 @@ def test_argument_errors_are_one_line():
 def test_reproduce_json():
     data = run_cli_json("reproduce", "--theorem", "wang_l2linf.thm3")
     rows = {r["example"]: r for r in data["rows"]}
-    assert rows["paper-full"]["verdict"] == "reproduced"
+    assert rows["paper-full"]["comparison"] == "reproduced"
     assert rows["paper-full"]["rel_diff"] < 5e-3
-    assert rows["paper-reduced"]["verdict"] == "reproduced"
+    assert rows["paper-reduced"]["comparison"] == "reproduced"
     assert rows["paper-full"]["certified"] is True

@@ -51,7 +51,7 @@ def test_bounded_real_lemma_is_scale_free(sb, sc):
     data = {"A": A3.tolist(), "B": (sb * B3).tolist(), "C": (sc * C3).tolist(), "D": D3.tolist()}
     true = control.linfnorm(control.ss(A3, sb * B3, sc * C3, D3))[0]
     sol = lmidsl.solve(BRL, data=data)
-    certified, reasons = sol.verdict()
+    certified, reasons = sol.verdict.certified, sol.verdict.reasons
     assert certified, reasons
     assert sol.gamma == pytest.approx(true, rel=1e-4)
     assert sol.gamma >= true * (1 - 1e-9)          # a certified γ is an upper bound
@@ -63,7 +63,7 @@ def test_lightly_damped_plant():
     B, C, D = np.array([[0.0], [1.0]]), np.array([[1.0, 0.0]]), np.array([[0.0]])
     true = control.linfnorm(control.ss(A, B, C, D))[0]     # 1/(2ζωn²) ≈ 5
     sol = lmidsl.solve(BRL, data={"A": A.tolist(), "B": B.tolist(), "C": C.tolist(), "D": D.tolist()})
-    assert sol.verdict()[0], sol.verdict()[1]
+    assert sol.verdict.certified, sol.verdict.reasons
     assert sol.gamma == pytest.approx(true, rel=1e-4)
 
 
@@ -75,7 +75,7 @@ def test_seed000_disturbance_scaled(factor):
     data["D"] = (factor * np.asarray(data["D"])).tolist()
     sol = lmidsl.solve("wang_l2linf.thm3", data={**data, **SEED000.params})
     assert sol.status != "infeasible"
-    assert sol.verdict()[0], sol.verdict()[1]
+    assert sol.verdict.certified, sol.verdict.reasons
     assert sol.gamma == pytest.approx(factor * GAMMA_000, rel=1e-4)
     assert not sol.margin_limited
 
@@ -88,7 +88,7 @@ def test_seed000_state_scaled():
     data["C"] = (np.asarray(data["C"]) / s).tolist()
     data["L"] = (np.asarray(data["L"]) / s).tolist()
     sol = lmidsl.solve("wang_l2linf.thm3", data={**data, **SEED000.params})
-    assert sol.verdict()[0], sol.verdict()[1]
+    assert sol.verdict.certified, sol.verdict.reasons
     assert sol.gamma == pytest.approx(GAMMA_000, rel=1e-4)
 
 

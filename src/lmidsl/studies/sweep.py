@@ -277,7 +277,7 @@ def _solve_point(model, base, params: dict, solver, options) -> SweepPoint:
     internal = sol.times.get("solver")
     call = sol.times["solver_calls"]
     t2 = time.perf_counter()
-    proved = sol.ok and sol.certified and all(
+    proved = sol.ok and sol.lmis_hold and all(
         r.proof == PROVED for r in lmi_certificate(sol.instance, {**sol.instance.data, **sol.values},
                                                    prove=True))
     return SweepPoint(params, sol.status, sol.gamma, sol.objective, sol.worst_eig, call,
