@@ -23,6 +23,8 @@ import numpy as np
 from ..pipeline import make_instance
 from ..numeric.proof import PROVED
 from ..solver.margin import solve_model
+from ..solver.status import solved
+from ..solver.verdict import CERTIFIED, NOT_CERTIFIED, NOT_SOLVED, Verdict
 from ..solver.solution import lmi_certificate
 from ..solver.backends import choose_backend, get_backend
 from ..errors import InputError, Interrupted
@@ -87,8 +89,24 @@ class SweepPoint:
     proved: bool = False          # every LMI proved at the point (lmidsl.numeric.proof)
     prove_time: float = 0.0
 
+    @property
+    def verdict(self) -> Verdict:
+        """A sweep point proves the level at its point (every LMI in ball arithmetic); a sweep
+        recovers no design, so nothing more is claimed."""
+        if not solved(self.status):
+            return Verdict(False, NOT_SOLVED, None, f"no point was returned ({self.status})",
+                           reasons=(f"status {self.status}",))
+        if not self.proved:
+            return Verdict(False, NOT_CERTIFIED, self.gamma, "not every LMI is proved at the point",
+                           reasons=("LMIs not proved at the point",))
+        return Verdict(True, CERTIFIED, self.gamma, "every LMI proved at the point (a sweep recovers no design)")
+
     def as_dict(self) -> dict:
-        return dict(self.__dict__)
+        return {**self.__dict__, "verdict": self.verdict.as_dict()}
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "SweepPoint":
+        return cls(**{k: v for k, v in d.items() if k != "verdict"})
 
 
 @dataclass
@@ -110,7 +128,7 @@ class SweepResult:
         """Read back what :meth:`as_dict` wrote (e.g. to redraw a figure without re-solving)."""
         t = d.get("timing", {})
         return cls(d["theorem"], d.get("example"), d["solver"], d["grid"],
-                   [SweepPoint(**p) for p in d["points"]], t.get("compile", 0.0),
+                   [SweepPoint.from_dict(p) for p in d["points"]], t.get("compile", 0.0),
                    t.get("first_point", 0.0), d.get("scaling"), d.get("labels", {}))
 
     def timing(self) -> dict:
@@ -131,9 +149,19 @@ class SweepResult:
     def as_dict(self) -> dict:
         return {"theorem": self.theorem, "example": self.example, "solver": self.solver,
                 "grid": self.grid, "labels": self.labels, "scaling": self.scaling,
-                "timing": self.timing(), "certified": self.certified_count(),
+                "timing": self.timing(), "proved_points": self.certified_count(),
+                "verdict": self.verdict.as_dict(),
                 "resumed": self.resumed, "solved": self.solved,
                 "points": [p.as_dict() for p in self.points]}
+
+    @property
+    def verdict(self) -> Verdict:
+        """Certified when every point's LMIs are proved; no single headline level."""
+        bad = [p for p in self.points if not p.proved]
+        if self.points and not bad:
+            return Verdict(True, CERTIFIED, None, f"every LMI proved at all {len(self.points)} points")
+        why = f"{len(bad)} of {len(self.points)} points not proved" if self.points else "no point"
+        return Verdict(False, NOT_CERTIFIED, None, why, reasons=(why,))
 
     def certified_count(self) -> int:
         """Points whose every LMI is proved at the returned point (ball arithmetic)."""
@@ -204,7 +232,7 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
                   "overrides": overrides, "grid": {n: list(v) for n, v in grids}, "backend": backend,
                   "solver": solver, "margin": margin, "scaling": scaling}
         for record in jsonl.open(header, resume=resume):
-            point = SweepPoint(**record)
+            point = SweepPoint.from_dict(record)
             done[tuple(point.params[n] for n in names)] = point
     try:
         applied = apply_scaling(instance, scaling)

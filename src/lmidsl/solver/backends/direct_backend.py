@@ -31,6 +31,8 @@ from ...errors import InputError, SolverUnavailableError
 from . import backend_info
 from .affine import Affine, Cone, VariableSpace, block
 from .base import BackendCompiler, CompiledModel, classify, solver_crashed
+from ..status import (INFEASIBLE, INFEASIBLE_INACCURATE, OPTIMAL, OPTIMAL_INACCURATE, UNBOUNDED,
+                      UNBOUNDED_INACCURATE, USER_LIMIT)
 
 DEFAULT_SOLVER = backend_info("direct").default
 
@@ -56,14 +58,14 @@ def solver_threads(problem) -> int:
 
 #: Clarabel's statuses, named as the other backends name them (cvxpy's mapping of the same solver)
 _STATUS = {
-    "Solved": "optimal",
-    "AlmostSolved": "optimal_inaccurate",
-    "PrimalInfeasible": "infeasible",
-    "AlmostPrimalInfeasible": "infeasible_inaccurate",
-    "DualInfeasible": "unbounded",
-    "AlmostDualInfeasible": "unbounded_inaccurate",
-    "MaxIterations": "user_limit",
-    "MaxTime": "user_limit",
+    "Solved": OPTIMAL,
+    "AlmostSolved": OPTIMAL_INACCURATE,
+    "PrimalInfeasible": INFEASIBLE,
+    "AlmostPrimalInfeasible": INFEASIBLE_INACCURATE,
+    "DualInfeasible": UNBOUNDED,
+    "AlmostDualInfeasible": UNBOUNDED_INACCURATE,
+    "MaxIterations": USER_LIMIT,
+    "MaxTime": USER_LIMIT,
 }
 
 
