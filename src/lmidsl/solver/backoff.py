@@ -43,7 +43,7 @@ import sympy as sp
 
 from ..errors import InputError, LmidslError
 from ..numeric.evaluate import NumericEvaluator, eigenvalues
-from .status import solved
+from .status import SOLVER_ERROR, solved
 
 GOLDEN = (math.sqrt(5) - 1) / 2
 
@@ -94,7 +94,7 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
     # max t s.t. E ⪰ t I: t I − E ⪯ 0; the backend's own call: a solver's crash is a status
     status, _, message, _ = model.run_solver(name, problem=model.make_problem(
         -t_var, base + [model.lmi_constraint(t_var * Id - E, n, None) for E, Id, n in blocks]), **options)
-    if status == "solver_error":
+    if status == SOLVER_ERROR:
         solution.backoff = {"delta": delta, "failed": f"{name} failed on the first conditioning solve "
                             f"({message}); try another solver or a larger δ", "solves": 1}
         return solution
@@ -127,7 +127,7 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
         nonlocal solves
         t = math.exp(u)
         status, *_ = model.run_solver(name, problem=problem_at(t), **options)
-        if status == "solver_error":
+        if status == SOLVER_ERROR:
             return math.inf
         solves += 1
         value = model.value_of(kappa) if solved(status) else None

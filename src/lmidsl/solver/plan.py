@@ -39,7 +39,7 @@ from .fallback import better, good, riccati_point, route_model, said
 from .feasibility import diagnosis_needed, feasp
 from .margin import solve_model
 from .solution import Solution
-from .status import INFEASIBLE, INFEASIBLE_INACCURATE, NOT_SOLVED
+from .status import INFEASIBLE, INFEASIBLE_INACCURATE, NOT_SOLVED, SOLVER_ERROR
 
 
 @dataclass
@@ -211,7 +211,7 @@ class Plan:
             level_sol = model.solve(solver, problem=model.level_problem(bound))
             if level_sol.ok and level_sol.lmis_hold:
                 return level_sol, "level", minimum
-            if sol.status == "solver_error" and level_sol.status != "solver_error":
+            if sol.status == SOLVER_ERROR and level_sol.status != SOLVER_ERROR:
                 sol = level_sol
         return sol, "min", minimum
 

@@ -26,7 +26,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..numeric.interconnection import design_kind
-from .status import MARGINAL, OPTIMAL, SOLVED
+from .status import INFEASIBLE as STATUS_INFEASIBLE, MARGINAL, OPTIMAL, SOLVED
 
 OPTIMAL_WORD = "optimal"            # certified, and proved near the optimum (a dual bound)
 CERTIFIED = "certified"             # certified; nearness to the optimum not proved / not asked
@@ -111,7 +111,7 @@ def decide(solution) -> Verdict:
         return Verdict(certified, word, headline, why, name or "", words, levels, tuple(reasons))
 
     if solution.status not in SOLVED:
-        if solution.status == "infeasible":
+        if solution.status == STATUS_INFEASIBLE:
             return verdict(False, INFEASIBLE, "feasp finds no strictly feasible point (not a proof)",
                            [f"status {solution.status}"])
         if solution.status == MARGINAL:

@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 from ..pipeline import make_instance, solve_instance
 from ..solver.plan import Plan
 from ..solver.verdict import CERTIFIED, DISAGREEMENT, NOT_CERTIFIED, Verdict
+from ..solver.status import OPTIMAL
 from ..solver.backends import (BACKENDS, options_for, SOLVER_INFO, backend_sdp_solvers, is_first_order,
                                resolve_solver)
 from ..errors import InputError, LmidslError
@@ -344,7 +345,7 @@ def _judge(row: CheckRow, sol, instance) -> None:
         row.reason = f"analysis does not certify the recovered design ({g})"
         return
     row.certified = True
-    if row.status != "optimal":
+    if row.status != OPTIMAL:
         row.reason = f"certified bound only: solver status {row.status}"
     elif is_first_order(row.solver):
         row.reason = "certified bound only: first-order solver (low accuracy)"

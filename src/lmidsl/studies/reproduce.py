@@ -15,7 +15,7 @@ from dataclasses import asdict, dataclass, replace, fields
 from ..pipeline import solve
 from ..errors import Interrupted, LmidslError
 from ..solver.backends import DEFAULT_BACKEND
-from ..solver.status import solved
+from ..solver.status import INFEASIBLE, MARGINAL, solved
 from ..theorem.registry import all_theorems, get_theorem
 from ..theorem.values import OUTCOMES, PROVENANCE
 from ..solver.verdict import NOT_SOLVED, REFUTED, Verdict
@@ -55,7 +55,7 @@ class ReproductionRow:
         """One of :data:`~lmidsl.theorem.values.OUTCOMES`."""
         if self.certified:
             return "certified"
-        if self.status in ("infeasible", "marginal"):
+        if self.status in (INFEASIBLE, MARGINAL):
             return "infeasible"
         if self.computed_gamma is not None or solved(self.status):
             return "not certified"
