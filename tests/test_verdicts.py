@@ -149,7 +149,8 @@ def test_exit_code_sweep_every_point_proved(tmp_path):
                              "--grid", "rbar=0.5:0.9:3", "--json")
     assert code == 0, err
     data = json.loads(out)
-    assert data["certified"] == 3 and all(p["proved"] for p in data["points"])
+    assert data["proved_points"] == 3 and all(p["proved"] for p in data["points"])
+    assert data["verdict"]["certified"] and all(p["verdict"]["certified"] for p in data["points"])
 
 
 def test_exit_code_reproduce_follows_the_expected_outcomes():

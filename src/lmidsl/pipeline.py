@@ -10,6 +10,7 @@ import time
 
 from .solver.plan import Plan
 from .certify import certify_by_analysis
+from .certify.evidence import claim_evidence
 from .theorem.checks import run_checks
 from .errors import InputError, LmidslError
 from .solver.feasibility import diagnosis_needed
@@ -231,6 +232,13 @@ def finish_solution(solution: Solution, plan: Plan | None = None, certify: bool 
         t0 = time.perf_counter()
         solution.checks = run_checks(solution)
         solution.times["checks"] = time.perf_counter() - t0
+    if certify and solution.ok:
+        t0 = time.perf_counter()
+        analysis = solution.analysis
+        level = analysis.gamma if analysis is not None and analysis.passed else solution.gamma
+        solution.evidence = claim_evidence(solution, level)
+        if solution.evidence:
+            solution.times["evidence"] = time.perf_counter() - t0
     return solution
 
 

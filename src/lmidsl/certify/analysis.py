@@ -4,7 +4,9 @@ The synthesis theorem names an analysis theorem (``Theorem.certified_by``) in wh
 is data.  The analysis instance takes the synthesis instance's data and parameters (per vertex
 for polytopic theorems) and the recovered filter; minimising its γ² gives the level that the
 paper's own analysis certifies for this filter.  For a polytopic synthesis the analysis is run
-at every vertex and the worst γ is reported (a vertex-wise certificate).
+at every vertex and the worst γ is reported: a *vertex-wise* certificate (``coverage``), which does
+not prove the level inside the polytope; the verdict says so and does not call it certified
+(:mod:`lmidsl.solver.verdict`).
 
 The minimum sits on the boundary of the strict set, where a solver's point may miss the strict
 LMIs by its tolerance.  When it does, the analysis is solved again as a feasibility problem at a
@@ -51,6 +53,7 @@ class AnalysisCertificate:
     scaling: dict | None = None   # the analysis instance's own exact signal scaling (lmidsl.numeric.scaling)
     reported: dict = field(default_factory=dict)
     criterion: str = "level"      # "feasible": a stabilisation design, no level to certify
+    coverage: str = "system"      # "vertex-wise": one analysis per polytope vertex (its own Lyapunov matrix)
 
     @property
     def passed(self) -> bool:
@@ -72,7 +75,7 @@ class AnalysisCertificate:
                 "solvers": self.solvers,
                 "per_vertex": self.per_vertex, "lmis": self.lmis,
                 "feasp": [r.as_dict() for r in self.feasp], "scaling": self.scaling,
-                "reported": self.reported, "criterion": self.criterion}
+                "reported": self.reported, "criterion": self.criterion, "coverage": self.coverage}
 
 
 def analysis_inputs(instance: Instance, analysis_theorem, filter_matrices: dict,
@@ -166,4 +169,5 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
                                minimum=minimum, feasp=reports,
                                solvers=sorted(set(solvers)),
                                reported=reported[0] if len(reported) == 1 else {},
-                               criterion=link.criterion)
+                               criterion=link.criterion,
+                               coverage="vertex-wise" if len(gammas) > 1 else "system")

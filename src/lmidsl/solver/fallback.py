@@ -126,8 +126,9 @@ def riccati_point(instance: Instance, synthesis_gamma, tolerance):
     if instance.theorem.state_feedback is not None:
         return state_feedback_point(instance)
     form = instance.theorem.bounded_real
-    if form is None:
-        return None
+    if form is None or instance.nvertices > 1 or \
+            set(instance.theorem.var_decl) != {form.storage.name, form.level.name}:
+        return None          # the Riccati point is the storage of one system's bounded real lemma
     ev = NumericEvaluator(instance.dims, dict(instance.data), instance.params)
     A, B, C, D = (np.atleast_2d(np.asarray(ev.visit(e), dtype=float)) for e in form.system)
     time = instance.theorem.time

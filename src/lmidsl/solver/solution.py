@@ -85,6 +85,7 @@ class Solution:
     conditioning: dict | None = None  # the exact congruence/variable scaling (solver/conditioning)
     analysis: object = None         # lmidsl.certify.AnalysisCertificate of the recovered design
     certify: bool = True            # certification asked for (False: --no-certify)
+    evidence: list = field(default_factory=list)   # lmidsl.certify.evidence.Evidence: claims tested independently
 
     @property
     def recovered(self):
@@ -200,6 +201,7 @@ class Solution:
             "backoff": self.backoff,
             "reported": self.reported,
             "checks": [c.as_dict() for c in self.checks],
+            "evidence": [e.as_dict() for e in self.evidence],
         }
 
 

@@ -34,12 +34,13 @@ CERTIFIED_BOUND = "certified bound"  # certified, but the point is known not to 
 NOT_CERTIFIED = "not certified"
 REFUTED = "refuted"                 # independent evidence contradicts the claim
 DISAGREEMENT = "disagreement"       # trusted answers of several solvers differ (lmidsl check)
+VERTEX_WISE = "vertex-wise"         # a polytopic design's analysis holds at each vertex only
 INFEASIBLE = "infeasible"
 NOT_SOLVED = "not solved"
 SKIPPED = "certification skipped"
 
-WORDS = (OPTIMAL_WORD, CERTIFIED, CERTIFIED_BOUND, NOT_CERTIFIED, REFUTED, DISAGREEMENT, INFEASIBLE,
-         NOT_SOLVED, SKIPPED)
+WORDS = (OPTIMAL_WORD, CERTIFIED, CERTIFIED_BOUND, NOT_CERTIFIED, REFUTED, VERTEX_WISE, DISAGREEMENT,
+         INFEASIBLE, NOT_SOLVED, SKIPPED)
 CERTIFIED_WORDS = frozenset({OPTIMAL_WORD, CERTIFIED, CERTIFIED_BOUND})
 
 QUANTITIES = {
@@ -123,8 +124,16 @@ def decide(solution) -> Verdict:
     if not solution.certify:
         why = "certification was skipped (--no-certify): nothing is claimed"
         return verdict(False, SKIPPED, why, [why])
+    refuting = [e for e in solution.evidence if e.refutes]
+    if refuting:
+        why = f"{refuting[0].name}: {refuting[0].summary}"
+        return verdict(False, REFUTED, why, [why] + reasons)
     if reasons:
         return verdict(False, NOT_CERTIFIED, reasons[0], reasons)
+    if analysis is not None and getattr(analysis, "coverage", "") == "vertex-wise":
+        why = (f"{analysis.theorem} certifies the design at each vertex with its own Lyapunov matrix; "
+               "the polytope's interior is not covered by a proof")
+        return verdict(False, VERTEX_WISE, why, [why])
     if delivers and analysis is not None:
         what = (f"the delivered {design_kind(solution.design.kind if solution.design is not None else None).noun}"
                 f" is certified by {analysis.theorem}")
