@@ -247,7 +247,7 @@ def _probe_scheduler(address: str, seconds: float | None = None) -> None:
     seconds = PROBE_TIMEOUT if seconds is None else seconds
 
     async def identity():
-        comm = await connect(address, timeout=seconds)
+        comm = await connect(address, timeout=seconds / 2)     # its retries end first: "cannot connect"
         try:
             await comm.write({"op": "identity"})
             return await comm.read()
