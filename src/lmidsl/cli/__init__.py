@@ -20,6 +20,7 @@ import ast
 import importlib
 import json
 import os
+import signal
 import sys
 import threading
 import warnings
@@ -164,26 +165,77 @@ _show_warning = warnings.showwarning
 
 
 class Deadline:
-    """``--timeout``: after ``seconds`` of wall time the main thread is interrupted as by Ctrl-C
-    (so that long runs keep what they stored) and the command ends with exit code 1."""
+    """``--timeout``: a wall-clock guarantee.  After ``seconds`` the main thread gets SIGALRM,
+    whose handler raises KeyboardInterrupt there (so long runs keep what they stored, as after
+    Ctrl-C) -- SIGALRM, not SIGINT, whose disposition a caller may have set to "ignore" (a
+    command started with ``&`` from a script), which made Ctrl-C's route a no-op.  Should the
+    command still run :data:`GRACE` seconds later (the interrupt swallowed by a library, or a
+    solver inside C code), the watchdog thread of the ``lmidsl`` process itself ends it: stdout
+    flushed, one "timed out" line, exit code 1 (records of ``--out`` stores are on disk as soon
+    as they are appended).  A command that finishes after its deadline also exits 1."""
+
+    GRACE = 5.0
+    #: end the process from the watchdog (the ``lmidsl`` command; not ``main()`` inside a test)
+    hard_exit = False
 
     def __init__(self, seconds: float | None):
-        self.seconds, self.expired, self.timer = seconds, False, None
-        if seconds:
-            self.timer = threading.Timer(seconds, self._expire)
-            self.timer.daemon = True
+        self.seconds, self.expired, self.timer, self.watchdog = seconds, False, None, None
+        self._previous = None
+        if not seconds:
+            return
+        self._main = threading.main_thread().ident
+        if threading.current_thread() is threading.main_thread():
+            self._previous = signal.signal(signal.SIGALRM, self._alarm)
+        self.timer = threading.Timer(seconds, self._expire)
+        self.timer.daemon = True
+
+    def start(self):
+        """Start the clock (inside the ``try`` that handles its interrupt)."""
+        if self.timer is not None:
             self.timer.start()
+
+    @staticmethod
+    def _alarm(signum, frame):
+        raise KeyboardInterrupt
 
     def _expire(self):
         self.expired = True
-        _thread.interrupt_main()
+        if self.hard_exit:
+            self.watchdog = threading.Timer(self.GRACE, self._end_process)
+            self.watchdog.daemon = True
+            self.watchdog.start()
+        if self._previous is not None:
+            signal.pthread_kill(self._main, signal.SIGALRM)
+        else:
+            _thread.interrupt_main()
+
+    def _end_process(self):
+        flusher = threading.Thread(target=_flush_quietly, daemon=True)
+        flusher.start()
+        flusher.join(1.0)           # the main thread may hold stdout's lock: do not wait for ever
+        os.write(2, (self.message(f"timed out; still running {self.GRACE:g} s after the deadline, "
+                                  "ended") + "\n").encode())
+        os._exit(1)
 
     def cancel(self):
-        if self.timer is not None:
-            self.timer.cancel()
+        for timer in (self.timer, self.watchdog):
+            if timer is not None:
+                timer.cancel()
+        if self._previous is not None:
+            signal.signal(signal.SIGALRM, self._previous)
+            self._previous = None
 
     def message(self, detail: str = "") -> str:
-        return f"error: --timeout {self.seconds:g}: stopped after {self.seconds:g} s" + (f" ({detail})" if detail else "")
+        return (f"error: --timeout {self.seconds:g}: stopped after {self.seconds:g} s (timed out"
+                + (f"; {detail})" if detail else ")"))
+
+
+def _flush_quietly():
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
 
 
 def main(argv=None) -> int:
@@ -206,6 +258,7 @@ def console_main() -> None:
     waits for it) is kept, and so it is under a profiler or a tracer (``python -m cProfile``,
     coverage), which write their results at the normal exit.  ``main(argv)`` itself returns, for
     tests and embedding."""
+    Deadline.hard_exit = True
     code = main()
     if threading.active_count() > 1 or sys.getprofile() is not None or sys.gettrace() is not None:
         sys.exit(code)
@@ -230,10 +283,14 @@ def _main(argv=None) -> int:
 def _run(args) -> int:
     deadline = Deadline(getattr(args, "timeout", None))
     try:
+        deadline.start()
         code = args.run(args)
         deadline.cancel()
         sys.stdout.flush()            # a closed pipe shows here, not at the interpreter's exit
         _warn_skipped_theorem_files()
+        if deadline.expired:          # finished, but after its deadline (the interrupt came too late)
+            print(deadline.message("finished after the deadline"), file=sys.stderr)
+            return 1
     except BrokenPipeError:
         raise
     except Interrupted as exc:
