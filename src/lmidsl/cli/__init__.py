@@ -17,6 +17,7 @@ import _thread
 import argparse
 import atexit
 import ast
+import errno
 import importlib
 import json
 import os
@@ -302,17 +303,35 @@ def _run(args) -> int:
         _warn_skipped_theorem_files()
         print(f"error: {exc}", file=sys.stderr)
         return exc.exit_code
+    except OSError as exc:
+        if exc.errno not in UNWRITABLE:
+            return _internal_error(exc)
+        deadline.cancel()
+        where = f" {exc.filename}" if exc.filename else ""
+        print(f"error: cannot write{where}: {exc.strerror} (the command could not finish; files "
+              f"already written are kept)", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         deadline.cancel()
         print(deadline.message() if deadline.expired else "error: interrupted", file=sys.stderr)
         return 1 if deadline.expired else 130
     except Exception as exc:  # a bug, not bad input: say so in one line unless debugging
-        if os.environ.get("LMIDSL_DEBUG"):
-            raise
-        print(f"internal error: {type(exc).__name__}: {exc} (set LMIDSL_DEBUG=1 for the traceback)",
-              file=sys.stderr)
-        return 3
+        return _internal_error(exc)
     return code or 0
+
+
+#: errors of writing an output that are the machine's, not lmidsl's: a full disk or quota, a
+#: read-only file system, no permission, an I/O error (exit 1: the command could not finish)
+UNWRITABLE = frozenset({errno.ENOSPC, errno.EROFS, errno.EACCES, errno.EPERM, errno.EDQUOT, errno.EIO,
+                        errno.EFBIG})
+
+
+def _internal_error(exc) -> int:
+    if os.environ.get("LMIDSL_DEBUG"):
+        raise exc
+    print(f"internal error: {type(exc).__name__}: {exc} (set LMIDSL_DEBUG=1 for the traceback)",
+          file=sys.stderr)
+    return 3
 
 
 if __name__ == "__main__":

@@ -7,7 +7,8 @@ The first line of a store is a header that says what run it belongs to (e.g. the
 example, the grid, the lmidsl version): a store is resumed only by the same run, and is
 locked while a run uses it.  Final files (CSV, JSON, PNG) are
 written to a temporary file beside the target and renamed over it (``os.replace``), so a reader
-never sees half a file, and the output folder is checked writable before the first solve.
+never sees half a file, and the output folder is checked writable before the first solve;
+files are created with the mode the umask gives (not the temporary file's 0600).
 
 JSON written is strict (``allow_nan=False``): a non-finite number becomes ``null`` and the
 object says so under ``"notes"``.
@@ -94,7 +95,10 @@ def atomic_path(path):
     """A temporary path beside ``path``, renamed over it when the block succeeds."""
     target = Path(path)
     fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.stem}-", suffix=target.suffix)
-    os.close(fd)
+    try:
+        os.fchmod(fd, 0o666 & ~current_umask())   # mkstemp's 0600 would survive the rename
+    finally:
+        os.close(fd)
     try:
         yield Path(tmp)
         os.replace(tmp, target)
@@ -102,6 +106,13 @@ def atomic_path(path):
         with contextlib.suppress(OSError):
             os.unlink(tmp)
         raise
+
+
+def current_umask() -> int:
+    """The process's umask (read by setting it and putting it back)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
 
 
 def atomic_write_text(path, text: str) -> None:
@@ -189,7 +200,10 @@ class JsonLinesStore:
 
     def close(self) -> None:
         if self._fh is not None:
-            self._fh.close()
+            try:
+                self._fh.close()
+            except OSError:           # a full disk: what was fsynced before is kept
+                pass
             self._fh = None
         if self._lock is not None:
             self._lock.close()          # releases the flock

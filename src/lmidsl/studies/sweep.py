@@ -25,7 +25,7 @@ from ..numeric.proof import PROVED
 from ..solver.margin import solve_model
 from ..solver.solution import lmi_certificate
 from ..solver.backends import choose_backend, get_backend
-from ..errors import InputError, Interrupted
+from ..errors import InputError, Interrupted, NoResultError
 from .parallel import (Runner, Task, check_workers, items_as_finished, start_local_workers_early,
                        worker_state)
 from .store import JsonLinesStore, atomic_path, atomic_write_text, strict_json
@@ -233,7 +233,13 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
                     result.solved += 1
                     done[combo] = point
                     if jsonl is not None:
-                        jsonl.append(store_record(point, run))
+                        try:
+                            jsonl.append(store_record(point, run))
+                        except OSError as exc:   # a full disk, a store made read-only
+                            raise NoResultError(
+                                f"sweep stopped after {len(done) - 1} of {len(combos)} points: cannot write "
+                                f"{jsonl.path} ({exc.strerror or exc}); the points stored before are kept "
+                                f"(make room, then run again with --resume)") from None
         except KeyboardInterrupt:
             where = (f"; they are in {jsonl.path} (run again with --resume to go on)" if jsonl is not None
                      else " and lost (give --out DIR to keep them)")
