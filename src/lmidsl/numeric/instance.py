@@ -20,6 +20,7 @@ from ..symbolic.numbers import finite_matrix, finite_number, positive_integer
 from ..symbolic.shapes import fmt_shape
 from ..symbolic.parameter_values import NotRealError, parameter_value
 from ..symbolic.symbols import Dim, ScalarVariable
+from ..theorem.assumptions import check_assumptions
 from ..theorem.theorem import Theorem
 from ..symbolic.uncertainty import bind_points
 from ..symbolic.uncertainty import scenarios
@@ -125,6 +126,7 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None, *,
     if hasattr(theorem, "specialise"):
         theorem = theorem.specialise(inputs)
     inputs = dict(inputs)
+    check_assumptions(theorem, inputs, inputs.get("vertices") if isinstance(inputs.get("vertices"), list) else None)
     uncertain = bind_points(theorem, inputs)
     vertices = inputs.pop("vertices", None)
     per_vertex = theorem.per_vertex_names

@@ -325,14 +325,29 @@ def get_theorem(theorem_id: str) -> Theorem:
 
 def _refuse_redefinition(theorem_id: str, origin: str, dirs: tuple) -> None:
     """A user module of another name that defines ``theorem_id`` too is an error naming both
-    (it was silently ignored by ``solve``, which executes only the module the id names)."""
+    (it was silently ignored by ``solve``, which executes only the module the id names).  Only
+    user modules whose source mentions the id are executed to see (the others stay unexecuted;
+    an id computed at run time is found by ``lmidsl list``, which loads every file)."""
     for module_name, places in _module_locations(dirs).items():
-        if not any(kind != "builtin" for kind, _ in places) or module_name == theorem_id.split(".", 1)[0]:
+        if module_name == theorem_id.split(".", 1)[0] or not any(
+                kind != "builtin" and _mentions(kind, where, theorem_id) for kind, where in places):
             continue
         other = _load_module(module_name, dirs).get(theorem_id)
         if other is not None and other[1] != origin:
             raise InputError(f"theorem id {theorem_id!r} is defined twice: in {origin} and in {other[1]}; "
                              f"rename one")
+
+
+def _mentions(kind: str, where, text: str) -> bool:
+    """Whether a Python file of a theorem module contains ``text`` (read, not executed)."""
+    for path in _location_files(kind, where):
+        if path.suffix == ".py":
+            try:
+                if text in path.read_text(errors="replace"):
+                    return True
+            except OSError:
+                continue
+    return False
 
 
 def linked_analysis(theorem: Theorem) -> Theorem:
