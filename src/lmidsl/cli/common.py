@@ -302,5 +302,5 @@ def parallel_spec(args) -> dict:
 def default_local_workers() -> int:
     """Local Dask workers for a long job: the cores this process may use, at most 2 (reproduce's
     rows take 0.1–8 s each; 2 workers: 50 s -> 38 s on 2 cores, docs/performance.md), 1 on one core."""
-    from ..studies.parallel import usable_cores
-    return max(1, min(2, usable_cores()))
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    return max(1, min(2, cores))

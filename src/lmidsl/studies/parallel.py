@@ -241,8 +241,9 @@ def _probe_scheduler(address: str, seconds: float | None = None) -> None:
     cover the handshake, so a port that accepts and never answers held it forever, and an HTTP
     server's reply read as a Dask frame header asked for 3 EiB.  One line when it is not a Dask
     scheduler."""
-    import asyncio
     from distributed.comm import connect
+    from distributed.compatibility import asyncio_run
+    from distributed.utils import wait_for
 
     seconds = PROBE_TIMEOUT if seconds is None else seconds
 
@@ -255,8 +256,8 @@ def _probe_scheduler(address: str, seconds: float | None = None) -> None:
             comm.abort()
 
     try:
-        reply = asyncio.run(asyncio.wait_for(identity(), seconds))
-    except (asyncio.TimeoutError, TimeoutError):
+        reply = asyncio_run(wait_for(identity(), seconds))
+    except TimeoutError:
         raise InputError(f"--scheduler {address}: no Dask scheduler answered within {seconds:g} s") from None
     except OSError as exc:            # refused, unreachable
         reason = " ".join(str(exc).split())[:160] or type(exc).__name__

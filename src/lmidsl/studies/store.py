@@ -16,6 +16,7 @@ object says so under ``"notes"``.
 from __future__ import annotations
 
 import contextlib
+import fcntl
 import json
 import math
 import os
@@ -141,7 +142,6 @@ class JsonLinesStore:
         self.dropped = 0
 
     def _acquire(self) -> None:
-        import fcntl
         lock = open(self.path.with_name(f".{self.path.name}.lock"), "a+")
         try:
             fcntl.flock(lock.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)

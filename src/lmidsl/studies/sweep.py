@@ -12,9 +12,11 @@ reading values and the certificate.
 from __future__ import annotations
 
 import csv
+import hashlib
 import itertools
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -23,9 +25,10 @@ import numpy as np
 from ..pipeline import make_instance
 from ..numeric.proof import PROVED
 from ..solver.margin import solve_model
-from ..solver.solution import lmi_certificate
+from ..solver.solution import evaluate_performance, lmi_certificate
 from ..solver.backends import choose_backend, get_backend
-from ..errors import InputError, Interrupted, NoResultError
+from .. import __version__
+from ..errors import InputError, Interrupted, LmidslWarning, NoResultError
 from .parallel import (Runner, Task, check_workers, items_as_finished, start_local_workers_early,
                        worker_state)
 from .store import JsonLinesStore, atomic_path, atomic_write_text, strict_json
@@ -299,8 +302,6 @@ def store_header(instance, grids: list, **run) -> dict:
     """What identifies a sweep: theorem, example, a hash of the bound data and parameters, the
     grid, the solve settings and the lmidsl version; ``run``: a hash of all of it, which every
     record carries."""
-    import hashlib
-    from .. import __version__
     bound = strict_json({"data": instance.data, "params": instance.params}, indent=None, note=False)
     header = {"kind": "sweep", "theorem": instance.theorem.id, "example": instance.example,
               "data_sha256": hashlib.sha256(bound.encode()).hexdigest(),
@@ -352,8 +353,6 @@ def resumed_points(records: list, run: str, grids: list, scaled, dropped: int = 
     the performance figure recomputed there equal to the stored one).  A record that is not
     proved (an infeasible or uncertified point) cannot be checked and is solved again, as is
     every record that fails; one warning line says how many and why."""
-    import warnings
-    from ..errors import LmidslWarning
     names = [n for n, _ in grids]
     grid_sets = {n: set(v) for n, v in grids}
     done: dict = {}
@@ -386,7 +385,6 @@ def resumed_points(records: list, run: str, grids: list, scaled, dropped: int = 
 def _certificate_problem(record: dict, scaled) -> str | None:
     """None when every LMI is proved at the record's stored point and γ recomputed there is the
     stored γ; else what failed."""
-    from ..solver.solution import evaluate_performance
     try:
         instance = scaled.with_params(**record["params"])
         values = {}

@@ -11,7 +11,10 @@ no table lists; their values are still checked to be finite.
 """
 from __future__ import annotations
 
+import json
 import math
+
+import clarabel
 
 from ...errors import InputError
 
@@ -45,7 +48,6 @@ def solver_settings(backend: str, solver: str) -> dict | None:
 
 
 def _clarabel_settings() -> dict:
-    import clarabel
     defaults = clarabel.DefaultSettings()
     out = {}
     for name in dir(defaults):
@@ -113,7 +115,6 @@ def check_solver_options(backend: str, solver: str, options: dict) -> None:
 
 
 def _show(value) -> str:
-    import json
     try:
         return json.dumps(value)
     except ValueError:
