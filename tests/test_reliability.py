@@ -451,3 +451,34 @@ def test_a_file_that_is_not_the_sdp_is_found(tmp_path):
     path.write_text("\n".join(lines) + "\n")
     check = check_round_trip(instance, path, mapping)
     assert not check["holds"] and "does not state lmidsl's SDP" in check["reason"], check
+
+
+def test_library_warnings_stay_off_user_streams(capsys, monkeypatch):
+    """A library's warning raised during a command (here planted in the binding) is not printed;
+    lmidsl's own warnings are, in one line; with LMIDSL_DEBUG the library's is shown too."""
+    import warnings
+    import lmidsl.numeric.instance as instance_module
+    from lmidsl.errors import LmidslWarning
+    original = instance_module.check_symmetric_blocks
+
+    def noisy(instance):
+        warnings.warn("a library's remark", UserWarning)
+        warnings.warn("lmidsl's own remark", LmidslWarning)
+        return original(instance)
+    monkeypatch.setattr(instance_module, "check_symmetric_blocks", noisy)
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")           # each run warns (not once per location)
+        code, _, err = run_main(capsys, "solve", *THM3, "--json")
+        assert code == 0 and set(err.strip().splitlines()) == {"warning: lmidsl's own remark"}, err
+        monkeypatch.setenv("LMIDSL_DEBUG", "1")
+        code, _, err = run_main(capsys, "solve", *THM3, "--json")
+    assert "a library's remark" in err
+
+
+def test_local_clusters_have_no_dashboard_unless_asked(monkeypatch):
+    from lmidsl.studies.parallel import dashboard_options
+    monkeypatch.delenv("LMIDSL_DASK_DASHBOARD", raising=False)
+    assert dashboard_options()["dashboard_address"] is None
+    assert dashboard_options()["scheduler_kwargs"] == {"dashboard": False, "dashboard_address": "127.0.0.1:0"}
+    monkeypatch.setenv("LMIDSL_DASK_DASHBOARD", ":8790")
+    assert dashboard_options() == {"dashboard_address": ":8790"}

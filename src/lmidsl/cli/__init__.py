@@ -155,10 +155,13 @@ def _warn_skipped_theorem_files() -> None:
 
 
 def _one_line_warning(message, category, filename, lineno, file=None, line=None):
-    """lmidsl's own warnings as ``warning: <message>`` (one line); others as Python prints them."""
+    """lmidsl's own warnings as ``warning: <message>`` (one line); a library's (cvxpy's "not
+    DPP", "Solution may be inaccurate", Dask's ports) only with ``LMIDSL_DEBUG`` set, as Python
+    prints them: what lmidsl reports -- statuses, certificates, its own warnings -- says what
+    they would, in the command's words."""
     if issubclass(category, LmidslWarning):
         print(f"warning: {message}", file=sys.stderr)
-    else:
+    elif os.environ.get("LMIDSL_DEBUG"):
         _show_warning(message, category, filename, lineno, file, line)
 
 

@@ -286,6 +286,9 @@ def add_parallel_arguments(parser, default_workers: int | None = None) -> None:
     group.add_argument("--workers", type=positive_int, metavar="N",
                        help=f"solve independent points on a local Dask cluster of N processes ({default})")
     parser.set_defaults(default_workers=default_workers)
+    group.add_argument("--dashboard", nargs="?", const=":8787", metavar="ADDRESS",
+                       help="show the local cluster's Dask dashboard (default address :8787; none "
+                            "without this flag)")
     group.add_argument("--scheduler", metavar="ADDRESS",
                        help="solve them on an existing Dask cluster, e.g. tcp://host:8786 "
                             "(started with `dask scheduler` and `dask worker`)")
@@ -294,6 +297,8 @@ def add_parallel_arguments(parser, default_workers: int | None = None) -> None:
 def parallel_spec(args) -> dict:
     """Keyword arguments ``workers`` and ``scheduler`` from :func:`add_parallel_arguments`."""
     workers = args.workers
+    if getattr(args, "dashboard", None):
+        os.environ["LMIDSL_DASK_DASHBOARD"] = args.dashboard      # read by the local cluster
     if workers is None and not args.scheduler:          # the command's default N
         workers = getattr(args, "default_workers", None)
     return {"workers": workers, "scheduler": args.scheduler}

@@ -219,6 +219,17 @@ def _workers_ignore_ctrl_c():
         signal.signal(signal.SIGINT, previous)
 
 
+def dashboard_options() -> dict:
+    """A local cluster's dashboard: none unless ``LMIDSL_DASK_DASHBOARD`` (``--dashboard``) names
+    an address.  Without it the scheduler's HTTP server (health and metrics routes, which Dask
+    starts even with no dashboard, on port 8787 by default) listens on a free port of the
+    loopback interface: no "Port 8787 is already in use" warning when another cluster runs."""
+    address = os.environ.get("LMIDSL_DASK_DASHBOARD")
+    if address:
+        return {"dashboard_address": address}
+    return {"dashboard_address": None, "scheduler_kwargs": {"dashboard": False, "dashboard_address": "127.0.0.1:0"}}
+
+
 def _check_address(address: str) -> None:
     """A scheduler address Dask can parse (a malformed one is bad input, before any connection)."""
     from distributed.comm import parse_address
@@ -304,8 +315,8 @@ class Runner:
                                   **WORKER_CONFIG}), \
                     _workers_ignore_ctrl_c():
                 self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
-                                             dashboard_address=None, silence_logs=logging.CRITICAL,
-                                             env=WORKER_ENV)
+                                             silence_logs=logging.CRITICAL, env=WORKER_ENV,
+                                             **dashboard_options())
             self._client = Client(self._cluster, set_as_default=False)
             return self
         _check_address(self.scheduler)
