@@ -83,6 +83,7 @@ class Theorem:
         self.examples: dict[str, Example] = {}
         self.reported: dict[str, sp.Expr] = {}
         self.checks: list = []
+        self.assumptions: list = []           # Theorem.assume (lmidsl.theorem.assumptions)
 
     # -- pickling ----------------------------------------------------------------------
     def __getstate__(self) -> dict:
@@ -273,6 +274,12 @@ class Theorem:
         lmi.per_vertex = any(getattr(s, "per_vertex", False) for s in lmi.symbols())
         self.lmis.append(lmi)
         return lmi
+
+    def assume(self, assumption):
+        """Declare a hypothesis on the data (:mod:`lmidsl.theorem.assumptions`: ``zero("D11")``,
+        ``stable("A")``, ``full_rank(...)``), checked when data are bound: exit 2 if it fails."""
+        self.assumptions.append(assumption)
+        return assumption
 
     def positive(self, *variables, label: str | None = None) -> list[LMI]:
         """Declare ``X > 0`` for each variable (labelled 'X > 0' unless ``label`` is given)."""
