@@ -103,7 +103,7 @@ def test_a_chosen_margin_is_honoured_and_flagged_when_it_sets_gamma(capsys):
     assert chosen["margin_limited"] is True
     code, out, err = run_main(capsys, *argv)
     default = json.loads(out)
-    assert default["certified"] and default["gamma"] < chosen["gamma"] / 10
+    assert default["certified"] and default["point_gamma"] < chosen["point_gamma"] / 10
 
 
 def test_a_chosen_margin_that_does_not_set_gamma_is_kept_unflagged(capsys):
