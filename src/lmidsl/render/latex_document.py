@@ -216,7 +216,7 @@ def theorem_latex(theorem, solution=None, **settings) -> str:
     out = [PREAMBLE % {"maxcols": _maxcols(theorem)}, "\\begin{document}"]
     out.append(f"\\section*{{{tex_text(theorem.title)}}}")
     src = theorem.source
-    source = f"{tex_text(src.citation or src.paper)}, {tex_text(src.equations)}"
+    source = ", ".join(tex_text(x) for x in (src.citation or src.paper, src.equations) if x)
     out.append(f"\\textbf{{Source.}} {source}.\\\\\n\\textbf{{Theorem id.}} "
                f"\\texttt{{{tex_text(theorem.id)}}} ({tex_text(theorem.time)} time).")
     if theorem.description:
