@@ -309,6 +309,7 @@ class Theorem:
         self._check_determined(objective, "the objective")
         self.objective = objective
         self._set_performance(performance)
+        return self                           # lmidsl.solve(thm.minimize(g)) in quick mode
 
     def feasibility(self, *, performance: tuple[str, Any] | None = None):
         """A feasibility problem (no objective); ``performance`` = (name, expr) names the level
