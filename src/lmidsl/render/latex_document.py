@@ -12,6 +12,7 @@ portrait: an LMI too wide for the line is printed with named blocks and a "where
 from __future__ import annotations
 
 import re
+from difflib import get_close_matches
 
 import numpy as np
 import sympy as sp
@@ -170,7 +171,6 @@ def _find_lmi(theorem: Theorem, label: str):
         if lmi.label == label or equation_tag(lmi.label) == f"({label.strip('()')})":
             return lmi
     labels = [l.label for l in theorem.lmis]
-    from difflib import get_close_matches
     near = get_close_matches(label, labels, n=1)
     raise InputError(f"{theorem.id}: no LMI labelled {label!r}"
                      + (f" (did you mean {near[0]!r}?)" if near else "") + f"; LMIs: {', '.join(labels)}")

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import io
 
+import numpy as np
 from rich import box
 from rich.cells import cell_len
 from rich.console import Console
@@ -131,3 +132,26 @@ def format_table(headers: list[str], rows: list[list], *, width: int | None = No
     buffer = io.StringIO()
     _console(width, color, buffer).print(table)
     return "\n".join(line.rstrip() for line in buffer.getvalue().rstrip("\n").splitlines())
+
+
+def format_matrix(name: str, M, indent: str = "  ", width: int | None = None, digits: int = 5) -> str:
+    """THE text form of a matrix: ``name = [`` rows of right-aligned entries (``digits``
+    significant digits) ``]``; a matrix wider than ``width`` (default :func:`output_width`) is
+    printed in blocks of whole columns, each headed ``columns i–j`` (as MATLAB does)."""
+    M = np.atleast_2d(np.asarray(M, dtype=float))
+    cells = [[f"{x:.{digits}g}" for x in row] for row in M]
+    size = max((len(c) for row in cells for c in row), default=1)
+    head = f"{indent}{name} = ["
+    width = output_width() if width is None else width
+    per = M.shape[1] if width is None else max(1, (width - len(head) - 1) // (size + 1))
+    blocks = [range(j, min(j + per, M.shape[1])) for j in range(0, max(M.shape[1], 1), per)]
+    out = []
+    for b, cols in enumerate(blocks):
+        if len(blocks) > 1:
+            out.append(f"{indent}{name}, columns {cols.start + 1}–{cols.stop}:" if cols.stop - cols.start > 1
+                       else f"{indent}{name}, column {cols.start + 1}:")
+        for i, row in enumerate(cells):
+            lead = head if i == 0 else " " * len(head)
+            tail = "]" if i == len(cells) - 1 else ""
+            out.append(lead + " ".join(row[j].rjust(size) for j in cols) + tail)
+    return "\n".join(out)

@@ -18,6 +18,7 @@ declarations, the symbols are what LMIs are written with.
 """
 from __future__ import annotations
 
+import numpy as np
 import sympy as sp
 from sympy import MatrixSymbol
 from sympy.core.symbol import Str
@@ -204,8 +205,6 @@ _CONSTANTS: dict = {}
 
 def constant_matrix(array) -> sp.MatrixExpr:
     """The :class:`ConstantMatrix` of a real numpy array (a vector is a column)."""
-    import numpy as np
-
     a = np.asarray(array, dtype=float)
     a = a.reshape(-1, 1) if a.ndim == 1 else a
     if a.ndim != 2 or not np.all(np.isfinite(a)):

@@ -25,16 +25,9 @@ from ..symbolic.uncertainty import uncertain_symbol
 from ..symbolic.symbols import (ConstantMatrix, DataMatrix, DerivedParam, as_symbolic, DiagonalVariable, Dim, Param, RecoveredMatrix,
                       ScalarVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
                       Variable, metadata_snapshot, restore_metadata)
-from .values import (DESIGN_KINDS, FIGURES, LMI, TIME_DOMAINS, AnalysisLink, Bisection, BoundedRealForm, StateFeedbackForm,
+from .values import (DESIGN_KINDS, FIGURES, LATEX_RENDERER, LMI, TIME_DOMAINS, AnalysisLink, Bisection, BoundedRealForm, StateFeedbackForm,
                      Declaration, Derivation, ErrorSystemLink, Example, FactorStep, SignalScaling, Source,
                      check_provenance)
-
-
-LATEX_RENDERER: dict = {}
-"""``{"theorem": function(theorem) -> str}``: how a theorem's LMIs are written in LaTeX, for
-:meth:`Theorem._repr_latex_`.  The printer lives in :mod:`lmidsl.render.latex`, a layer above
-this one, which registers itself here when it is imported (and ``lmidsl``'s public face imports
-it with :class:`Theorem`), so that this layer never imports the one above it."""
 
 
 class Theorem:
