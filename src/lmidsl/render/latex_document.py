@@ -12,7 +12,6 @@ portrait: an LMI too wide for the line is printed with named blocks and a "where
 from __future__ import annotations
 
 import re
-from difflib import get_close_matches
 
 import numpy as np
 import sympy as sp
@@ -22,7 +21,7 @@ from .latex import (equation_tag, grouped_display, latex_of,
 from .latex_layout import choose_letter, definition, lmi_layout
 from .latex_text import latex_matrix, latex_number, tex_text
 from ..symbolic.symbols import DiagonalVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable
-from ..errors import InputError, LmidslError
+from ..errors import InputError, LmidslError, did_you_mean
 from ..theorem.registry import get_theorem, linked_analysis
 from ..theorem.theorem import Theorem
 from ..theorem.values import FactorStep
@@ -171,9 +170,8 @@ def _find_lmi(theorem: Theorem, label: str):
         if lmi.label == label or equation_tag(lmi.label) == f"({label.strip('()')})":
             return lmi
     labels = [l.label for l in theorem.lmis]
-    near = get_close_matches(label, labels, n=1)
-    raise InputError(f"{theorem.id}: no LMI labelled {label!r}"
-                     + (f" (did you mean {near[0]!r}?)" if near else "") + f"; LMIs: {', '.join(labels)}")
+    raise InputError(f"{theorem.id}: no LMI labelled {label!r}{did_you_mean(label, labels)}; "
+                     f"LMIs: {', '.join(labels)}")
 
 
 def _condition_latex(theorem: Theorem, settings: dict, defined: set) -> list[str]:
