@@ -127,6 +127,8 @@ def test_sweep_fits(monkeypatch):
     ("derive-check", "wang_l2linf.thm3"),
     ("simulate", "pan_impulsive.thm1", "--example", "modified", "--horizon", "40"),
     ("search", "wang_l2linf.thm3", "--grid", "rbar=0.1:0.5:3"),
+    ("successive", "zhang_quantized_loss.thm2", "--example", "paper-N2-robust", "--set", "N=1",
+     "--start", '{"Sbar": 1, "P3bar": 100}', "--max-iter", "4"),
 ])
 def test_other_commands_fit(monkeypatch, capsys, argv):
     texts, doc = cli_texts(monkeypatch, capsys, *argv)
