@@ -3,7 +3,8 @@
 A theorem file declares dimensions, data, variables and parameters on a :class:`Theorem`,
 writes each LMI as a block triangle (``*`` implicit, ``0``/``I`` sized from their position),
 and names its objective, its change of variables (recovery) and its analysis counterpart.
-:func:`solve` binds an example or user data, compiles to a backend (cvxpy by default), solves,
+:func:`solve` binds an example or user data, compiles to a backend (by default ``direct``,
+lmidsl's own standard form for Clarabel; ``cvxpy`` or ``picos`` on request), solves,
 recovers the :class:`Design` and certifies it; :func:`verify` gathers independent evidence.
 
 The public face, by use:

@@ -3,6 +3,7 @@ the theorem's LMI labels and variable names (``--check``: read the file back, so
 cvxpy directly and compare with the theorem's own optimum)."""
 from __future__ import annotations
 
+from ..errors import InputError
 from ..pipeline import make_instance, solve_instance
 from ..studies.export import FORMATS, export, read_back, solve_sdpa_cvxpy
 from .common import add_solve_arguments, instance_spec, print_json, refuse, solve_arguments
@@ -23,6 +24,9 @@ def register(sub):
 
 
 def run(args):
+    if args.check and args.format == "json":
+        raise InputError("--check reads the written SDP back and solves it; --format json writes only "
+                         "the map: use --format sdpa or cbf with --check")
     instance = make_instance(args.theorem, **instance_spec(args))
     if not args.check:
         refuse(args, "export writes the SDP (compiled by PICOS) and solves nothing; the backend and "
@@ -30,7 +34,7 @@ def run(args):
     solving = solve_arguments(args)
     mapping = export(instance, args.format, args.output, margin=args.margin)
     code = 0
-    if args.check and args.format != "json":
+    if args.check:
         value, _ = solve_sdpa_cvxpy(read_back(args.output))
         own = solve_instance(instance, certify=False, diagnose=False, **solving)
         ref = own.objective
