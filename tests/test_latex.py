@@ -432,3 +432,23 @@ def test_cli_bad_input(tmp_path, capsys):
 def test_cli_pdf(tmp_path, capsys):
     assert main(["latex", "wang_l2linf.thm1", "-o", str(tmp_path / "thm1.tex"), "--pdf"]) == 0
     assert (tmp_path / "thm1.pdf").stat().st_size > 1000
+
+
+@needs_pdflatex
+@pytest.mark.parametrize("theorem_id,label", [("wang_l2linf.thm3", "30"), ("interconnected_delay.thm2", "(18, i=1)"),
+                                              ("textbook.brl_ct", "(BRL)")])
+def test_cli_one_lmi_pastes_into_a_plain_amsmath_document(theorem_id, label, capsys, tmp_path):
+    assert main(["latex", theorem_id, "--lmi", label]) == 0
+    snippet = capsys.readouterr().out
+    assert "\\documentclass" not in snippet and "\\lmidisplay" not in snippet and "\\lmiitem" not in snippet
+    assert "\\begin{equation}" in snippet and "\\label{" in snippet
+    doc = "\\documentclass{article}\\usepackage{amsmath}\\begin{document}\n" + snippet + "\\end{document}\n"
+    assert_compiles(doc, tmp_path, "paste")
+    log = (tmp_path / "paste.log").read_text(errors="replace")
+    assert "Overfull \\hbox" not in log, re.findall(r"Overfull \\hbox \([\d.]+pt", log)
+
+
+def test_cli_one_lmi_unknown_label(capsys):
+    assert main(["latex", "wang_l2linf.thm3", "--lmi", "(3O)"]) == 2
+    err = capsys.readouterr().err
+    assert "no LMI labelled '(3O)'" in err and "(30)" in err and len(err.strip().splitlines()) == 1
