@@ -142,7 +142,7 @@ def test_closed_pipe_is_not_an_error():
     shell = subprocess.run(["bash", "-c", f"{sys.executable} -m lmidsl list | head -1; exit ${{PIPESTATUS[0]}}"],
                            capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert shell.returncode == 0, shell.stderr
-    assert shell.stdout.startswith("theorem") and len(shell.stdout.splitlines()) == 1
+    assert shell.stdout.startswith("interconnected_delay: ") and len(shell.stdout.splitlines()) == 1
     assert "error" not in shell.stderr
 
 
