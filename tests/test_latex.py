@@ -19,8 +19,8 @@ from lmidsl import He, I, Source, Theorem, diag
 from lmidsl.cli import main
 from lmidsl.errors import InputError
 import lmidsl
-from lmidsl.render.latex import LMILatexPrinter, lmi_latex, name_to_latex, tex_text, with_vertex_index
-from lmidsl.render.latex_document import theorem_latex
+from lmidsl.render.latex import LMILatexPrinter, lmi_latex, name_to_latex, printer_for, tex_text, with_vertex_index
+from lmidsl.render.latex_document import _inverted_latex, theorem_latex
 from lmidsl.theorem.registry import all_theorems, get_theorem
 from lmidsl.symbolic.symbols import SymmetricVariable
 
@@ -337,6 +337,7 @@ def test_every_example_document_reads_well(theorem_id, example, tmp_path):
     assert all(x <= OVERFULL_PT for x in overfull), overfull
     scales = [float(b) / float(a) for a, b in re.findall(r"lmidsl-shrink: ([\d.]+)pt to ([\d.]+)pt", log)]
     assert min(scales, default=1.0) >= MIN_SCALE, scales
+    assert page_problems(text, tmp_path, name) == []
 
 
 PDFTOTEXT = shutil.which("pdftotext")
@@ -400,6 +401,9 @@ def test_document_text_is_mathematics_where_it_is_mathematics():
     assert tex_text("Af = R⁻¹ÂfZ⁻¹S⁻ᵀ") == "$A_{f} = R^{-1} \\hat{A}_{f} Z^{-1} S^{-T}$"
     assert tex_text("the number of A_<i> given") == "the number of $A_{i}$ given"
     assert tex_text("(P > 0; docs/reproductions/003.md)") == "($P > 0$)"
+    li = get_theorem("li_delay_dropout.thm2")
+    assert _inverted_latex(li, "S.T", printer_for(li)) == "$S^{T}$"
+    assert _inverted_latex(li, "I - X*Z**(-1)", printer_for(li)) == "$I - X Z^{-1}$"
     doc = theorem_latex("li_delay_dropout.thm1")
     assert "\\sqrt{\\gamma^2}" not in doc and "square root of the optimal value" in doc
 
