@@ -185,8 +185,8 @@ def _condition_latex(theorem: Theorem, settings: dict, defined: set) -> list[str
         body, where = lmi_parts(theorem, lmi, settings, taken)
         where = [(n, d) for n, d in where if n not in defined]
         defined |= {n for n, _ in where}
-        if lmi.description:
-            out.append(tex_text(lmi.description))
+        if lmi.description:        # kept on the page of its LMI (no heading and line left alone)
+            out.append(tex_text(lmi.description) + "\\par\\nopagebreak")
         out.append(_display(lmi, body, where))
     if positives:
         parts = []
