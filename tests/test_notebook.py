@@ -78,3 +78,13 @@ def test_ipython_gets_the_renderers_by_name():
     assert modules == {"lmidsl.solver.solution", "lmidsl.studies.verify", "lmidsl.studies.sweep"}
     for module, name, _ in registered:                       # the names are right
         assert hasattr(__import__(module, fromlist=[name]), name)
+
+
+def test_verification_html_shows_the_bracket():
+    v = lmidsl.verify("wang_l2linf.thm3", example="paper-full")
+    page = notebook.html(v)
+    assert ("NOT CERTIFIED" in page) != bool(v.certified) and "CERTIFIED" in page
+    assert format(v.analysis_gamma, ".8g") in page and format(v.exact.value, ".8g") in page
+    # the exact figure of the recovered filter is below the analysis bound, which is below the claim
+    assert v.exact.value <= v.analysis_gamma <= v.claimed_gamma * (1 + 1e-6)
+    assert "Af = " in page
