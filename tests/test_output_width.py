@@ -135,6 +135,13 @@ def test_other_commands_fit(monkeypatch, capsys, argv):
     assert_fits_and_whole(texts, doc, must=(argv[1],))
 
 
+def test_export_fits(monkeypatch, capsys, tmp_path):
+    monkeypatch.chdir(tmp_path)
+    texts, doc = cli_texts(monkeypatch, capsys, "export", "wang_l2linf.thm3", "--example", "paper-full",
+                           "--format", "sdpa", "-o", "thm3.dat-s", "--check")
+    assert_fits_and_whole(texts, doc, must=("thm3.dat-s",))
+
+
 @pytest.mark.parametrize("argv", [
     pytest.param(("solve", "textbook.brl_ct"), marks=pytest.mark.xfail(
         strict=True, reason="solve's report is being rebuilt with the verdict record (issue 24)")),

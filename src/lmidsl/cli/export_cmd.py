@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from ..errors import InputError
 from ..pipeline import make_instance, solve_instance
+from ..render.terminal import echo
 from ..studies.export import FORMATS, export, read_back, solve_sdpa_cvxpy
 from .common import add_solve_arguments, instance_spec, print_json, refuse, solve_arguments
 
@@ -49,17 +50,25 @@ def run(args):
     if args.json:
         print_json(mapping)
         return code
-    print(f"wrote {args.output} ({args.format}; {mapping['nvars']} scalar variables, "
-          f"{len(mapping['blocks'])} blocks)" + ("" if args.format == "json" else f"; map {args.output}.map.json"))
+    echo(format_export(mapping, args.output, args.format))
+    return code
+
+
+def format_export(mapping: dict, output: str, fmt: str) -> str:
+    """What was written, block by block, and the --check comparison (wrapped to the width)."""
+    lines = [f"wrote {output} ({fmt}; {mapping['nvars']} scalar variables, {len(mapping['blocks'])} blocks)"
+             + ("" if fmt == "json" else f"; map {output}.map.json")]
     for b in mapping["blocks"]:
-        print(f"  block {b['block']}: " + (f"LMI {b['lmi']}" if "lmi" in b else b["kind"])
-              + (f" vertex {b['vertex']}" if b.get("vertex") else "") + (f" {b['scenario']}" if b.get("scenario") else ""))
+        lines.append(f"  block {b['block']}: " + (f"LMI {b['lmi']}" if "lmi" in b else b["kind"])
+                     + (f" vertex {b['vertex']}" if b.get("vertex") else "")
+                     + (f" {b['scenario']}" if b.get("scenario") else ""))
     if "check" in mapping:
         c = mapping["check"]
         if c["relative_difference"] is None:
-            print(f"  read back and solved by cvxpy: a point found; lmidsl: "
-                  f"{'a certified point' if c['holds'] else 'no certified point'}")
+            lines.append(f"  read back and solved by cvxpy: a point found; lmidsl: "
+                         f"{'a certified point' if c['holds'] else 'no certified point'}")
         else:
-            print(f"  read back and solved by cvxpy: {c['file_optimum']:.10g} vs lmidsl {c['lmidsl_optimum']:.10g} "
-                  f"(relative {c['relative_difference']:.2e}: {'same' if c['holds'] else 'DIFFERENT'})")
-    return code
+            lines.append(f"  read back and solved by cvxpy: {c['file_optimum']:.10g} vs lmidsl "
+                         f"{c['lmidsl_optimum']:.10g} (relative {c['relative_difference']:.2e}: "
+                         f"{'same' if c['holds'] else 'DIFFERENT'})")
+    return "\n".join(lines)
