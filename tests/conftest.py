@@ -50,7 +50,7 @@ def cli():
 # counted where tests are collected (each xdist worker collects them all) and handed to the
 # process that prints the summary through xdist's workeroutput
 def pytest_deselected(items):
-    if items:
+    if items and "not slow" in (items[0].config.getoption("markexpr", "") or ""):
         config = items[0].config
         config._lmidsl_slow_left_out = getattr(config, "_lmidsl_slow_left_out", 0) + sum(
             1 for item in items if item.get_closest_marker("slow") is not None)
@@ -72,5 +72,5 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
     count = getattr(config, "_lmidsl_slow_left_out", 0)
     if count:
         terminalreporter.write_line(
-            f"{count} slow test(s) left out (-m 'not slow', pyproject's default); run them with "
+            f"{count} slow test(s) not run (-m 'not slow', pyproject's default); run them with "
             f"`python -m pytest -m slow`, or everything with `python -m pytest -m ''`")

@@ -221,7 +221,7 @@ def test_unicode_text():
     # prose stays prose: articles, the paper's, initials, theorem ids, paths, acronyms
     ("A polytope of the paper's data", "A polytope of the paper's data"),
     ("Int. J. Robust Nonlinear Control", "Int. J. Robust Nonlinear Control"),
-    ("see wang_l2linf.thm1 and docs/reproductions/003.md", "see wang\\_l2linf.thm1 and docs/reproductions/003.md"),
+    ("see wang_l2linf.thm1 and docs/reproductions/003.md", "see wang\\_l2linf.thm1 and lmidsl's reproduction report"),
     ("the SGC recovery of the KYP LMI", "the SGC recovery of the KYP LMI"),
     ("Boyd et al., §5.1.1", "Boyd et al., \\S{}5.1.1"),
 ])

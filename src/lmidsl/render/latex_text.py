@@ -371,12 +371,20 @@ def _span_tex(span) -> str:
 _REPO_PATH = r"(?:docs|src|theorems|tests|scripts|benchmarks)/[\w./-]+(?:,[^()]*)?"
 
 
+#: a path that is part of a sentence, and the words a printed document says instead
+_BARE_PATH = r"\b(docs/reproductions|docs|src|theorems|tests|scripts|benchmarks)/[\w./-]*\w"
+_PATH_WORDS = {"docs/reproductions": "lmidsl's reproduction report", "theorems": "lmidsl's theorem files",
+               "src": "lmidsl's source", "tests": "lmidsl's tests", "scripts": "lmidsl's scripts",
+               "benchmarks": "lmidsl's benchmarks"}
+
+
 def without_repository_paths(text: str) -> str:
     """``text`` without references to files of the repository, which a reader of the printed
-    document cannot open: "(… ; docs/x.md)" keeps "(…)", "(docs/x.md, section 4)" goes (a path
-    that is part of a sentence stays)."""
+    document cannot open: "(… ; docs/x.md)" keeps "(…)", "(docs/x.md, section 4)" goes, and a
+    path that is part of a sentence becomes words ("lmidsl's reproduction report")."""
     text = re.sub(r";\s*" + _REPO_PATH + r"(?=\))", "", text)
-    return re.sub(r"\s*\(" + _REPO_PATH + r"\)", "", text)
+    text = re.sub(r"\s*\(" + _REPO_PATH + r"\)", "", text)
+    return re.sub(_BARE_PATH, lambda m: _PATH_WORDS.get(m.group(1), "lmidsl's documentation"), text)
 
 
 def _plain_notation(text: str) -> str:
