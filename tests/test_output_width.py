@@ -151,3 +151,39 @@ def test_solve_and_verify_fit(monkeypatch, capsys, argv):
     """Widths only: the solve/verify report is being rebuilt (issue 24)."""
     texts, _ = cli_texts(monkeypatch, capsys, *argv)
     assert_fits_and_whole(texts)
+
+
+def _random_table(rng):
+    """Headers and rows of random words, numbers and dotted ids, some cells several words long."""
+    words = ["optimal", "infeasible", "certified", "NOT", "bound", "holds", "γ", "P̂", "x", "analysis"]
+    def token():
+        kind = rng.integers(4)
+        if kind == 0:
+            return f"{rng.standard_normal() * 10.0 ** int(rng.integers(-8, 8)):.6g}"
+        if kind == 1:
+            return f"paper{rng.integers(9)}.thm{rng.integers(99)}_{'x' * int(rng.integers(0, 12))}"
+        return str(rng.choice(words))
+    ncols = int(rng.integers(1, 9))
+    headers = [" ".join(token() for _ in range(int(rng.integers(1, 3)))) for _ in range(ncols)]
+    rows = [[" ".join(token() for _ in range(int(rng.integers(1, 5)))) for _ in range(ncols)]
+            for _ in range(int(rng.integers(1, 6)))]
+    return headers, rows
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_random_tables_fit_and_keep_every_word(seed):
+    """format_table on random tables at random widths: every line fits (unless one word alone is
+    wider than the width), and every word of every cell and header is printed whole."""
+    import numpy as np
+    from lmidsl.render.table import format_table
+    rng = np.random.default_rng(seed)
+    headers, rows = _random_table(rng)
+    for width in (int(rng.integers(16, 60)), 80, int(rng.integers(81, 220))):
+        text = format_table(headers, rows, width=width, color=False)
+        for line in text.splitlines():
+            assert cell_len(line) <= width or len(line.split()) == 1, (width, line)
+        printed = tokens(text)
+        stacked = not any(set(line.strip()) == {"-"} for line in text.splitlines())
+        for cell in [*headers[stacked:], *(c for row in rows for c in row)]:   # stacked: rows head their block
+            for word in cell.split():
+                assert word.strip(STRIP) in printed, (width, word, text)
