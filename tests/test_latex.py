@@ -456,3 +456,54 @@ def test_cli_one_lmi_unknown_label(capsys):
     assert main(["latex", "wang_l2linf.thm3", "--lmi", "(3O)"]) == 2
     err = capsys.readouterr().err
     assert "no LMI labelled '(3O)'" in err and "(30)" in err and len(err.strip().splitlines()) == 1
+
+
+def _random_large_theorem(seed: int) -> Theorem:
+    """A theorem with one large random block LMI: 7–13 block rows, each block a sum of up to 9
+    products of data, variables and scalars (the shapes of a filter-design LMI)."""
+    import numpy as np
+    rng = np.random.default_rng(seed)
+    t = Theorem(f"test_latex.random{seed}", f"Random large LMI {seed}", Source("none", "(1)"))
+    n = t.dim("n")
+    data = [t.data(name, n, n) for name in ("A", "B", "C", "D", "E", "F", "G", "H")]
+    hat = [t.var(name, n, n, latex=latex) for name, latex in (("Af_hat", r"\hat{A}_f"), ("Bf_hat", r"\hat{B}_f"))]
+    sym = [t.var(f"P{k}", n, kind="symmetric") for k in range(1, 5)]
+    scalars = [t.param(name, latex=latex, domain=(0.0, 1.0)) for name, latex in (("a", r"\alpha"), ("b", r"\beta"))]
+    q = int(rng.integers(7, 14))
+
+    def product():
+        left, right = rng.choice(len(data)), rng.choice(len(sym) + len(hat))
+        m = (sym + hat)[right]
+        term = data[left].T * m if rng.random() < 0.5 else m * data[left]
+        return scalars[rng.integers(2)] * term if rng.random() < 0.3 else term
+
+    rows = []
+    for i in range(q):
+        row = []
+        for j in range(i + 1):
+            k = int(rng.integers(0, 10)) if i != j else int(rng.integers(1, 10))
+            if k == 0:
+                row.append(0)
+            elif i == j:
+                row.append(-sym[i % len(sym)] + sum((He(product()) for _ in range(k - 1)), sp.ZeroMatrix(n, n)))
+            else:
+                row.append(sum((product() for _ in range(k)), sp.ZeroMatrix(n, n)))
+        rows.append(row)
+    t.lmi("(1)", rows)
+    return t
+
+
+@needs_pdflatex
+@pytest.mark.parametrize("seed", range(8))
+def test_random_large_lmis_fit_the_page_with_named_blocks(seed, tmp_path):
+    """Random large LMIs (7–13 block rows of long sums): the document has no rotated page, no LMI
+    shrunk below 0.8, no line over the margin; the matrix names its long blocks."""
+    thm = _random_large_theorem(seed)
+    text = theorem_latex(thm)
+    name = f"random{seed}"
+    assert_compiles(text, tmp_path, name)
+    assert page_problems(text, tmp_path, name) == []
+    log = (tmp_path / f"{name}.log").read_text(errors="replace")
+    overfull = [float(x) for x in re.findall(r"Overfull \\hbox \((\d+\.?\d*)pt too wide", log)]
+    assert all(x <= OVERFULL_PT for x in overfull), overfull
+    assert "\\Phi_{" in text
