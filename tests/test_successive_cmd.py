@@ -21,7 +21,7 @@ def test_successive_reaches_the_exact_optimum_and_is_certified():
     exact = solve_instance(make_instance(f"{Z}.exact", example="paper-N2-robust", overrides={"N": 1}),
                            certify=False)
     assert exact.gamma * (1 - 1e-4) <= doc["gamma"] <= exact.gamma * 1.001, (doc["gamma"], exact.gamma)
-    assert doc["certified"] is True
+    assert doc["verdict"]["certified"] is True
 
 
 def test_successive_text_and_bad_input():

@@ -5,11 +5,11 @@ input.  See :mod:`lmidsl.studies.cross_check` for what "certified" and "trusted"
 """
 from __future__ import annotations
 
-from ..studies.cross_check import DEFAULT_TOLERANCE, check
+from ..studies.cross_check import DEFAULT_TOLERANCE, check, plan_rows
 from ..render.progress import Progress
 from ..render.table import format_table
 from ..render.terminal import Settings, wrap
-from .common import (add_output_arguments, add_parallel_arguments, add_solve_arguments, instance_spec,
+from .common import (add_output_arguments, add_parallel_arguments, add_solve_arguments, check_options_for_rows, instance_spec,
                      parallel_spec, parse_solver_options, positive_float, print_json, show_progress)
 
 ORDER = 25
@@ -75,7 +75,7 @@ def format_check(result) -> str:
              for r in result.rows if not r.trusted]
     if notes:
         lines += ["not trusted:"] + notes + [""]
-    lines.append(result.verdict())
+    lines.append("verdict: " + result.verdict.line())
     lines.append("(cert: every LMI's largest eigenvalue < 0 and the analysis certifies the recovered filter; "
                  "trust: cert + status optimal from a non-first-order solver; rel diff against the best "
                  f"trusted {result.compared}; '!' marks a disagreement)")
@@ -95,8 +95,10 @@ def run(args):
     def progress(plan):
         return Progress(plan, "check", lambda row: f"{row[0]}:{row[1]}", enabled=show_progress(args))
 
+    options = parse_solver_options(args.solver_options)
+    check_options_for_rows(plan_rows(requested_rows(args)), options)    # bad options: exit 2 first
     result = check(args.theorem, solvers=requested_rows(args),
-                   options=parse_solver_options(args.solver_options), tolerance=args.tolerance,
+                   options=options, tolerance=args.tolerance,
                    margin=args.margin, certify=not args.no_certify, progress=progress,
                    **parallel_spec(args), **instance_spec(args))
     if args.json:

@@ -63,9 +63,8 @@ def format_successive(result, theorem_id: str) -> str:
     if best is None:
         lines.append(wrap(f"{theorem_id}: no certified point (every LMI's largest eigenvalue < 0) was met"))
         return "\n".join(lines)
-    certified, reasons = best.verdict()
-    lines.append(wrap(f"best: gamma = {best.gamma:.8g}" + (f" (start {result.best_start})" if starts else "")
-                      + ("; CERTIFIED" if certified else "; NOT CERTIFIED: " + "; ".join(reasons))))
+    lines.append(wrap(f"best point: gamma = {best.gamma:.8g}" + (f" (start {result.best_start})" if starts else "")))
+    lines.append(wrap(f"verdict: {best.verdict.line()}"))
     analysis = getattr(best, "analysis", None)
     if analysis is not None:
         lines.append(wrap(f"analysis {analysis.theorem}: gamma = {analysis.gamma:.8g}"
@@ -87,10 +86,11 @@ def run(args):
                             solver=solving["solver"], backend=solving["backend"], margin=solving["margin"],
                             progress=show_progress(args) and is_terminal(sys.stderr), certify=not args.no_certify)
     best = result.best
-    certified = best is not None and best.verdict()[0]
+    certified = best is not None and best.verdict.certified
     if args.json:
         print_json({"theorem": instance.theorem.id, "example": instance.example, **result.as_dict(),
-                    "certified": certified, "best": None if best is None else best.as_dict()})
+                    "verdict": None if best is None else best.verdict.as_dict(),
+                    "best": None if best is None else best.as_dict()})
     else:
         echo(f"{instance.theorem.id}" + (f" [{instance.example}]" if instance.example else "")
              + f": successive LMIs over {', '.join(instance.theorem.linearisation)}")

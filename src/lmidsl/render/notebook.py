@@ -5,9 +5,9 @@
   with no macro inside, ids in ``\\mathtt``).  ``Theorem._repr_latex_`` and ``LMI._repr_latex_``
   reach them through :data:`lmidsl.theorem.theorem.LATEX_RENDERER` (the theorem layer cannot
   import this one), registered by :mod:`lmidsl.render.latex`.
-* :func:`solution_html`, :func:`verification_html`, :func:`sweep_html`: the verdict, the
-  bracket (γ computed, certified by analysis, exact), the design and each LMI's largest
-  eigenvalue, as a small HTML table.  The result classes live in lower layers, so they carry no
+* :func:`solution_html`, :func:`verification_html`, :func:`sweep_html`: the verdict record
+  (:class:`lmidsl.solver.verdict.Verdict`: its line and its levels — optimum, back-off, analysis,
+  exact, claimed), the design and each LMI's largest eigenvalue, as a small HTML table.  The result classes live in lower layers, so they carry no
   ``_repr_html_``: :func:`register_ipython` registers these renderers with IPython's HTML
   formatter *by class name* (``for_type_by_name``), which imports none of them; ``import lmidsl``
   calls it when it runs inside IPython.  :func:`html` renders any of the three.
@@ -97,11 +97,16 @@ def _table(rows: list[tuple[str, str]]) -> str:
     return f"<table>{body}</table>"
 
 
-def _verdict_html(certified: bool, reasons: list) -> str:
-    if certified:
-        return "<b style='color:green'>CERTIFIED</b>"
-    return "<b style='color:#b00'>NOT CERTIFIED</b>" + (
-        ": " + _html.escape("; ".join(str(r) for r in reasons)) if reasons else "")
+def _verdict_html(record) -> str:
+    """The verdict record's line (:class:`lmidsl.solver.verdict.Verdict`), green when certified."""
+    color = "green" if record.certified else "#b00"
+    return f"<b style='color:{color}'>{_html.escape(record.line())}</b>"
+
+
+def _levels_html(record) -> str:
+    """The bracket: every level the record names (optimum, back-off, analysis, exact, claimed)."""
+    levels = [(k, v) for k, v in (getattr(record, "levels", None) or {}).items() if v is not None]
+    return ", ".join(f"{_html.escape(k)} {_number(v, '.8g')}" for k, v in levels)
 
 
 def _design_html(design) -> str:
@@ -112,63 +117,47 @@ def _design_html(design) -> str:
     return "".join(f"<div>{_html.escape(str(name))} = {_matrix_html(value)}</div>" for name, value in pairs)
 
 
+def _result_html(title: str, record, rows: list, design) -> str:
+    head = [("verdict", _verdict_html(record))]
+    if _levels_html(record):
+        head.append((f"levels ({getattr(record, 'quantity', '') or 'level'})", _levels_html(record)))
+    body = _design_html(design)
+    return (f"<div><b>{_html.escape(title)}</b>"
+            + _table(head + rows + ([("design", body)] if body else [])) + "</div>")
+
+
 def solution_html(sol) -> str:
-    """The verdict, γ (computed; by analysis), each LMI's largest eigenvalue and proof, the design."""
+    """The verdict record, the levels (optimum, back-off, analysis), the status, each LMI's
+    largest eigenvalue and proof, the design."""
     where = f" [{sol.example}]" if getattr(sol, "example", None) else ""
-    verdict = getattr(sol, "verdict", None)
-    certified, reasons = verdict() if callable(verdict) else (bool(getattr(sol, "certified", False)), [])
-    rows = [("verdict", _verdict_html(certified, reasons)),
-            ("status", _html.escape(f"{sol.status} ({sol.backend}/{sol.solver})"))]
-    if getattr(sol, "gamma", None) is not None:
-        rows.append(("γ computed", _number(sol.gamma, ".8g")))
-    backoff = getattr(sol, "backoff", None) or {}
-    if backoff.get("gamma_opt") is not None:
-        rows.append(("γ optimum", _html.escape(f"{_number(backoff['gamma_opt'], '.8g')} (the design is from "
-                                               f"a back-off point: {backoff.get('reason', '')})")))
-    analysis = getattr(sol, "analysis", None)
-    if analysis is not None:
-        rows.append(("γ by analysis", _html.escape(f"{_number(analysis.gamma, '.8g')} ({analysis.theorem}, "
-                                                   f"{'certifies' if analysis.passed else 'does not certify'})")))
+    rows = [("status", _html.escape(f"{sol.status} ({sol.backend}/{sol.solver})"))]
     lmis = "".join(f"<tr><td>{_html.escape(str(r.label))}"
                    + (f" @ vertex {r.vertex}" if getattr(r, "vertex", None) is not None else "")
                    + f"</td><td style='text-align:right'>{r.max_eig:.3e}</td>"
                    f"<td>{_html.escape(str(getattr(r, 'proof', '') or ''))}</td></tr>" for r in getattr(sol, "lmis", []))
     if lmis:
         rows.append(("LMIs (λmax, proof)", f"<table>{lmis}</table>"))
-    design = _design_html(getattr(sol, "design", None))
-    if design:
-        rows.append(("design", design))
-    return f"<div><b>{_html.escape(sol.theorem + where)}</b>{_table(rows)}</div>"
+    return _result_html(sol.theorem + where, sol.verdict, rows, getattr(sol, "design", None))
 
 
 def verification_html(v) -> str:
-    """The verdict, the claimed γ against the analysis and exact figures, the checks, the design."""
+    """The verdict record, the levels (claimed, synthesis, analysis, exact), the checks, the design."""
     where = f" [{v.example}]" if getattr(v, "example", None) else ""
     checks = getattr(v, "checks", {}) or {}
-    failed = [name for name, ok in checks.items() if ok is False]
-    rows = [("verdict", _verdict_html(bool(getattr(v, "certified", False)), [f"{n} fails" for n in failed])),
-            ("claimed γ", _number(getattr(v, "claimed_gamma", None), ".8g")),
-            ("γ by analysis", _html.escape(f"{_number(getattr(v, 'analysis_gamma', None), '.8g')} "
-                                           f"({getattr(v, 'analysis_theorem', None) or '—'})"))]
-    exact = getattr(v, "exact", None)
-    if exact is not None and getattr(exact, "value", None) is not None:
-        rows.append(("exact figure", _number(exact.value, ".8g")))
+    rows = []
     if checks:
         rows.append(("checks", _html.escape(", ".join(f"{k}: {'yes' if ok else 'no' if ok is False else '—'}"
                                                       for k, ok in checks.items()))))
-    design = _design_html(getattr(v, "design", None))
-    if design:
-        rows.append(("design", design))
-    return f"<div><b>{_html.escape(v.theorem + where)}</b>{_table(rows)}</div>"
+    return _result_html(v.theorem + where, v.verdict, rows, getattr(v, "design", None))
 
 
 def sweep_html(result) -> str:
-    """One row per grid point: the parameters, status, γ, largest eigenvalue, proved."""
+    """One row per grid point: the parameters, status, γ, largest eigenvalue, its verdict word."""
     names = list(result.grid)
-    head = "".join(f"<th>{_html.escape(h)}</th>" for h in [*names, "status", "γ", "max eig", "proved"])
+    head = "".join(f"<th>{_html.escape(h)}</th>" for h in [*names, "status", "γ", "max eig", "verdict"])
     body = "".join("<tr>" + "".join(f"<td>{_number(p.params[n], 'g')}</td>" for n in names)
                    + f"<td>{_html.escape(p.status)}</td><td>{_number(p.gamma)}</td>"
-                   f"<td>{_number(p.worst_eig, '.2e')}</td><td>{'yes' if p.proved else 'no'}</td></tr>"
+                   f"<td>{_number(p.worst_eig, '.2e')}</td><td>{_html.escape(p.verdict.word)}</td></tr>"
                    for p in result.points)
     proved = sum(bool(p.proved) for p in result.points)
     return (f"<div><b>{_html.escape(result.theorem)}</b>: {len(result.points)} points, {proved} proved"

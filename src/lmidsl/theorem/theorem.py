@@ -76,6 +76,7 @@ class Theorem:
         self.examples: dict[str, Example] = {}
         self.reported: dict[str, sp.Expr] = {}
         self.checks: list = []
+        self.assumptions: list = []           # Theorem.assume (lmidsl.theorem.assumptions)
 
     # -- pickling ----------------------------------------------------------------------
     def __getstate__(self) -> dict:
@@ -284,6 +285,12 @@ class Theorem:
                     "data", {}, description="the constants written in the LMIs")
                 example.data[c.name] = c.value
 
+    def assume(self, assumption):
+        """Declare a hypothesis on the data (:mod:`lmidsl.theorem.assumptions`: ``zero("D11")``,
+        ``stable("A")``, ``full_rank(...)``), checked when data are bound: exit 2 if it fails."""
+        self.assumptions.append(assumption)
+        return assumption
+
     def positive(self, *variables, label: str | None = None) -> list[LMI]:
         """Declare ``X > 0`` for each variable (labelled 'X > 0' unless ``label`` is given)."""
         return [self.lmi(label or f"{v.name} > 0", [[v]], sense=">") for v in variables]
@@ -447,13 +454,16 @@ class Theorem:
             check_conformance(expr, where=f"{self.id}: linearisation of {name}")
             self.linearisation[name] = expr
 
-    def certified_by(self, theorem, design: tuple, gamma_tolerance: float = 1e-3):
+    def certified_by(self, theorem, design: tuple, gamma_tolerance: float = 1e-3, criterion: str = "level"):
         """Name the analysis theorem (a :class:`Theorem`, or the id of one in another file) that
-        certifies the recovered ``design`` matrices, which it takes as data."""
-        if isinstance(theorem, Theorem):
-            self.analysis = AnalysisLink(theorem.id, tuple(design), gamma_tolerance, theorem)
-        else:
-            self.analysis = AnalysisLink(str(theorem), tuple(design), gamma_tolerance)
+        certifies the recovered ``design`` matrices, which it takes as data.  ``criterion``:
+        "level" (the analysis certifies the synthesis γ within ``gamma_tolerance``) or "feasible"
+        (a stabilisation design: the analysis LMIs proved with the design fixed, no level)."""
+        if criterion not in ("level", "feasible"):
+            raise TheoremDefinitionError(f"{self.id}: certified_by: criterion must be 'level' or 'feasible'")
+        target = theorem if isinstance(theorem, Theorem) else None
+        self.analysis = AnalysisLink(theorem.id if target is not None else str(theorem), tuple(design),
+                                     gamma_tolerance, target, criterion)
 
     def error_system(self, system, *, figure: str, design: tuple, simulate=None):
         """Declare the error system (data + design -> stochastic system), its figure and simulation."""
