@@ -41,7 +41,7 @@ import numpy as np
 import sympy as sp
 from flint import arb, ctx
 
-from .dual_point import (DualData, check_cone, corrected_point, pairing_bounds, round_down)
+from .dual_point import U, DualData, check_cone, corrected_point, pairing_bounds, round_down
 
 #: shifts ε tried (in the units of the solver's objective), each at least the last deficit × 10
 SHIFT_TRIES = 3
@@ -57,6 +57,7 @@ class DualBound:
     proved: bool = False
     why: str = ""
     epsilon: float = 0.0                  # the dual shift that gave the bound (0: the solver's dual)
+    theta: float = 0.0                    # weight of the shifted dual in the combination
     extra_solves: int = 0
     min_eigenvalue: float | None = None   # smallest proved λ_min lower bound over the dual blocks
     residual: float | None = None         # ‖M z̃ − q‖∞ before the exact correction
@@ -66,7 +67,7 @@ class DualBound:
 
     def as_dict(self) -> dict:
         return {"lower": self.lower, "lower_performance": self.lower_performance, "proved": self.proved,
-                "why": self.why, "epsilon": self.epsilon, "extra_solves": self.extra_solves,
+                "why": self.why, "epsilon": self.epsilon, "theta": self.theta, "extra_solves": self.extra_solves,
                 "min_eigenvalue": self.min_eigenvalue, "residual": self.residual,
                 "correction": self.correction, "attempts": self.attempts, "times": self.times}
 
@@ -151,30 +152,64 @@ def _solve_shifted(model, data: DualData, blocks, eps: float, solver=None, keep=
     return z + eps * e if np.all(np.isfinite(z)) else None
 
 
-def _attempt(data: DualData, z_svec, scale: float, primal_bounds, keep=None):
-    """(lower or None, cone check, point, why) for one dual estimate (Clarabel's svec units),
-    on the support ``keep`` (None: every unknown)."""
-    z0 = data.from_svec(z_svec, scale)
-    point = corrected_point(data, z0, data.q_used, keep)
+@dataclass
+class _Candidate:
+    """A corrected dual point: its proved value q₀ − ⟨Z, S⁰⟩ (whatever its cone) and cone check."""
+
+    value: float
+    cone: object
+    point: object
+    keep: object
+
+
+def _candidate(data: DualData, z_svec, scale: float, keep=None) -> _Candidate | None:
+    """The exact correction of one dual estimate (Clarabel's svec units), on the support
+    ``keep`` (None: every unknown); None when the correction fails."""
+    point = corrected_point(data, data.from_svec(z_svec, scale), data.q_used, keep)
     if point is None:
-        return None, None, None, "the equality correction failed (the Gram matrix of the constraints is not provably invertible)"
-    cone = check_cone(data, point, keep)
+        return None
     _, high = pairing_bounds(data, point)
-    lower = round_down(data.q0 - high)
-    failing = [(b, low) for b, low in zip(data.blocks, cone.lower) if not low >= 0.0]
-    if not failing:
-        return lower, cone, point, ""
-    if primal_bounds is not None:
-        penalty = 0.0
-        for b, low in failing:
-            bound = primal_bounds.get(b.label) if isinstance(primal_bounds, dict) else primal_bounds(b)
-            if bound is None or not math.isfinite(low):
-                return None, cone, point, f"dual block {b.label} not PSD and no primal bound for it"
-            penalty += b.dim * low * bound          # low < 0: Σ λ⁻ r̄ ≥ d·λ_min·r̄
-        return round_down(lower + penalty * (1 + 1e-12)), cone, point, ""
-    worst = min(failing, key=lambda t: t[1])
-    return None, cone, point, (f"dual of {worst[0].label} ({worst[0].kind}) not proved PSD after the exact "
-                               f"correction (λ_min ≥ {worst[1]:.3g})")
+    return _Candidate(round_down(data.q0 - high), check_cone(data, point, keep), point, keep)
+
+
+def _vsdp(data: DualData, a: _Candidate, primal_bounds) -> float | None:
+    """VSDP's bound q₀ − ⟨Z, S⁰⟩ + Σ_k d_k·min(0, λ_min(Z_k))·r̄_k with r̄_k ≥ λ_max(S_k) given."""
+    penalty = 0.0
+    for b, low in zip(data.blocks, a.cone.lower):
+        if low >= 0.0:
+            continue
+        bound = primal_bounds.get(b.label) if isinstance(primal_bounds, dict) else primal_bounds(b)
+        if bound is None or not math.isfinite(low):
+            return None
+        penalty += b.dim * low * bound
+    return round_down(a.value + penalty * (1 + 1e-12))
+
+
+def _combine(a: _Candidate, b: _Candidate) -> tuple[float, float] | None:
+    """(θ, bound) for z = (1 − θ) z_a + θ z_b: both satisfy M z = q exactly, so z does; λ_min is
+    concave, so λ_min(Z_k) ≥ (1 − θ) a_k + θ b_k, made ≥ 0 for every block by the least θ; the
+    value is (1 − θ) v_a + θ v_b.  The solver's dual a (nearly PSD, value near the optimum) and a
+    shifted dual b (PSD with margin ε, value lower by about ε·tr S) give a bound that loses only
+    about θ·(v_a − v_b) ≈ (deficit/ε)·ε·tr S: one shifted solve at a comfortable ε suffices."""
+    lo, hi = 0.0, 1.0
+    for ak, bk in zip(a.cone.lower, b.cone.lower):
+        if not (math.isfinite(ak) and math.isfinite(bk)):
+            return None
+        if ak < 0:
+            if bk <= 0:
+                return None
+            lo = max(lo, -ak / (bk - ak))
+        elif bk < 0:
+            hi = min(hi, ak / (ak - bk))
+    theta = min(1.0, lo * (1 + 1e-9) + 1e-300)
+    if theta > hi:
+        return None
+    for ak, bk in zip(a.cone.lower, b.cone.lower):       # the float evaluation, with its error
+        value = (1 - theta) * ak + theta * bk
+        if value - 8 * U * (abs(ak) + abs(bk)) < 0:
+            return None
+    value = (1 - theta) * a.value + theta * b.value
+    return theta, round_down(value - 8 * U * (abs(a.value) + abs(b.value)))
 
 
 def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
@@ -208,44 +243,78 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
         out.why = "coefficients below 2^-900: rounding bounds do not hold (underflow)"
         return out
     scale = model.equilibration.objective      # the solver minimised objective / scale
-    eps, blocks, keep, solves = 0.0, [], None, 0
-    while True:
-        t1 = time.perf_counter()
-        lower, cone, point, why = _attempt(data, z, scale, primal_bounds, keep)
-        if lower is None and cone is not None:
-            # the face: dual matrices the solver put (near) singular on whole coordinates
-            face = data.support(data.from_svec(z, scale))
-            if not face.all() and (keep is None or not np.array_equal(face, keep)):
-                on_face = _attempt(data, z, scale, primal_bounds, face)
-                if on_face[0] is not None or (on_face[1] is not None and on_face[1].worst > cone.worst):
-                    (lower, cone, point, why), keep = on_face, face
-        out.times[f"verify_{solves}"] = time.perf_counter() - t1
-        worst = cone.worst if cone is not None else None
-        out.attempts.append({"epsilon": eps, "worst": worst,
-                             "face": None if keep is None else int(keep.sum())})
-        if point is not None:
-            out.residual, out.correction = point.residual, point.correction
-        out.min_eigenvalue = worst
-        if lower is not None:
-            out.lower, out.proved, out.epsilon, out.why = lower, True, eps, ""
-            break
-        out.why = why
-        if cone is None or solves == tries:
-            break
-        failing = cone.failing(data.blocks)
-        blocks = list({id(b): b for b in blocks + failing}.values())
-        deficit = max(-low for low in cone.lower if not low >= 0.0)
-        deficit = deficit / scale if math.isfinite(deficit) else 0.0
-        eps = max(10 * deficit, 10 * eps, MIN_SHIFT * max(1.0, float(np.abs(z).max())))
-        t1 = time.perf_counter()
-        shifted = _solve_shifted(model, data, blocks, eps, solver, keep)
-        out.times[f"shifted_solve_{solves}"] = time.perf_counter() - t1
-        solves += 1
-        out.extra_solves = solves
-        if shifted is None:
-            out.why = f"the shifted problem (ε = {eps:.2g}) did not solve; " + why
-            break
-        z = shifted
+
+    def record(c: _Candidate | None, eps: float):
+        out.attempts.append({"epsilon": eps, "worst": None if c is None else c.cone.worst,
+                             "face": None if c is None or c.keep is None else int(c.keep.sum())})
+        if c is not None:
+            out.residual, out.correction, out.min_eigenvalue = c.point.residual, c.point.correction, c.cone.worst
+
+    def proved(value: float, eps: float):
+        out.lower, out.proved, out.epsilon, out.why = value, True, eps, ""
+
+    t1 = time.perf_counter()
+    a = _candidate(data, z, scale)
+    record(a, 0.0)
+    if a is not None and a.cone.worst < 0:
+        face = data.support(data.from_svec(z, scale))     # dual blocks the solver made singular
+        if not face.all():
+            on_face = _candidate(data, z, scale, face)
+            record(on_face, 0.0)
+            if on_face is not None and on_face.cone.worst >= a.cone.worst:
+                a = on_face
+    out.times["verify_solver_dual"] = time.perf_counter() - t1
+    if a is None:
+        out.why = "the equality correction failed (the Gram matrix of the constraints is not provably invertible)"
+    elif a.cone.worst >= 0:
+        proved(a.value, 0.0)
+    elif primal_bounds is not None and _vsdp(data, a, primal_bounds) is not None:
+        proved(_vsdp(data, a, primal_bounds), 0.0)
+    else:
+        failing = a.cone.failing(data.blocks)
+        worst = min(zip(a.cone.lower, data.blocks), key=lambda t: t[0])
+        out.why = (f"dual of {worst[1].label} ({worst[1].kind}) not proved PSD after the exact "
+                   f"correction (λ_min ≥ {worst[0]:.3g})")
+        deficit = -a.cone.worst / scale if math.isfinite(a.cone.worst) else 1e-6
+        eps = max(100 * deficit, MIN_SHIFT * max(1.0, float(np.abs(z).max())))
+        face = data.support(data.from_svec(z, scale))
+        for attempt in range(tries):
+            t1 = time.perf_counter()
+            shifted = _solve_shifted(model, data, failing, eps, solver, a.keep)
+            out.times[f"shifted_solve_{attempt}"] = time.perf_counter() - t1
+            out.extra_solves += 1
+            if shifted is None:
+                # unbounded: a primal direction grows a block at no cost, every dual is singular
+                # there; shift on the face of the solver's dual instead
+                if a.keep is None and not face.all():
+                    on_face = _candidate(data, z, scale, face)
+                    if on_face is not None:
+                        a, failing = on_face, on_face.cone.failing(data.blocks)
+                        if a.cone.worst >= 0:
+                            proved(a.value, 0.0)
+                            break
+                        continue
+                out.why = f"the shifted problem (ε = {eps:.2g}) did not solve; " + out.why
+                break
+            t1 = time.perf_counter()
+            b = _candidate(data, shifted, scale, a.keep)
+            record(b, eps)
+            out.times[f"verify_shifted_{attempt}"] = time.perf_counter() - t1
+            if b is None:
+                break
+            combined = _combine(a, b)
+            alone = b.value if b.cone.worst >= 0 else None
+            if combined is not None and (alone is None or combined[1] >= alone):
+                proved(combined[1], eps)
+                out.theta = combined[0]
+                out.min_eigenvalue = min((1 - out.theta) * x + out.theta * y
+                                         for x, y in zip(a.cone.lower, b.cone.lower))
+                break
+            if alone is not None:
+                proved(alone, eps)
+                out.theta = 1.0
+                break
+            eps *= 10
     if out.proved:
         theorem = model.instance.theorem
         out.lower_performance = performance_lower(theorem, model.instance.params, out.lower)

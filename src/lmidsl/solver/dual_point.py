@@ -194,17 +194,26 @@ class DualData:
 
     def support(self, z0: np.ndarray, threshold: float = 1e-6) -> np.ndarray:
         """A mask of the unknowns kept: in each psd block the principal submatrix of the indices
-        whose diagonal exceeds ``threshold`` times the block's largest (a PSD matrix with a zero
-        diagonal entry has a zero row and column); every entry of a non-negative block.  Dual
-        matrices that every dual-feasible point makes singular (a primal direction that grows a
-        block at no cost) are then solved for on their face, with the rest exactly 0."""
-        keep = np.ones(self.nz, dtype=bool)
+        whose diagonal exceeds ``threshold`` times the largest diagonal entry of any block (a PSD
+        matrix with a zero diagonal entry has a zero row and column), in a non-negative block the
+        entries above it.  Dual matrices that complementarity makes singular (an inactive P ≻ 0
+        has Z_P = 0; a primal direction that grows a block at no cost) are then solved for on
+        their face, with the rest exactly 0."""
+        top = 0.0
         for b in self.blocks:
+            part = z0[b.offset: b.offset + b.size]
+            diag = part[svec_diagonal(b.dim)] if b.kind == "psd" else part
+            if len(diag):
+                top = max(top, float(diag.max()))
+        keep = np.ones(self.nz, dtype=bool)
+        if top <= 0:
+            return keep
+        for b in self.blocks:
+            part = z0[b.offset: b.offset + b.size]
             if b.kind != "psd":
+                keep[b.offset: b.offset + b.size] = part > threshold * top
                 continue
-            diag = z0[b.offset + svec_diagonal(b.dim)]
-            top = float(diag.max()) if b.dim else 0.0
-            small = diag <= threshold * top if top > 0 else np.ones(b.dim, dtype=bool)
+            small = part[svec_diagonal(b.dim)] <= threshold * top
             if small.any():
                 i, j = np.divmod(np.arange(b.dim * b.dim), b.dim)
                 drop = small[i] | small[j]
@@ -257,8 +266,8 @@ def corrected_point(data: DualData, z0: np.ndarray, target: np.ndarray,
     rows = np.flatnonzero(live)
     M, Mabs, t = M[live], Mabs[live], target[live]
     independent = _independent_equations(data, M, t, rows, keep)
-    if independent is None:
-        return None
+    if independent is None:            # no exact dependency: the balls decide on every equation
+        independent = np.arange(M.shape[0])
     M, Mabs, t, k = M[independent], Mabs[independent], t[independent], data.terms[rows[independent]]
     kmax = int(k.max()) + 2 if len(k) else 2
     r = M @ z0 - t
