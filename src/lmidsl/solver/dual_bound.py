@@ -43,8 +43,16 @@ from flint import arb, ctx
 
 from .dual_point import U, DualData, check_cone, corrected_point, pairing_bounds, round_down
 
-#: shifts ε tried (in the units of the solver's objective), each at least the last deficit × 10
-SHIFT_TRIES = 3
+#: shifted re-solves tried: ε = SHIFT_START × the deficit of the solver's dual (in the units of
+#: the solver's objective), then × SHIFT_GROWTH while the shifted dual is not proved PSD (÷ 30 when
+#: the shifted problem does not solve: near unbounded).  Small shifts keep the shifted dual's value
+#: close: its loss ε·tr S(x_ε) grows faster than ε, since x_ε runs off along near-free directions.
+SHIFT_TRIES = 4
+SHIFT_START = 10.0
+SHIFT_GROWTH = 4.0
+#: once proved, a further smaller shift is tried while the bound is below the solver's own dual
+#: value by more than this (relative)
+LOSS_TARGET = 1e-6
 MIN_SHIFT = 1e-9
 
 
@@ -57,7 +65,7 @@ class DualBound:
     proved: bool = False
     why: str = ""
     epsilon: float = 0.0                  # the dual shift that gave the bound (0: the solver's dual)
-    theta: float = 0.0                    # weight of the shifted dual in the combination
+    theta: float = 0.0                    # weight of the shifted duals in the combination
     extra_solves: int = 0
     min_eigenvalue: float | None = None   # smallest proved λ_min lower bound over the dual blocks
     residual: float | None = None         # ‖M z̃ − q‖∞ before the exact correction
@@ -185,31 +193,47 @@ def _vsdp(data: DualData, a: _Candidate, primal_bounds) -> float | None:
     return round_down(a.value + penalty * (1 + 1e-12))
 
 
-def _combine(a: _Candidate, b: _Candidate) -> tuple[float, float] | None:
-    """(θ, bound) for z = (1 − θ) z_a + θ z_b: both satisfy M z = q exactly, so z does; λ_min is
-    concave, so λ_min(Z_k) ≥ (1 − θ) a_k + θ b_k, made ≥ 0 for every block by the least θ; the
-    value is (1 − θ) v_a + θ v_b.  The solver's dual a (nearly PSD, value near the optimum) and a
-    shifted dual b (PSD with margin ε, value lower by about ε·tr S) give a bound that loses only
-    about θ·(v_a − v_b) ≈ (deficit/ε)·ε·tr S: one shifted solve at a comfortable ε suffices."""
-    lo, hi = 0.0, 1.0
-    for ak, bk in zip(a.cone.lower, b.cone.lower):
-        if not (math.isfinite(ak) and math.isfinite(bk)):
-            return None
-        if ak < 0:
-            if bk <= 0:
-                return None
-            lo = max(lo, -ak / (bk - ak))
-        elif bk < 0:
-            hi = min(hi, ak / (ak - bk))
-    theta = min(1.0, lo * (1 + 1e-9) + 1e-300)
-    if theta > hi:
+def _combine(candidates: list) -> tuple[list, float] | None:
+    """(weights w, bound) for z = Σ_i w_i z_i (w ≥ 0, Σ w_i = 1) over corrected dual points on one
+    support: each satisfies M z_i = q exactly, so z does; λ_min is concave, so
+    λ_min(Z_k) ≥ Σ_i w_i λ_k(i) with λ_k(i) the proved bounds, and the value is Σ_i w_i v_i.  The
+    weights maximise the value subject to every block ≥ 0 (a small LP, scipy's HiGHS), then the
+    float sums are checked with their rounding error.  The solver's dual (nearly PSD, value near
+    the optimum) and a shifted dual (PSD with margin ε, value lower by about ε·tr S) give a bound
+    that loses only about θ·(v_a − v_b), θ ≈ deficit/ε: a comfortable ε costs little."""
+    from scipy.optimize import linprog
+
+    L = np.array([c.cone.lower for c in candidates], dtype=float)      # candidates × blocks
+    v = np.array([c.value for c in candidates], dtype=float)
+    usable = np.isfinite(v) & ~np.any(L == -np.inf, axis=1)     # −∞: no eigenvalue bound
+    if not usable.any():
         return None
-    for ak, bk in zip(a.cone.lower, b.cone.lower):       # the float evaluation, with its error
-        value = (1 - theta) * ak + theta * bk
-        if value - 8 * U * (abs(ak) + abs(bk)) < 0:
+    index = np.flatnonzero(usable)
+    L, v = L[usable][:, ~np.all(L[usable] == np.inf, axis=0)], v[usable]   # +∞: an empty block
+    if L.shape[1] == 0:
+        weights = np.zeros(len(candidates))
+        weights[index[int(np.argmax(v))]] = 1.0
+        return weights.tolist(), float(v.max())
+    err = 8 * (len(v) + 2) * U
+    # the LP on unit scales (HiGHS's tolerances are absolute, ~1e-7, and these numbers are ~1e-9);
+    # each block ≥ 1e-6 of its scale, so rounding cannot undo it
+    size = np.maximum(np.abs(L).max(axis=0), 1e-300)
+    gain = v - v.max()
+    spread = float(np.abs(gain).max()) or 1.0
+    res = linprog(-gain / spread, A_ub=-(L / size).T, b_ub=-1e-6 * np.ones(L.shape[1]),
+                  A_eq=np.ones((1, len(v))), b_eq=[1.0], bounds=[(0, None)] * len(v), method="highs")
+    if not res.success:
+        return None
+    w = np.maximum(res.x, 0.0)
+    w = w / w.sum()
+    for k in range(L.shape[1]):
+        total = float(np.dot(w, L[:, k]))
+        if total - err * float(np.dot(w, np.abs(L[:, k]))) < 0:
             return None
-    value = (1 - theta) * a.value + theta * b.value
-    return theta, round_down(value - 8 * U * (abs(a.value) + abs(b.value)))
+    value = float(np.dot(w, v))
+    weights = np.zeros(len(candidates))
+    weights[index] = w
+    return weights.tolist(), round_down(value - err * float(np.dot(w, np.abs(v))) - err * abs(value))
 
 
 def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
@@ -276,8 +300,9 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
         out.why = (f"dual of {worst[1].label} ({worst[1].kind}) not proved PSD after the exact "
                    f"correction (λ_min ≥ {worst[0]:.3g})")
         deficit = -a.cone.worst / scale if math.isfinite(a.cone.worst) else 1e-6
-        eps = max(100 * deficit, MIN_SHIFT * max(1.0, float(np.abs(z).max())))
+        eps = max(SHIFT_START * deficit, MIN_SHIFT * max(1.0, float(np.abs(z).max())))
         face = data.support(data.from_svec(z, scale))
+        pool = [a]
         for attempt in range(tries):
             t1 = time.perf_counter()
             shifted = _solve_shifted(model, data, failing, eps, solver, a.keep)
@@ -289,12 +314,16 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
                 if a.keep is None and not face.all():
                     on_face = _candidate(data, z, scale, face)
                     if on_face is not None:
-                        a, failing = on_face, on_face.cone.failing(data.blocks)
+                        a, failing, pool = on_face, on_face.cone.failing(data.blocks), [on_face]
                         if a.cone.worst >= 0:
                             proved(a.value, 0.0)
                             break
                         continue
-                out.why = f"the shifted problem (ε = {eps:.2g}) did not solve; " + out.why
+                if attempt + 1 < tries and "did not solve" not in out.why:
+                    out.why = f"the shifted problem (ε = {eps:.2g}) did not solve; " + out.why
+                    eps /= 30          # near unbounded: a smaller shift (the combination needs little)
+                    continue
+                out.why = f"the shifted problem (ε = {eps:.2g}) did not solve; " + out.why.split("; ")[-1]
                 break
             t1 = time.perf_counter()
             b = _candidate(data, shifted, scale, a.keep)
@@ -302,19 +331,18 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
             out.times[f"verify_shifted_{attempt}"] = time.perf_counter() - t1
             if b is None:
                 break
-            combined = _combine(a, b)
-            alone = b.value if b.cone.worst >= 0 else None
-            if combined is not None and (alone is None or combined[1] >= alone):
+            pool.append(b)
+            combined = _combine(pool)
+            if combined is not None and (not out.proved or combined[1] > out.lower):
                 proved(combined[1], eps)
-                out.theta = combined[0]
-                out.min_eigenvalue = min((1 - out.theta) * x + out.theta * y
-                                         for x, y in zip(a.cone.lower, b.cone.lower))
-                break
-            if alone is not None:
-                proved(alone, eps)
-                out.theta = 1.0
-                break
-            eps *= 10
+                out.theta = 1.0 - combined[0][0]
+                if a.value - out.lower <= LOSS_TARGET * max(abs(a.value), 1e-300):
+                    break
+                eps /= SHIFT_GROWTH * 2       # proved: a smaller shift may lose less
+                continue
+            if out.proved:
+                break                          # a smaller shift did not improve: keep the bound
+            eps *= SHIFT_GROWTH
     if out.proved:
         theorem = model.instance.theorem
         out.lower_performance = performance_lower(theorem, model.instance.params, out.lower)

@@ -409,6 +409,9 @@ def check_cone(data: DualData, point: BallPoint, keep: np.ndarray | None = None)
     for b in data.blocks:
         if b.kind == "psd":
             idx = data.kept_indices(b, keep)
+            if len(idx) == 0:
+                out.lower.append(math.inf)           # exactly 0 on the support: no constraint
+                continue
             Zm = b.matrix(point.mid)[np.ix_(idx, idx)]
             Zr = b.matrix(point.rad)[np.ix_(idx, idx)]
             low = proved_min_eigenvalue(Zm)
