@@ -14,13 +14,13 @@ from lmidsl.solver.conditioning import equilibrate
 from lmidsl.solver.margin import solve_model
 
 
-def solved_model(theorem, example=None, data=None, conditioning=False):
+def solved_model(theorem, example=None, data=None, conditioning=False, scaling="auto"):
     """(model, solution): the theorem bound to an example or data, its declared signal scalings
-    applied, compiled (with :func:`equilibrate`'s conditioning when asked) and solved."""
+    applied (``scaling``), compiled (with :func:`equilibrate`'s conditioning when asked) and solved."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         instance = make_instance(theorem, example, data)
-    scaled = apply_scaling(instance, "auto").scaled
+    scaled = apply_scaling(instance, scaling).scaled
     model = DirectModel(scaled, conditioning=equilibrate(scaled) if conditioning else None)
     return model, solve_model(model)
 
