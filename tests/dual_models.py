@@ -85,17 +85,17 @@ def brl_stress(time: str) -> list[tuple[str, dict]]:
 
 def unstabilisable_plant(rng, n: int, time: str, mode: float, m2: int = 1, hidden: int = 1) -> dict:
     """A generalized plant (A, B1, B2, C1, D11, D12) whose last ``hidden`` states form a block
-    that B2 does not reach (A block upper triangular, B2's last rows exactly 0), with eigenvalues
-    ``mode`` (continuous: real parts; discrete: radii) in that block; the rest random."""
+    that B2 does not reach (A block upper triangular, B2's last rows exactly 0), every eigenvalue
+    of that block at least ``mode`` (continuous: real parts; discrete: moduli); the rest random."""
     A = rng.standard_normal((n, n))
     A[n - hidden:, : n - hidden] = 0.0
     block = rng.standard_normal((hidden, hidden))
     if hidden == 1:
         block = np.array([[mode]])
     elif time == "continuous":
-        block = block - (max(np.linalg.eigvals(block).real) - mode) * np.eye(hidden)
+        block = block - (min(np.linalg.eigvals(block).real) - mode) * np.eye(hidden)
     else:
-        block = mode * block / max(abs(np.linalg.eigvals(block)))
+        block = mode * block / min(abs(np.linalg.eigvals(block)))
     A[n - hidden:, n - hidden:] = block
     B2 = rng.standard_normal((n, m2))
     B2[n - hidden:] = 0.0
