@@ -52,7 +52,7 @@ SHIFT_START = 10.0
 SHIFT_GROWTH = 4.0
 #: once proved, a further smaller shift is tried while the bound is below the solver's own dual
 #: value by more than this (relative)
-LOSS_TARGET = 1e-6
+LOSS_TARGET = 1e-5
 MIN_SHIFT = 1e-9
 
 
@@ -120,6 +120,9 @@ def _solver_dual(model):
     if str(result.status) not in ("Solved", "AlmostSolved"):
         return None
     z = np.asarray(result.z, dtype=float)
+    if getattr(model, "last_shift", 0.0):            # a shifted main solve: Z = Z′ + εI
+        from .backends.direct_backend import psd_diagonal
+        z = z + model.last_shift * psd_diagonal(model.problem)
     return z if np.all(np.isfinite(z)) else None
 
 
@@ -144,7 +147,7 @@ def _solve_shifted(model, data: DualData, blocks, eps: float, solver=None, keep=
     e = data.selector(blocks, keep)
     shifted = _ShiftedProblem(problem, problem.q + eps * (problem.A.T @ e))
     saved_values = [v.free for v in model.space.variables]
-    saved_last = model._last
+    saved_last, saved_shift = model._last, getattr(model, "last_shift", 0.0)
     saved_call = getattr(model, "last_solver_call", None)
     try:
         status, _, _, _ = model.run_solver(solver, shifted)
@@ -152,7 +155,7 @@ def _solve_shifted(model, data: DualData, blocks, eps: float, solver=None, keep=
     finally:
         for v, f in zip(model.space.variables, saved_values):
             v.free = f
-        model._last = saved_last
+        model._last, model.last_shift = saved_last, saved_shift
         model.last_solver_call = saved_call
     if result is None or status not in ("optimal", "optimal_inaccurate"):
         return None
