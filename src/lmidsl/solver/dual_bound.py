@@ -92,7 +92,7 @@ def performance_lower(theorem, params: dict, lower: float) -> float | None:
         if perf == obj:
             return lower
         if perf == sp.sqrt(obj):
-            return float(arb(max(lower, 0.0)).sqrt().lower()) if lower > 0 else 0.0
+            return round_down(float(arb(lower).sqrt().lower())) if lower > 0 else 0.0
         level = sp.Symbol("level_", real=True)
         expr = perf.xreplace({obj: level})
         free = expr.free_symbols - {level}
@@ -264,7 +264,11 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
     if z is None:
         out.why = "the model's last solve left no dual for its problem"
         return out
-    data = DualData(model)
+    try:
+        data = DualData(model)
+    except ValueError as exc:
+        out.why = f"the model's cones are not all LMIs and non-negative variables ({exc})"
+        return out
     out.times["setup"] = time.perf_counter() - t0
     if not data.magnitude_ok:
         out.why = "coefficients below 2^-900: rounding bounds do not hold (underflow)"
@@ -288,7 +292,9 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
         if not face.all():
             on_face = _candidate(data, z, scale, face)
             record(on_face, 0.0)
-            if on_face is not None and on_face.cone.worst >= a.cone.worst:
+            # preferred even when no better: a shift off the face makes the shifted problem
+            # unbounded (the direction that makes those duals singular grows for free)
+            if on_face is not None:
                 a = on_face
     out.times["verify_solver_dual"] = time.perf_counter() - t1
     if a is None:

@@ -194,7 +194,11 @@ def prove_infeasible(model, shifts=(0.0, 1e-6, 1e-4)) -> InfeasibilityCertificat
     if getattr(model, "backend", None) != "direct":
         out.why = f"the {getattr(model, 'backend', '?')} backend keeps no conic data (direct backend only)"
         return out
-    data = DualData(model)
+    try:
+        data = DualData(model)
+    except ValueError as exc:
+        out.why = f"the model's cones are not all LMIs and non-negative variables ({exc})"
+        return out
     out.blocks, out.unknowns = len(data.blocks), data.nz
     if not data.magnitude_ok:
         out.why = "coefficients below 2^-900: rounding bounds do not hold (underflow)"
