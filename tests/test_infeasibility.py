@@ -84,7 +84,6 @@ def test_solved_paper_examples_get_no_infeasibility_proof(theorem, example):
 def test_conditioned_model_keeps_the_proof():
     """The congruence T N T (T ≻ 0) and the variable scaling leave the feasible set unchanged:
     the unstabilisable plant with B2, B1 × 1e4 and C1 × 1e-4 is proved infeasible as conditioned."""
-    from lmidsl.solver.conditioning import equilibrate  # noqa: F401  (solved_model uses it)
     rng = np.random.default_rng(21)
     d = unstabilisable_plant(rng, 3, "continuous", 0.5)
     d = dict(d, B2=(1e4 * np.array(d["B2"])).tolist(), B1=(1e4 * np.array(d["B1"])).tolist(),

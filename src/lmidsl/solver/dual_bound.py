@@ -41,7 +41,7 @@ import numpy as np
 import sympy as sp
 from flint import arb, ctx
 
-from .dual_point import U, DualData, check_cone, corrected_point, pairing_bounds, round_down
+from .dual_point import U, DualData, check_cone, corrected_point, last_dual, pairing_bounds, round_down
 
 #: shifted re-solves tried: ε = SHIFT_START × the deficit of the solver's dual (in the units of
 #: the solver's objective), then × SHIFT_GROWTH while the shifted dual is not proved PSD (÷ 30 when
@@ -111,21 +111,6 @@ def performance_lower(theorem, params: dict, lower: float) -> float | None:
         return round_down(value.real * (1 - 1e-15) if value.real > 0 else value.real * (1 + 1e-15), 4)
     finally:
         ctx.prec = saved
-
-
-def _solver_dual(model):
-    """Clarabel's z of the model's last solve of its own problem, or None."""
-    last = getattr(model, "_last", None)
-    if last is None or last[0] is not model.problem:
-        return None
-    result = last[1]
-    if str(result.status) not in ("Solved", "AlmostSolved"):
-        return None
-    z = np.asarray(result.z, dtype=float)
-    if getattr(model, "last_shift", 0.0):            # a shifted main solve: Z = Z′ + εI
-        from .backends.direct_backend import psd_diagonal
-        z = z + model.last_shift * psd_diagonal(model.problem)
-    return z if np.all(np.isfinite(z)) else None
 
 
 class _ShiftedProblem:
@@ -262,7 +247,7 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
     if solution is not None and not getattr(solution, "ok", True):
         out.why = f"the solve did not return an optimum ({solution.status})"
         return out
-    z = _solver_dual(model)
+    z = last_dual(model, ("Solved", "AlmostSolved"), shifted=True)
     if z is None:
         out.why = "the model's last solve left no dual for its problem"
         return out
@@ -289,6 +274,7 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
     t1 = time.perf_counter()
     a = _candidate(data, z, scale)
     record(a, 0.0)
+    other = None                                          # the support not chosen, tried second
     if a is not None and a.cone.worst < 0:
         face = data.support(data.from_svec(z, scale))     # dual blocks the solver made singular
         if not face.all():
@@ -298,7 +284,9 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
             # unbounded (the direction that makes those duals singular grows for free); much
             # worse means the dropped entries were needed (wang_l2linf.thm3: −3e-10 → −2.6e-8)
             if on_face is not None and on_face.cone.worst >= FACE_TOLERANCE * a.cone.worst:
-                a = on_face
+                a, other = on_face, a
+            else:
+                other = on_face
     out.times["verify_solver_dual"] = time.perf_counter() - t1
     if a is None:
         out.why = "the equality correction failed (the Gram matrix of the constraints is not provably invertible)"
@@ -324,7 +312,8 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
                 # unbounded: a primal direction grows a block at no cost, every dual is singular
                 # there; shift on the face of the solver's dual instead
                 if a.keep is None and not face.all():
-                    on_face = _candidate(data, z, scale, face)
+                    on_face = other if other is not None else _candidate(data, z, scale, face)
+                    other = None
                     if on_face is not None:
                         a, failing, pool = on_face, on_face.cone.failing(data.blocks), [on_face]
                         if a.cone.worst >= 0:
@@ -354,6 +343,12 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
                 continue
             if out.proved:
                 break                          # a smaller shift did not improve: keep the bound
+            if other is not None and b.cone.worst <= a.cone.worst:
+                # the shift did not help on this support: the other one (full, or the face)
+                a, other, pool = other, None, [other]
+                failing = a.cone.failing(data.blocks)
+                eps = max(SHIFT_START * -a.cone.worst / scale, MIN_SHIFT) if math.isfinite(a.cone.worst) else eps
+                continue
             eps *= SHIFT_GROWTH
     if out.proved:
         theorem = model.instance.theorem

@@ -238,6 +238,20 @@ class DualData:
         return e if keep is None else e * keep
 
 
+def last_dual(model, statuses: tuple, shifted: bool = False) -> np.ndarray | None:
+    """Clarabel's z (svec) from the model's last solve of its own problem when that solve ended
+    in one of ``statuses``, or None.  ``shifted``: a main solve with a dual shift ε
+    (``DirectModel.dual_shift``) returns Z′; Z = Z′ + εI is the theorem's dual."""
+    last = getattr(model, "_last", None)
+    if last is None or last[0] is not model.problem or str(last[1].status) not in statuses:
+        return None
+    z = np.asarray(last[1].z, dtype=float)
+    if shifted and getattr(model, "last_shift", 0.0):
+        from .backends.direct_backend import psd_diagonal
+        z = z + model.last_shift * psd_diagonal(model.problem)
+    return z if np.all(np.isfinite(z)) and np.abs(z).max(initial=0.0) > 0 else None
+
+
 @dataclass
 class BallPoint:
     """An enclosure [z] = z_mid ± z_rad that contains an exact z with M z = target."""
@@ -605,5 +619,5 @@ def exact_support_point(data: DualData, z0: np.ndarray, threshold: float, max_un
     return ExactPoint(z, psd, pairing, strict_trace, total_trace)
 
 
-__all__ = ["DualData", "Block", "BallPoint", "corrected_point", "check_cone", "pairing_bounds",
+__all__ = ["DualData", "Block", "last_dual", "BallPoint", "corrected_point", "check_cone", "pairing_bounds",
            "proved_min_eigenvalue", "exact_support_point", "ExactPoint", "exact_psd"]

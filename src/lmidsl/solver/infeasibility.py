@@ -36,7 +36,7 @@ import clarabel
 import numpy as np
 from scipy import sparse
 
-from .dual_point import (DualData, check_cone, corrected_point, exact_support_point,
+from .dual_point import (DualData, check_cone, corrected_point, exact_support_point, last_dual,
                          pairing_bounds, round_down, svec_diagonal, U)
 
 THRESHOLDS = (1e-3, 1e-5, 1e-7)      # supports tried by the exact route (relative to max |z|)
@@ -63,18 +63,6 @@ class InfeasibilityCertificate:
                 "pairing": self.pairing, "strict_trace": self.strict_trace, "blocks": self.blocks,
                 "nonzero_blocks": self.nonzero_blocks, "support": self.support,
                 "unknowns": self.unknowns, "times": self.times}
-
-
-def _solver_certificate(model):
-    """Clarabel's infeasibility certificate z of the model's last solve of its problem, or None."""
-    last = getattr(model, "_last", None)
-    if last is None or last[0] is not model.problem:
-        return None
-    result = last[1]
-    if str(result.status) not in ("PrimalInfeasible", "AlmostPrimalInfeasible"):
-        return None
-    z = np.asarray(result.z, dtype=float)
-    return z if np.all(np.isfinite(z)) and np.abs(z).max() > 0 else None
 
 
 def margin_free_constants(data: DualData) -> np.ndarray:
@@ -204,7 +192,7 @@ def prove_infeasible(model, shifts=(0.0, 1e-6, 1e-4)) -> InfeasibilityCertificat
         out.why = "coefficients below 2^-900: rounding bounds do not hold (underflow)"
         return out
     estimates = []
-    z = _solver_certificate(model)
+    z = last_dual(model, ("PrimalInfeasible", "AlmostPrimalInfeasible"))
     if z is not None:
         estimates.append(("solver", lambda z=z: z))
     for shift in shifts:
