@@ -302,7 +302,7 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
         deficit = -a.cone.worst / scale if math.isfinite(a.cone.worst) else 1e-6
         eps = max(SHIFT_START * deficit, MIN_SHIFT * max(1.0, float(np.abs(z).max())))
         face = data.support(data.from_svec(z, scale))
-        pool = [a]
+        pool, eaten = [a], 0
         for attempt in range(tries):
             t1 = time.perf_counter()
             shifted = _solve_shifted(model, data, failing, eps, solver, a.keep)
@@ -343,9 +343,11 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
                 continue
             if out.proved:
                 break                          # a smaller shift did not improve: keep the bound
-            if other is not None and b.cone.worst <= a.cone.worst:
-                # the shift did not help on this support: the other one (full, or the face)
-                a, other, pool = other, None, [other]
+            eaten += b.cone.worst <= -0.3 * eps * scale
+            if other is not None and eaten >= 2:
+                # twice the correction ate the shift (λ_min ≈ −ε/2, growing with ε): this support
+                # drops entries the shifted duals need, or keeps ones they cannot have; the other
+                a, other, pool, eaten = other, None, [other], 0
                 failing = a.cone.failing(data.blocks)
                 eps = max(SHIFT_START * -a.cone.worst / scale, MIN_SHIFT) if math.isfinite(a.cone.worst) else eps
                 continue
