@@ -199,7 +199,8 @@ def _combine(candidates: list) -> tuple[list, float] | None:
     if not usable.any():
         return None
     index = np.flatnonzero(usable)
-    L, v = L[usable][:, ~np.all(L[usable] == np.inf, axis=0)], v[usable]   # +∞: an empty block
+    # a block every candidate has ≥ 0 (an empty block: +∞) holds for every combination
+    L, v = L[usable][:, ~np.all(L[usable] >= 0, axis=0)], v[usable]
     if L.shape[1] == 0:
         weights = np.zeros(len(candidates))
         weights[index[int(np.argmax(v))]] = 1.0

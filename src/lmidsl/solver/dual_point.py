@@ -311,7 +311,9 @@ def corrected_point(data: DualData, z0: np.ndarray, target: np.ndarray,
     step = D @ w_mid
     mid = z0 + step
     kd = int(np.diff(D.indptr).max()) + 2 if D.nnz else 2
-    rad = (Dabs @ w_rad) * (1 + gamma(kd)) + gamma(kd + 1) * (np.abs(z0) + Dabs @ np.abs(w_mid)) + TINY
+    reach = Dabs @ np.ones(len(w_mid))
+    rad = (Dabs @ w_rad) * (1 + gamma(kd)) + gamma(kd + 1) * (np.abs(z0) + Dabs @ np.abs(w_mid))
+    rad += TINY * ((z0 != 0) | (reach > 0))         # (an exact 0 untouched by D stays exactly 0)
     return BallPoint(mid, rad, float(np.abs(r).max()) if len(r) else 0.0, float(np.abs(step).max()) if len(step) else 0.0)
 
 
@@ -433,11 +435,15 @@ def check_cone(data: DualData, point: BallPoint, keep: np.ndarray | None = None)
                 out.lower.append(-math.inf)
                 continue
             spread = float(np.sqrt(np.sum(Zr * Zr))) * (1 + gamma(len(idx) ** 2 + 2))
-            out.lower.append(round_down(low - round_up(spread)))
+            out.lower.append(round_down(low - round_up(spread)) if spread else low)
         else:
             part = point.mid[b.offset: b.offset + b.size]
             part_r = point.rad[b.offset: b.offset + b.size]
-            out.lower.append(round_down(float(np.min(part - part_r * (1 + 4 * U)))) if b.size else math.inf)
+            if not b.size:
+                out.lower.append(math.inf)
+                continue
+            low = np.where(part_r == 0, part, part - part_r * (1 + 4 * U))    # exact where rad = 0
+            out.lower.append(float(low.min()) if not part_r.any() else round_down(float(low.min())))
     return out
 
 
