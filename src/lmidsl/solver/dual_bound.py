@@ -183,48 +183,58 @@ def _vsdp(data: DualData, a: _Candidate, primal_bounds) -> float | None:
     return round_down(a.value + penalty * (1 + 1e-12))
 
 
-def _combine(candidates: list) -> tuple[list, float] | None:
-    """(weights w, bound) for z = Σ_i w_i z_i (w ≥ 0, Σ w_i = 1) over corrected dual points on one
-    support: each satisfies M z_i = q exactly, so z does; λ_min is concave, so
-    λ_min(Z_k) ≥ Σ_i w_i λ_k(i) with λ_k(i) the proved bounds, and the value is Σ_i w_i v_i.  The
-    weights maximise the value subject to every block ≥ 0 (a small LP, scipy's HiGHS), then the
-    float sums are checked with their rounding error.  The solver's dual (nearly PSD, value near
-    the optimum) and a shifted dual (PSD with margin ε, value lower by about ε·tr S) give a bound
-    that loses only about θ·(v_a − v_b), θ ≈ deficit/ε: a comfortable ε costs little."""
-    from scipy.optimize import linprog
-
-    L = np.array([c.cone.lower for c in candidates], dtype=float)      # candidates × blocks
-    v = np.array([c.value for c in candidates], dtype=float)
-    usable = np.isfinite(v) & ~np.any(L == -np.inf, axis=1)     # −∞: no eigenvalue bound
-    if not usable.any():
+def _pair(a: _Candidate, b: _Candidate) -> tuple[float, float] | None:
+    """(θ, bound) for z = (1 − θ) z_a + θ z_b, the least θ that makes every block's bound
+    (1 − θ) a_k + θ b_k ≥ 0 (checked in floats with its rounding error), or None."""
+    lo, hi = 0.0, 1.0
+    for ak, bk in zip(a.cone.lower, b.cone.lower):
+        if ak >= 0 and bk >= 0:
+            continue                                   # (an empty block: +∞ on both sides)
+        if not (math.isfinite(ak) and math.isfinite(bk)):
+            if ak < 0 and not (bk > 0):
+                return None
+            if bk < 0 and not (ak > 0):
+                return None
+            if ak == math.inf:
+                hi = min(hi, 1.0 - 1e-12)
+            elif bk == math.inf:
+                lo = max(lo, 1e-12)
+            continue
+        if ak < 0:
+            if bk <= 0:
+                return None
+            lo = max(lo, -ak / (bk - ak))
+        else:
+            hi = min(hi, ak / (ak - bk))
+    theta = min(1.0, lo * (1 + 1e-6) + 1e-300) if lo > 0 else 0.0
+    if theta > hi:
         return None
-    index = np.flatnonzero(usable)
-    # a block every candidate has ≥ 0 (an empty block: +∞) holds for every combination
-    L, v = L[usable][:, ~np.all(L[usable] >= 0, axis=0)], v[usable]
-    if L.shape[1] == 0:
-        weights = np.zeros(len(candidates))
-        weights[index[int(np.argmax(v))]] = 1.0
-        return weights.tolist(), float(v.max())
-    err = 8 * (len(v) + 2) * U
-    # the LP on unit scales (HiGHS's tolerances are absolute, ~1e-7, and these numbers are ~1e-9);
-    # each block ≥ 1e-6 of its scale, so rounding cannot undo it
-    size = np.maximum(np.abs(L).max(axis=0), 1e-300)
-    gain = v - v.max()
-    spread = float(np.abs(gain).max()) or 1.0
-    res = linprog(-gain / spread, A_ub=-(L / size).T, b_ub=-1e-6 * np.ones(L.shape[1]),
-                  A_eq=np.ones((1, len(v))), b_eq=[1.0], bounds=[(0, None)] * len(v), method="highs")
-    if not res.success:
-        return None
-    w = np.maximum(res.x, 0.0)
-    w = w / w.sum()
-    for k in range(L.shape[1]):
-        total = float(np.dot(w, L[:, k]))
-        if total - err * float(np.dot(w, np.abs(L[:, k]))) < 0:
+    for ak, bk in zip(a.cone.lower, b.cone.lower):
+        if ak >= 0 and bk >= 0:
+            continue
+        x, y = (1 - theta) * ak, theta * bk
+        if x + y - 8 * U * (abs(x) + abs(y)) < 0:
             return None
-    value = float(np.dot(w, v))
-    weights = np.zeros(len(candidates))
-    weights[index] = w
-    return weights.tolist(), round_down(value - err * float(np.dot(w, np.abs(v))) - err * abs(value))
+    value = (1 - theta) * a.value + theta * b.value
+    return theta, round_down(value - 8 * U * (abs(a.value) + abs(b.value) + abs(value)))
+
+
+def _combine(candidates: list) -> tuple[float, float] | None:
+    """(weight of the shifted duals, bound) for the best z = (1 − θ) z_i + θ z_j over pairs of
+    corrected dual points on one support (a point alone when it is proved in the cone): each
+    satisfies M z = q exactly, so z does; λ_min is concave, so λ_min(Z_k) ≥ (1 − θ) λ_k(i) + θ λ_k(j)
+    with λ_k the proved bounds, and the value is (1 − θ) v_i + θ v_j.  The solver's dual (nearly
+    PSD, value near the optimum) and a shifted dual (PSD with margin ε, value lower by about
+    ε·tr S) give a bound that loses only about θ·(v_a − v_b), θ ≈ deficit/ε."""
+    best = None
+    for i, a in enumerate(candidates):
+        if a.cone.worst >= 0 and (best is None or a.value > best[1]):
+            best = (0.0 if i == 0 else 1.0, a.value)
+        for b in candidates[i + 1:]:
+            found = _pair(a, b)
+            if found is not None and (best is None or found[1] > best[1]):
+                best = (found[0] if i == 0 else 1.0, found[1])
+    return best
 
 
 def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
@@ -337,7 +347,7 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
             combined = _combine(pool)
             if combined is not None and (not out.proved or combined[1] > out.lower):
                 proved(combined[1], eps)
-                out.theta = 1.0 - combined[0][0]
+                out.theta = combined[0]
                 if a.value - out.lower <= LOSS_TARGET * max(abs(a.value), 1e-300):
                     break
                 eps /= SHIFT_GROWTH * 2       # proved: a smaller shift may lose less
