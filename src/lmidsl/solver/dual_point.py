@@ -303,8 +303,8 @@ def corrected_point(data: DualData, z0: np.ndarray, target: np.ndarray,
             w = Gb.solve(rhs)
         except ZeroDivisionError:
             return None
-        w_mid = np.array([float(w[i, 0].mid()) for i in range(n)])
-        w_rad = np.array([round_up(float(w[i, 0].rad())) + abs(float(w[i, 0].mid()) - w_mid[i]) for i in range(n)])
+        w_mid = np.array([float(w[i, 0].mid()) for i in range(n)])     # rounded to nearest
+        w_rad = np.array([round_up(float(w[i, 0].rad())) for i in range(n)]) + np.abs(w_mid) * 2 * U + TINY
     finally:
         ctx.prec = saved
     w_rad = np.array([round_up(x) for x in w_rad])
