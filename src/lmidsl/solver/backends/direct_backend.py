@@ -92,6 +92,18 @@ def resolve_solver(name: str | None) -> str:
         f"or picos for {name})")
 
 
+def psd_diagonal(problem) -> np.ndarray:
+    """The vector with 1 on the diagonal entries of every PSD cone of ``problem`` (svec order):
+    e with eᵀs = Σ_k tr S_k."""
+    e, r0 = np.zeros(problem.A.shape[0]), 0
+    for cone in problem.cones:
+        if cone.kind == "psd":
+            k = np.arange(cone.dim)
+            e[r0 + k * (k + 1) // 2 + k] = 1.0
+        r0 += cone.size
+    return e
+
+
 class ConicProblem:
     """min qᵀx + q₀ s.t. b − A x ∈ K, assembled from an objective and :class:`Cone` constraints.
 
@@ -156,11 +168,19 @@ class DirectModel(CompiledModel):
     backend = "direct"
     compiler_class = DirectCompiler
     mutable_parameters = False
+    #: the dual shift ε of the main problem's solves (Clarabel's units; 0: none).  With ε > 0 the
+    #: solver minimises qᵀx − ε Σ_k tr S_k(x) over the PSD cones S_k = −N_k − margin·I: its dual
+    #: Z′ ⪰ 0 gives Z = Z′ + εI, a dual of the theorem with margin ε, from which
+    #: :func:`lmidsl.solver.dual_bound.lower_bound` proves a lower bound without a second solve
+    #: (the point is pushed inside by as little; the objective reported is the theorem's own,
+    #: qᵀx + q₀ at the returned point).  Opt-in: off by default.
+    dual_shift = 0.0
 
     def __init__(self, instance, margin=None, reuse=False, conditioning=None):
         self.space = VariableSpace()
         self._nonneg: list[Cone] = []
         self._last = None          # (problem, clarabel solution) of the last solve
+        self.last_shift = 0.0      # the dual shift ε of that solve (see dual_shift)
         self._static: dict = {}    # (id, vertex) -> value of a parameter-free sub-expression
         super().__init__(instance, margin, reuse, conditioning)
 
@@ -233,10 +253,12 @@ class DirectModel(CompiledModel):
             setattr(settings, key, value)
         for v in self.space.variables:
             v.free = None
+        shift = self.dual_shift if problem is self.problem else 0.0
+        q = problem.q + shift * (problem.A.T @ psd_diagonal(problem)) if shift else problem.q
         t0 = time.perf_counter()
         try:
             P = sparse.csc_matrix((problem.n, problem.n))
-            result = clarabel.DefaultSolver(P, problem.q, problem.A, problem.b,
+            result = clarabel.DefaultSolver(P, q, problem.A, problem.b,
                                             problem.clarabel_cones(), settings).solve()
         except BaseException as exc:
             if not solver_crashed(exc, (ArithmeticError, ValueError, np.linalg.LinAlgError)):
@@ -244,7 +266,7 @@ class DirectModel(CompiledModel):
             text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             return SOLVER_ERROR, None, text or "solver failed", None
         self.last_solver_call = time.perf_counter() - t0
-        self._last = (problem, result)
+        self._last, self.last_shift = (problem, result), shift
         status = _STATUS.get(str(result.status), SOLVER_ERROR)
         message = "" if status != SOLVER_ERROR else f"CLARABEL: {result.status}"
         objective = None
@@ -252,7 +274,7 @@ class DirectModel(CompiledModel):
             x = np.asarray(result.x, dtype=float)
             for v, o in problem.layout.items():
                 v.free = x[o: o + v.size]
-            objective = float(result.obj_val) + problem.q0
+            objective = float(result.obj_val) + problem.q0 if not shift else float(problem.q @ x) + problem.q0
             if not np.isfinite(objective):
                 objective = None
         return status, objective, message, float(result.solve_time)
