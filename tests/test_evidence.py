@@ -60,7 +60,7 @@ def test_a_vertex_wise_robust_claim_is_refuted(tmp_path):
     assert sol.verdict.word == "refuted" and not sol.verdict.certified   # ... its claim does not
     worst = sol.evidence[0]
     assert worst.refutes and worst.value > sol.gamma * 1.5
-    assert worst.value == pytest.approx(_grid_max(vertices), rel=1e-3)   # the refined grid maximum
+    assert worst.value >= _grid_max(vertices) * (1 - 1e-6)   # refined: at least a coarser grid's maximum
     path = tmp_path / "poly.json"
     path.write_text(json.dumps({"vertices": vertices}))
     code, out, err = run_cli("solve", "robust.vertexwise_brl_dt", "--data", str(path),

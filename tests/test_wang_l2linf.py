@@ -121,5 +121,8 @@ def test_corollary1_two_vertices_is_robust():
                                                                    "rbar": 0.8}).gamma)
     # one filter for both vertices cannot beat the best filter of either vertex
     assert sol.gamma >= max(vertex_gammas) * (1 - 1e-4)
-    assert {r.vertex for r in sol.lmis} == {1, 2} and sol.certified
+    assert {r.vertex for r in sol.lmis} == {1, 2} and all(r.proof == "proved" for r in sol.lmis)
     assert sol.analysis.passed and len(sol.analysis.per_vertex) == 2
+    # the analysis holds at each vertex with its own P: it does not cover the polytope
+    assert sol.analysis.coverage == "vertex-wise" and sol.verdict.word == "vertex-wise"
+    assert not sol.verdict.certified
