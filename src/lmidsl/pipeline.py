@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import time
 
+from .solver.dual_bound import lower_bound
+from .solver.infeasibility import prove_infeasible
 from .solver.plan import Plan
 from .certify import certify_by_analysis
 from .certify.evidence import claim_evidence
@@ -72,7 +74,7 @@ ILL_CONDITIONED = 1e6
 def solve_instance(instance: Instance, solver: str | None = None, backend: str | None = None,
                    margin: float | None = None, certify: bool = True, scaling="auto",
                    backoff: float | None = None, diagnose: bool = True, plan: Plan | None = None,
-                   **options) -> Solution:
+                   bounds: bool = True, **options) -> Solution:
     """Compile, solve (the plan's one road, :mod:`lmidsl.solver.plan`), recover the design and
     (optionally) certify it by analysis.
 
@@ -83,15 +85,28 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str |
     recovered at the optimum fails its analysis certificate, its recovery fails or inverts a matrix
     of condition number above :data:`ILL_CONDITIONED` (δ = 10⁻², then 10⁻¹).
     ``plan`` (default: from ``backend``, ``solver``, ``margin`` and ``options``) decides every solve.
+    ``bounds``: the other side of the answer — a proved lower bound on the optimum from the
+    solver's dual (:mod:`lmidsl.solver.dual_bound`), and for a solve without a point a proved
+    infeasibility certificate (:mod:`lmidsl.solver.infeasibility`); direct backend only.
     """
     plan = plan or Plan(backend, solver, options, margin)
     applied = apply_scaling(instance, scaling)
     solution, model = plan.solve(applied.scaled)
     solution.scaling = applied
     solution.certify = certify
+    if bounds and certify and solution.ok and instance.theorem.objective is not None:
+        # before any back-off or level solve: they overwrite the model's last dual
+        t0 = time.perf_counter()
+        solution.bounds = lower_bound(model, solution)
+        solution.times["lower_bound"] = time.perf_counter() - t0
     finish = dict(plan=plan, certify=certify, diagnose=diagnose)
     if backoff is None or not solution.ok:
-        return finish_solution(solution, **finish)
+        finish_solution(solution, **finish)
+        if bounds and not solution.ok:
+            t0 = time.perf_counter()
+            solution.infeasibility = prove_infeasible(model)
+            solution.times["infeasibility_proof"] = time.perf_counter() - t0
+        return solution
     if backoff != "auto":
         return backed_off(model, applied, solution, backoff, None, finish)
     reason = _backoff_reason(solution, instance, finish)
@@ -184,6 +199,7 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
             finish_solution(optimum, **finish)       # the user's back-off failed: the optimum
         return optimum
     candidate.times["backoff"] = time.perf_counter() - t0
+    candidate.bounds = optimum.bounds
     if reason:
         candidate.backoff["reason"] = reason
     if instance.theorem.recovery:

@@ -39,6 +39,12 @@ def format_solution(sol) -> str:
     levels = level_words(verdict)
     if levels:
         lines.append(f"  levels: {levels}")
+    if verdict.bracket_line():
+        lines.append(f"  {verdict.bracket_line()}")
+    if sol.infeasibility is not None:
+        proof = sol.infeasibility
+        lines.append("  infeasibility: " + (f"proved ({proof.route}, {proof.source} certificate)" if proof.proved
+                                            else f"not proved ({proof.why})"))
     scaling = getattr(sol, "scaling", None)
     if scaling is not None and scaling.records:
         for rec in scaling.records:

@@ -86,6 +86,8 @@ class Solution:
     analysis: object = None         # lmidsl.certify.AnalysisCertificate of the recovered design
     certify: bool = True            # certification asked for (False: --no-certify)
     evidence: list = field(default_factory=list)   # lmidsl.certify.evidence.Evidence: claims tested independently
+    bounds: object = None           # lmidsl.solver.dual_bound.DualBound: proved lower bound on the optimum
+    infeasibility: object = None    # lmidsl.solver.infeasibility.InfeasibilityCertificate
 
     @property
     def recovered(self):
@@ -202,6 +204,9 @@ class Solution:
             "reported": self.reported,
             "checks": [c.as_dict() for c in self.checks],
             "evidence": [e.as_dict() for e in self.evidence],
+            "bounds": verdict.bracket,
+            "lower_bound": self.bounds.as_dict() if self.bounds is not None else None,
+            "infeasibility": self.infeasibility.as_dict() if self.infeasibility is not None else None,
         }
 
 

@@ -75,6 +75,7 @@ class Verdict:
     quantity_words: str = ""
     levels: dict = field(default_factory=dict)
     reasons: tuple = ()
+    bracket: dict | None = None     # the optimum's bracket: lower/upper, each proved or not (why)
 
     def line(self) -> str:
         """The verdict in one line, the same in every command: WORD [at q = x]: why."""
@@ -86,6 +87,18 @@ class Verdict:
         return {"certified": self.certified, "word": self.word, "gamma": self.gamma, "why": self.why,
                 "quantity": self.quantity, "quantity_words": self.quantity_words,
                 "levels": dict(self.levels), "reasons": list(self.reasons)}
+
+    def bracket_line(self) -> str:
+        """"optimum in [lo, hi], proved" (or what is not proved), empty without a bracket."""
+        b = self.bracket
+        if not b:
+            return ""
+        lo = "?" if b["lower"] is None else f"{b['lower']:.10g}"
+        hi = "?" if b["upper"] is None else f"{b['upper']:.10g}"
+        proved = [w for w, p in (("lower", b["lower_proved"]), ("upper", b["upper_proved"])) if p]
+        state = "proved" if len(proved) == 2 else (f"{proved[0]} end proved" if proved else "not proved")
+        why = f" (lower bound: {b['why']})" if b["why"] and not b["lower_proved"] else ""
+        return f"LMI optimum ({self.quantity or 'objective'}) in [{lo}, {hi}], {state}{why}"
 
 
 def decide(solution) -> Verdict:
@@ -108,13 +121,21 @@ def decide(solution) -> Verdict:
     if delivers and analysis is not None and analysis.passed and analysis.gamma is not None:
         headline = analysis.gamma
 
+    box = bracket(solution)
+
     def verdict(certified, word, why, reasons=()):
-        return Verdict(certified, word, headline, why, name or "", words, levels, tuple(reasons))
+        return Verdict(certified, word, headline, why, name or "", words, levels, tuple(reasons), box)
 
     if solution.status not in SOLVED:
+        proof = solution.infeasibility
+        if proof is not None and proof.proved:
+            why = (f"infeasible, proved: a theorem-of-alternatives certificate (Z ⪰ 0, Z ≠ 0, "
+                   f"tr(F_i Z) = 0, tr(F_0 Z) ≥ 0) verified {'exactly' if proof.route == 'exact' else 'in ball arithmetic'}")
+            return verdict(False, INFEASIBLE, why, [why])
         if solution.status == STATUS_INFEASIBLE:
-            return verdict(False, INFEASIBLE, "feasp finds no strictly feasible point (not a proof)",
-                           [f"status {solution.status}"])
+            why = ("feasp finds no strictly feasible point; infeasibility not proved"
+                   + (f" ({proof.why})" if proof is not None and proof.why else ""))
+            return verdict(False, NOT_SOLVED, why, [why])
         if solution.status == MARGINAL:
             return verdict(False, NOT_SOLVED, "feasible only by less than the strictness margin",
                            [f"status {solution.status}"])
@@ -142,10 +163,41 @@ def decide(solution) -> Verdict:
         what = "every LMI proved at the returned point; the design has no analysis counterpart"
     else:
         what = "every LMI proved at the returned point"
+    if box is not None and box["lower_proved"] and headline is not None and box["lower"] is not None:
+        gap = (headline - box["lower"]) / max(abs(headline), 1e-300)
+        where = f"the optimum is in [{box['lower']:.10g}, {box['upper']:.10g}]"
+        if gap <= OPTIMAL_GAP:
+            return verdict(True, OPTIMAL_WORD, f"{what}; optimal within {max(gap, 0.0):.1e}: {where}, proved")
+        cost = f"; the back-off costs {gap:.1e} against the proved lower bound" if "backoff" in levels else ""
+        return verdict(True, CERTIFIED_BOUND, f"{what}; {where} (proved), {gap:.1e} above its lower end{cost}")
     bound_reason = loose_reason(solution)
     if bound_reason:
         return verdict(True, CERTIFIED_BOUND, f"{what}; a bound, not known to be the optimum: {bound_reason}")
     return verdict(True, CERTIFIED, what)
+
+
+OPTIMAL_GAP = 1e-4
+"""A certified level within this relative gap of the proved lower bound is called optimal."""
+
+
+def bracket(solution) -> dict | None:
+    """The optimum's bracket: the proved lower bound (:mod:`lmidsl.solver.dual_bound`, mapped to the
+    headline quantity) and the optimum's level, proved when every LMI is proved at the optimum's
+    point (the back-off point's record keeps the optimum's proofs); None for a feasibility problem."""
+    theorem = solution.instance.theorem if solution.instance is not None else None
+    if theorem is None or theorem.objective is None or not solution.ok:
+        return None
+    backoff = solution.backoff or {}
+    if "gamma" in backoff:
+        upper, lmis = backoff.get("gamma_opt"), [r.get("proof") for r in backoff.get("optimum_lmis") or []]
+    else:
+        upper, lmis = solution.gamma, [r.proof for r in solution.lmis]
+    b = solution.bounds
+    proved = bool(b is not None and b.proved and b.lower_performance is not None)
+    why = "not computed (--no-bounds, or not the direct backend)" if b is None else (
+        b.why or ("the performance is not a non-decreasing function of the objective" if not proved else ""))
+    return {"lower": b.lower_performance if proved else None, "upper": upper, "lower_proved": proved,
+            "upper_proved": bool(lmis) and all(p == "proved" for p in lmis), "why": why}
 
 
 def not_proved(solution) -> list[str]:
