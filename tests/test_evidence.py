@@ -66,7 +66,7 @@ def test_a_vertex_wise_robust_claim_is_refuted(tmp_path):
     code, out, err = run_cli("solve", "robust.vertexwise_brl_dt", "--data", str(path),
                              env={"LMIDSL_THEOREM_PATH": FIXTURE})
     assert code == 1, err
-    assert "verdict: REFUTED" in out and "α = (" in out
+    assert "verdict: REFUTED" in out and "refutes" in out.replace("\n", " ")
 
 
 def test_the_extended_bounded_real_lemma_covers_the_polytope():

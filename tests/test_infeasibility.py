@@ -77,7 +77,7 @@ def test_feasible_problems_get_no_infeasibility_proof(time):
                                               ("interconnected_delay.thm2", "paper")])
 def test_solved_paper_examples_get_no_infeasibility_proof(theorem, example):
     model, sol = solved_model(theorem, example)
-    assert sol.ok and sol.certified
+    assert sol.ok and sol.lmis_hold
     assert not prove_infeasible(model).proved
 
 
