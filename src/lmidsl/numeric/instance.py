@@ -124,7 +124,7 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None, *,
     """
     if hasattr(theorem, "specialise"):
         theorem = theorem.specialise(inputs)
-    inputs = dict(inputs)
+    inputs = dict(theorem.inputs_for(inputs) if hasattr(theorem, "inputs_for") else inputs)
     uncertain = bind_points(theorem, inputs)
     vertices = inputs.pop("vertices", None)
     per_vertex = theorem.per_vertex_names

@@ -287,6 +287,13 @@ class ExpressionWalker(Walker):
         # tr(M) is linear in M: the target's trace of the evaluated argument
         return self.trace(self.visit(expr.arg))
 
+    def _visit_MatrixElement(self, expr):
+        # an entry of a matrix (π_ij of a coefficient matrix): a number of a constant matrix
+        return self.element(self.visit(expr.parent), int(expr.i), int(expr.j), expr)
+
+    def element(self, a, i: int, j: int, expr):
+        return np.asarray(a)[i, j]
+
     # -- scalar nodes -------------------------------------------------------------------
     def _visit_Number(self, expr):
         return float(expr)

@@ -126,6 +126,7 @@ class CompiledModel:
     #: whether :meth:`set_parameter` changes a number inside a built problem (cvxpy); otherwise
     #: parameters are numbers and a problem with new ones is built again (PICOS, direct)
     mutable_parameters = True
+    solved_once = False      # whether the last solve returned a point (values() reads it)
 
     def __init__(self, instance: Instance, margin: float | None = None, reuse: bool = False,
                  conditioning: Equilibration | None = None):
@@ -238,8 +239,13 @@ class CompiledModel:
         return out
 
     def _unscaled(self, name: str, variable):
-        """X = s_X X̃ from the backend variable X̃."""
+        """X = s_X X̃ from the backend variable X̃.  A variable the solved problem does not
+        constrain (W₃ in B₃W₃ with the datum B₃ = 0: the compiled problem has no entry of it)
+        has no value from the solver; any value is as good, and it is 0."""
         value = self.value_of(variable)
+        if value is None and self.solved_once:
+            shape = tuple(getattr(variable, "shape", ()))
+            value = np.zeros(shape) if shape else 0.0
         factor = self.equilibration.variable(name)
         return value if value is None or factor == 1.0 else value * factor
 
@@ -285,6 +291,7 @@ class CompiledModel:
             solution.times["solver"] = solver_time
         if getattr(self, "last_solver_call", None) is not None:
             solution.times["solver_call"] = self.last_solver_call  # incl. the solver's interface
+        self.solved_once = solved(status)
         if solved(status):
             t1 = time.perf_counter()
             values = self.values()
