@@ -55,7 +55,13 @@ class IndexSet:
     def indices(self, names: str):
         """``i, j = M.indices("i j")``: index symbols ranging over this set."""
         made = [Index(n, self.name, self.theorem.id, self.size) for n in names.split()]
+        self._first = getattr(self, "_first", None) or made[0]
         return made[0] if len(made) == 1 else tuple(made)
+
+    @property
+    def generic_index(self) -> Index:
+        """The index a generic member is printed with (the first declared, else i)."""
+        return getattr(self, "_first", None) or Index("i", self.name, self.theorem.id, self.size)
 
     def __repr__(self):
         return f"<IndexSet {self.name} = {{1..{self.size}}} (data key {self.key!r})>"
@@ -248,7 +254,8 @@ def build_member(template, sizes: dict):
     m._members = {}
     for attr in ("dims", "data_decl", "var_decl", "recovered_decl", "recovery", "reported", "notation",
                  "intermediate_decl"):
-        setattr(m, attr, dict(getattr(template, attr)))
+        setattr(m, attr, {k: v for k, v in getattr(template, attr).items()
+                          if k not in template.indexed_decl and k not in template.coefficient_decl})
     m.indexed_decl, m.coefficient_decl, m.indexed_statements = {}, {}, []
     m.recovery_steps = list(template.recovery_steps)
     m.checks = list(template.checks)

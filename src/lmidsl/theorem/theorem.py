@@ -263,18 +263,27 @@ class Theorem:
                                              f"of this theorem")
         family = _ix.IndexedFamily(self, name, kind, rows, cols, sets, latex, description, symmetric)
         self.indexed_decl[name] = family
+        # the template declares the generic member A[i] (printing: tables of data and variables)
+        generic = family[tuple(s.generic_index for s in sets)]
+        table = self.data_decl if kind == "data" else self.var_decl
+        table[name] = Declaration(generic, family.latex, description, {"indexed": True})
         return family
 
     def coefficients(self, name: str, over, *, structure: str | None = None,
-                     latex: str | None = None, description: str = ""):
+                     latex: str | None = None, matrix_latex: str | None = None,
+                     description: str = ""):
         """Declare a matrix of scalar coefficients over an index set, used as ``Pi[i, j]``; bound
         as one N×N datum whose ``structure`` ('generator', 'stochastic', 'nonnegative') is
-        checked at bind time."""
+        checked at bind time; ``latex`` names the entries (π → π_ij), ``matrix_latex`` the
+        matrix (Π)."""
         self._check_new(name)
         if not isinstance(over, _ix.IndexSet):
             raise TheoremDefinitionError(f"{self.id}: coefficients {name}: over must be an index set")
         family = _ix.CoefficientFamily(self, name, over, structure, latex, description)
         self.coefficient_decl[name] = family
+        symbol = self._describe(DataMatrix(f"{name}#matrix", over.size, over.size, self.id),
+                                matrix_latex or name, description)
+        self.data_decl[name] = Declaration(symbol, symbol.latex_name, description, {"indexed": True})
         return family
 
     def specialise(self, inputs: dict) -> "Theorem":
@@ -419,6 +428,7 @@ class Theorem:
             family = _ix.IndexedFamily(self, name, "recovered", shape[0], shape[1], sets, None, "")
             self.indexed_decl[name] = family
             self.indexed_recovery[name] = (sp.sympify(expr), family, q)
+            self.recovery[name] = sp.sympify(expr)      # printed as K = W_i Y_i^{-1}
             self.recovery_steps.append(("formula", name))
             made.append(family)
         return made[0] if len(made) == 1 else tuple(made)
