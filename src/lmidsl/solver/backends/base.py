@@ -81,7 +81,17 @@ class BackendCompiler(ExpressionWalker):
                 return self.constants.visit(expr)
             if not isinstance(expr, sp.MatrixExpr) and not expr.has(sp.MatrixSymbol):
                 return self.model.parameter_for(expr)  # a scalar of parameters only (not r·tr(W))
+            if isinstance(expr, (sp.Inverse, sp.MatPow)):
+                return self.folded(expr)
         return super()._dispatch(expr)
+
+    def folded(self, expr):
+        """A matrix of data and parameters that no backend algebra spells, (r I + D Dᵀ)⁻¹ with
+        r a parameter: its number at the instance's parameter values; the model then compiles
+        again when the parameters change (:meth:`CompiledModel.update`)."""
+        self.model.folded_parameters = True
+        evaluator = NumericEvaluator(self.dims, self.model.instance.data, self.model.instance.params, self.vertex)
+        return evaluator.visit(expr)
 
     def context(self) -> str:
         theorem = self.model.instance.theorem.id
@@ -127,6 +137,7 @@ class CompiledModel:
     #: parameters are numbers and a problem with new ones is built again (PICOS, direct)
     mutable_parameters = True
     solved_once = False      # whether the last solve returned a point (values() reads it)
+    folded_parameters = False  # a parameter inside an inverse was compiled as a number
 
     def __init__(self, instance: Instance, margin: float | None = None, reuse: bool = False,
                  conditioning: Equilibration | None = None):
@@ -218,8 +229,12 @@ class CompiledModel:
         self.set_parameter(self._margin_parameter, self.margin)
 
     def update(self, instance: Instance) -> None:
-        """Take new parameter values (same data and dimensions) without recompiling."""
+        """Take new parameter values (same data and dimensions) without recompiling (unless a
+        parameter sits inside an inverse: then compile again)."""
         self.instance = instance
+        if self.folded_parameters:
+            self._compile()
+            return
         for expr, p in self._parameters.items():
             self.set_parameter(p, self._parameter_value(expr))
 
