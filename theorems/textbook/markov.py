@@ -127,6 +127,7 @@ def mjls_state_feedback(time: str, hinf: bool) -> Theorem:
     else:
         thm.feasibility()
     thm.recover_each(i, K=W[i] * Y[i].I)
+    thm.well_conditioned(Y[i])
     thm.verify_with(second_moment(rates="Pi", A="A", B="B2" if hinf else "B", K="K"))
     modes = EXAMPLE_MODES if time == "continuous" else EXAMPLE_MODES_DT
     rates = EXAMPLE_RATES if time == "continuous" else EXAMPLE_PROBABILITIES

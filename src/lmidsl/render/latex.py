@@ -233,9 +233,9 @@ class LMILatexPrinter(LatexPrinter):
         return with_vertex_index(expr_latex(expr), self._indices(expr.indices))
 
     def _range(self, op) -> str:
-        """The range under Σ, col, diag: j \in \mathcal{N}, j \neq i."""
+        r"""The range under Σ, col, diag: j \in \mathcal{N}, j \neq i."""
         sets = self._settings["index_sets"]
-        text = f"{self._print(op.index)} \in {sets.get(op.index.set_name, op.index.set_name)}"
+        text = rf"{self._print(op.index)} \in {sets.get(op.index.set_name, op.index.set_name)}"
         if op.condition is not None:
             text += f", {self._print(op.condition)}"
         return text
@@ -258,9 +258,9 @@ class LMILatexPrinter(LatexPrinter):
         groups: dict = {}
         for k in q.indices:
             groups.setdefault(k.set_name, []).append(self._print(k))
-        text = ", ".join(f"{', '.join(names)} \in {sets.get(name, name)}" for name, names in groups.items())
+        text = ", ".join(rf"{', '.join(names)} \in {sets.get(name, name)}" for name, names in groups.items())
         if q.where is not None:
-            text += f",\ {self._print(q.where)}"
+            text += rf",\ {self._print(q.where)}"
         return rf",\quad \forall\, {text}"
 
     def _print_Add(self, expr, order=None):

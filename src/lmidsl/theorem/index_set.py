@@ -324,6 +324,9 @@ def build_member(template, sizes: dict):
         steps.extend(("formula", member_name(fam.name, tuple(env[k] for k in q.indices)))
                      for env in q.environments(sizes))
     m.recovery_steps = steps
+    m.conditioned = [inst(e, env) for e in template.conditioned
+                     for env in (quantifier_for(template.id, "well_conditioned", [e], None, None)
+                                 or Quantifier(())).environments(sizes)]
     if template.analysis is not None:
         link = copy.copy(template.analysis)
         link.design = tuple(n for d in link.design for n in _expand_name(template, d, sizes))
