@@ -317,7 +317,7 @@ def h2_case(seed) -> bool:
         h2 = float(control.norm(loop, 2))
         assert ref * (1 - 1e-6) <= h2 <= sol.gamma * (1 + 1e-3)
     # the LMI optimum (before any back-off to a better-conditioned controller) is h2syn's
-    optimum, status = ((sol.backoff["gamma_opt"], sol.backoff.get("status_opt")) if sol.backoff
+    optimum, status = ((sol.backoff.get("gamma_opt"), sol.backoff.get("status_opt")) if sol.backoff
                        else (sol.gamma, sol.status))
     if status != "optimal" or optimum is None:
         return False
