@@ -102,13 +102,6 @@ def latex_of(symbol) -> str:
     return name_to_latex(symbol.name)
 
 
-def expr_latex(entry) -> str:
-    """The LaTeX name of a coefficient matrix's entries (π for Pi), from its declaration."""
-    from ..symbolic.symbols import _METADATA
-    meta = _METADATA.get((entry.tag, entry.name), {})
-    return meta.get("latex_name") or name_to_latex(entry.name)
-
-
 def with_vertex_index(latex: str, index: str) -> str:
     r"""Append a vertex index to the subscript: ``P_1`` -> ``P_{1i}``, ``A`` -> ``A_{i}``."""
     m = re.match(r"^(.*)_\{([^{}]*)\}$", latex) or re.match(r"^(.*)_([A-Za-z0-9])$", latex)
@@ -230,7 +223,7 @@ class LMILatexPrinter(LatexPrinter):
         return ("," if any(len(p) > 1 for p in parts) else "").join(parts)
 
     def _print_Coefficient(self, expr):          # π_ij
-        return with_vertex_index(expr_latex(expr), self._indices(expr.indices))
+        return with_vertex_index(latex_of(expr), self._indices(expr.indices))
 
     def _range(self, op) -> str:
         r"""The range under Σ, col, diag: j \in \mathcal{N}, j \neq i."""

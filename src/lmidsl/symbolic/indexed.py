@@ -104,7 +104,7 @@ INDEXED_TYPES = (IndexedData, IndexedSymmetricData, IndexedVariable, IndexedSymm
                  IndexedDiagonalVariable, IndexedRecovered)
 
 
-class Coefficient(sp.Expr):
+class Coefficient(_Described, sp.Expr):
     """``π_ij``: entry (i, j) of a coefficient matrix given as data (1-based indices)."""
 
     is_commutative = True

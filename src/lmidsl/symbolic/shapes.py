@@ -28,6 +28,7 @@ import sympy as sp
 from sympy.matrices.expressions.matexpr import MatrixExpr
 
 from ..errors import ShapeMismatchError
+from .indexed import count
 from .walker import Walker
 
 SCALAR = (1, 1)
@@ -118,7 +119,6 @@ class ShapeWalker(Walker):
         if expr.index in (sp.sympify(r).free_symbols | sp.sympify(c).free_symbols):
             raise self.mismatch(f"{expr}: the shape of {expr.body} depends on the index {expr.index}")
         if expr.condition is not None:
-            from .indexed import count
             count(expr.index, expr.size, expr.condition)   # a range the library can count
         return expr.shape
 

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import copy
 import itertools
+import re
 
 import numpy as np
 import sympy as sp
@@ -119,6 +120,8 @@ class CoefficientFamily:
         self.structure = structure
         self.latex = latex or name
         self.description = description
+        entry = Coefficient(name, theorem.id, 1, 1)       # the entries' LaTeX name (π_ij)
+        entry.latex_name, entry.description = self.latex, description
 
     def __getitem__(self, idx):
         if not (isinstance(idx, tuple) and len(idx) == 2):
@@ -199,10 +202,20 @@ def quantifier_for(theorem_id: str, where_text: str, exprs, forall, where) -> Qu
 
 
 # -- members ------------------------------------------------------------------------------
+def count_members(inputs, key: str, where: str = "") -> int:
+    """The N for which ``key_1 .. key_N`` are all present among ``inputs`` (names)."""
+    pattern = re.compile(rf"^{re.escape(key)}_(\d+)$")
+    found = sorted(int(m.group(1)) for name in inputs for m in [pattern.match(str(name))] if m)
+    if not found:
+        return 0
+    if found != list(range(1, len(found) + 1)):
+        raise InputError(f"{where + ': ' if where else ''}the subsystems given as {key}_<i> are {found}; "
+                         f"expected {key}_1 .. {key}_{len(found)}")
+    return len(found)
+
 def sizes_from_inputs(template, inputs: dict) -> dict:
     """N of each index set: the length of the list under its key, else the number of
     ``<name>_1 … <name>_N`` of its first indexed datum, else the rows of its coefficient matrix."""
-    from .family import count_members
     sizes = {}
     for M in template.index_sets.values():
         if M.key in inputs:
