@@ -21,7 +21,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 SECTIONS = [
     ("Markov jump systems: mode-dependent state feedback",
-     ["textbook.mjls_sf_ct", "textbook.mjls_sf_dt", "textbook.mjls_hinf_sf_ct", "textbook.mjls_hinf_sf_dt"],
+     ["textbook.mjls_sf_ct", "textbook.mjls_sf_dt", "textbook.mjls_hinf_sf_ct", "textbook.mjls_hinf_sf_dt",
+      "textbook.mjls_hinf_sf_ct_cl", "textbook.mjls_hinf_sf_dt_cl"],
      "Evidence: every certified design passes the second-moment test (the Hurwitz / Schur property "
      "of the second-moment matrix of the closed loop), assembled independently in the tests on "
      "generated cases (2–4 modes, orders 2–3, uncontrolled modes Bᵢ = 0 in every third case, fast "

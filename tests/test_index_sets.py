@@ -97,8 +97,10 @@ def test_one_mode_jump_system_is_the_textbook_hinf_state_feedback():
         mode = {"A": plant["A"], "B1": plant["B1"], "B2": plant["B2"], "C1": plant["C1"],
                 "D11": plant["D11"], "D12": plant["D12"]}
         sol = lmidsl.solve(markov.mjls_hinf_sf_ct, data={"modes": [mode], "Pi": [[0.0]]}, backoff=None)
-        assert sol.verdict()[0] and ref.ok   # both optima: the LMIs proved at the returned point
+        assert sol.ok and ref.ok      # both optima (the design at the optimum may be ill-conditioned)
         assert abs(sol.gamma - ref.gamma) <= 1e-4 * ref.gamma
+        delivered = lmidsl.solve(markov.mjls_hinf_sf_ct, data={"modes": [mode], "Pi": [[0.0]]})
+        assert delivered.verdict()[0] and delivered.analysis.gamma <= delivered.gamma * (1 + 1e-3)
 
 
 def test_an_uncontrolled_mode_with_zero_input_matrix_gets_a_zero_gain():

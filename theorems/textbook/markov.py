@@ -22,12 +22,14 @@ The H∞ versions (``textbook.mjls_hinf_sf_ct`` / ``_dt``) add the disturbance w
 z = C1ᵢx + D11ᵢw + D12ᵢu with the level γ on both diagonal blocks, as in :mod:`.hinf_sf`.
 
 Evidence: the second-moment test of the closed loop (:func:`lmidsl.second_moment`), an
-eigenvalue computation that does not use the LMIs.  Data: ``{"modes": [{"A": …, "B": …}, …],
+eigenvalue computation that does not use the LMIs; the H∞ designs are also certified by the
+bounded real lemma of the jump closed loop with the gains given (``textbook.mjls_hinf_sf_ct_cl`` /
+``_dt_cl``, one LMI for all modes with Σⱼ π_ij Pⱼ).  Data: ``{"modes": [{"A": …, "B": …}, …],
 "Pi": …}``; a mode with B = 0 (uncontrolled) is allowed (its gain is 0).
 """
 from sympy import Ne, sqrt
 
-from lmidsl import He, I, Source, Theorem, diag_over, second_moment, stack_over
+from lmidsl import He, I, Source, Theorem, diag_over, second_moment, stack_over, sum_over
 
 CFT = ("Costa, Fragoso, Todorov, Continuous-Time Markov Jump Linear Systems, Springer 2013")
 CFM = ("Costa, Fragoso, Marques, Discrete-Time Markov Jump Linear Systems, Springer 2005")
@@ -138,9 +140,58 @@ def mjls_state_feedback(time: str, hinf: bool) -> Theorem:
     return thm
 
 
+def mjls_hinf_analysis(time: str) -> Theorem:
+    """The bounded real lemma of the Markov jump closed loop with the mode gains Kᵢ given:
+    continuous time [[He(PᵢA_cl,i) + Σⱼ π_ij Pⱼ, PᵢB1ᵢ, C_cl,iᵀ], [⋆, −γI, D11ᵢᵀ], [⋆, ⋆, −γI]] ≺ 0;
+    discrete time [[−Pᵢ, ⋆, ⋆, ⋆], [0, −γI, ⋆, ⋆], [col_j(√p_ij PⱼA_cl,i), col_j(√p_ij PⱼB1ᵢ),
+    −diag_j(Pⱼ), ⋆], [C_cl,i, D11ᵢ, 0, −γI]] ≺ 0, for all i (the same references)."""
+    suffix = "ct" if time == "continuous" else "dt"
+    book = CFT if time == "continuous" else CFM
+    thm = Theorem(f"textbook.mjls_hinf_sf_{suffix}_cl", f"H∞ level of a Markov jump closed loop ({time} time)",
+                  Source("Costa et al. (MJLS)", "bounded real lemma of the closed loop, mode gains given", book),
+                  time=time, description="for all modes i: the coupled bounded real inequalities with Kᵢ given")
+    n, m1, m2, p1 = thm.dim("n m1 m2 p1")
+    M = thm.index_set("modes", size="N", latex=r"\mathcal{N}")
+    i, j = M.indices("i j")
+    A = thm.data("A", n, n, over=M)
+    B1 = thm.data("B1", n, m1, over=M, latex="B_1")
+    B2 = thm.data("B2", n, m2, over=M, latex="B_2")
+    C1 = thm.data("C1", p1, n, over=M, latex="C_1")
+    D11 = thm.data("D11", p1, m1, over=M, latex="D_{11}")
+    D12 = thm.data("D12", p1, m2, over=M, latex="D_{12}")
+    K = thm.data("K", m2, n, over=M, description="the gain of mode i")
+    Pi = thm.coefficients("Pi", M, structure="generator" if time == "continuous" else "stochastic",
+                          latex=r"\pi" if time == "continuous" else "p")
+    P = thm.var("P", n, kind="symmetric", over=M)
+    g = thm.scalar("gamma", latex=r"\gamma")
+    Acl = A[i] + B2[i] * K[i]
+    Ccl = C1[i] + D12[i] * K[i]
+    if time == "continuous":
+        thm.lmi("(MJ-BRL)", [
+            [He(P[i] * Acl) + sum_over(j, Pi[i, j] * P[j])],
+            [B1[i].T * P[i], -g * I],
+            [Ccl, D11[i], -g * I],
+        ], forall=i)
+    else:
+        thm.lmi("(MJ-BRL)", [
+            [-P[i]],
+            [0, -g * I],
+            [stack_over(j, sqrt(Pi[i, j]) * P[j] * Acl), stack_over(j, sqrt(Pi[i, j]) * P[j] * B1[i]),
+             -diag_over(j, P[j])],
+            [Ccl, D11[i], 0, -g * I],
+        ], forall=i)
+    thm.positive(P[i])
+    thm.minimize(g, performance=("gamma", g))
+    return thm
+
+
 mjls_sf_ct = mjls_state_feedback("continuous", hinf=False)
 mjls_sf_dt = mjls_state_feedback("discrete", hinf=False)
 mjls_hinf_sf_ct = mjls_state_feedback("continuous", hinf=True)
 mjls_hinf_sf_dt = mjls_state_feedback("discrete", hinf=True)
+mjls_hinf_sf_ct_cl = mjls_hinf_analysis("continuous")
+mjls_hinf_sf_dt_cl = mjls_hinf_analysis("discrete")
+mjls_hinf_sf_ct.certified_by(mjls_hinf_sf_ct_cl, design=("K",))
+mjls_hinf_sf_dt.certified_by(mjls_hinf_sf_dt_cl, design=("K",))
 
-THEOREMS = [mjls_sf_ct, mjls_sf_dt, mjls_hinf_sf_ct, mjls_hinf_sf_dt]
+THEOREMS = [mjls_sf_ct, mjls_sf_dt, mjls_hinf_sf_ct, mjls_hinf_sf_dt, mjls_hinf_sf_ct_cl, mjls_hinf_sf_dt_cl]
