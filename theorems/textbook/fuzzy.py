@@ -10,7 +10,8 @@ and Analysis*, Wiley 2001, Ch. 3) ask for X ≻ 0, Q ⪰ 0 and
     He(AᵢX + BᵢMᵢ) + (s − 1) Q ≺ 0                         for all i,
     He(AᵢX + BᵢMⱼ) + He(AⱼX + BⱼMᵢ) − 2Q ⪯ 0               for all i < j,
 
-with s the number of rules that fire together; here s = r (always valid; the printed form has
+(X ⪰ I stands for X ≻ 0: the conditions are homogeneous in (X, Q, Mᵢ)), with s the number of
+rules that fire together; here s = r (always valid; the printed form has
 s − 1 = r − 1 with r the size of the rule set).  The pair condition is imposed strictly (a hair
 more conservative than ⪯, so that every LMI has a proof).  Kᵢ = MᵢX⁻¹ (signs: u = +Σ hⱼKⱼx).
 
@@ -53,7 +54,7 @@ Mv = ts_pdc_ct.var("M", m, n, over=R, description="Mᵢ = KᵢX")
 ts_pdc_ct.lmi("(C1)", [[He(A[i] * X + B[i] * Mv[i]) + (R.size - 1) * Q]], forall=i)
 ts_pdc_ct.lmi("(C2)", [[He(A[i] * X + B[i] * Mv[j]) + He(A[j] * X + B[j] * Mv[i]) - 2 * Q]],
               forall=(i, j), where=i < j)
-ts_pdc_ct.positive(X)
+ts_pdc_ct.lmi("X >= I", [[X - I]], sense=">=", strict=False)   # homogeneous: X ≻ 0 after scaling
 ts_pdc_ct.lmi("Q >= 0", [[Q]], sense=">=")
 ts_pdc_ct.feasibility()
 ts_pdc_ct.recover_each(i, K=Mv[i] * X.I)

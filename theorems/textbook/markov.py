@@ -123,7 +123,13 @@ def mjls_state_feedback(time: str, hinf: bool) -> Theorem:
                 [-Y[i]],
                 [stack_over(j, sqrt(Pi[i, j]) * AY), -diag_over(j, Y[j])],
             ], forall=i)
-    thm.positive(Y[i])
+    if hinf:
+        thm.positive(Y[i])
+    else:
+        # the stabilisation LMIs are homogeneous in (Y, W): Yᵢ ⪰ I is Yᵢ ≻ 0 after scaling, and
+        # gives the solver a bounded-below problem (measured: infeasible cases that ended in a
+        # solver error with Yᵢ ≻ 0 are then reported infeasible)
+        thm.lmi("Y >= I", [[Y[i] - I]], sense=">=", strict=False, forall=i)
     if hinf:
         thm.minimize(g, performance=("gamma", g))
     else:
