@@ -37,7 +37,7 @@ def random_mjls(N: int, n: int, seed: int = 0) -> dict:
     rng = np.random.default_rng(seed)
     modes = []
     for _ in range(N):
-        modes.append({"A": rng.standard_normal((n, n)).tolist(), "B1": rng.standard_normal((n, 1)).tolist(),
+        modes.append({"A": (0.5 * rng.standard_normal((n, n))).tolist(), "B1": rng.standard_normal((n, 1)).tolist(),
                       "B2": rng.standard_normal((n, 1)).tolist(),
                       "C1": np.vstack([np.eye(1, n), np.zeros((1, n))]).tolist(),
                       "D11": [[0.0], [0.0]], "D12": [[0.0], [1.0]]})
