@@ -4,7 +4,7 @@ Both use the Lyapunov–Krasovskii functional V = ξᵀPξ + ∫_{t−h}^t xᵀS
 ẋᵀRẋ and bound the integral term −h∫ẋᵀRẋ from above.  With ζ = (x, x(t − h), ν),
 ν = (1/h)∫_{t−h}^t x, F₀ = [A, A_d, 0] (ẋ = F₀ζ), E₁ = [I, −I, 0], E₂ = [I, I, −2I]:
 
-* **Jensen** (K. Gu, V. L. Kharitonov, J. Chen, *Stability of Time-Delay Systems*, Birkhäuser
+* **Jensen** (K. Gu, V. L. Kharitonov, J. Chen, *Stability of Time-Delay Systems*, Birkhauser
   2003, §3.6; ξ = x, P ∈ Sⁿ): h∫ẋᵀRẋ ≥ (E₁ζ)ᵀR(E₁ζ), and, without ν,
 
       [[He(PA) + S − R, ⋆, ⋆], [A_dᵀP + R, −S − R, ⋆], [hRA, hRA_d, −R]] ≺ 0.
@@ -26,7 +26,7 @@ from sympy import BlockMatrix, Identity, ZeroMatrix
 
 from lmidsl import He, I, Source, Theorem
 
-GKC = "Gu, Kharitonov, Chen, Stability of Time-Delay Systems, Birkhäuser 2003"
+GKC = "Gu, Kharitonov, Chen, Stability of Time-Delay Systems, Birkhauser 2003"
 SG = ("Seuret, Gouaisbaut, Wirtinger-based integral inequality: application to time-delay "
       "systems, Automatica 49(9):2860-2866, 2013")
 CLASSIC = {"A": [[-2.0, 0.0], [0.0, -0.9]], "Ad": [[-1.0, 0.0], [-1.0, -1.0]]}

@@ -2,7 +2,7 @@
 
 ẋ = A_σ(t) x with σ switching arbitrarily among N subsystems is exponentially stable with rate
 α when some P ≻ 0 satisfies He(PAᵢ) + 2αP ≺ 0 for every subsystem i (Liberzon, *Switching in
-Systems and Control*, Birkhäuser 2003, §2.1; Boyd et al., *Linear Matrix Inequalities in System
+Systems and Control*, Birkhauser 2003, §2.1; Boyd et al., *Linear Matrix Inequalities in System
 and Control Theory*, SIAM 1994, §5.1): then V = xᵀPx decays as e^{−2αt} whatever σ does, and
 ‖x(t)‖ ≤ √κ(P) e^{−αt} ‖x(0)‖.  The largest such α is found by bisection (α multiplies P:
 a generalised eigenvalue problem); P ⪰ I fixes the scale.
@@ -12,7 +12,7 @@ Data ``{"subsystems": [{"A": …}, …]}``.  The polytopic decay rate of ``decay
 """
 from lmidsl import He, I, Source, Theorem
 
-LIB = "Liberzon, Switching in Systems and Control, Birkhäuser 2003"
+LIB = "Liberzon, Switching in Systems and Control, Birkhauser 2003"
 
 switched_clf_ct = Theorem("textbook.switched_clf_ct",
                           "Switched system under arbitrary switching: common quadratic Lyapunov function",
