@@ -278,7 +278,7 @@ def test_delay_theorems_never_exceed_the_delay_margin(count=1):
         margin = delay_margin(A, Ad)
         hs = []
         for thm in (delay.delay_jensen, delay.delay_wirtinger):
-            result = bisect(make_instance(thm, None, {"A": A.tolist(), "Ad": Ad.tolist(), "h": 0.1}, None),
+            result = bisect(make_instance(thm, None, {"A": A.tolist(), "Ad": Ad.tolist()}, None),   # no h: bisected
                             upper=min(10.0, margin * 1.5), tol=1e-3)
             h = result.feasible_end or 0.0
             assert h <= margin + 1e-3, (A, Ad, thm.id, h, margin)

@@ -675,5 +675,9 @@ class Theorem:
         if not (lower < upper and tol > 0):
             raise TheoremDefinitionError(f"{self.id}: bisect: need lower < upper and tol > 0")
         self.bisection = Bisection(parameter, float(lower), float(upper), float(tol), goal, performance)
+        extra = self.param_decl[parameter].extra
+        if extra.get("default") is None:
+            # the bisection sets the parameter: data need not give it (bound at the feasible end)
+            extra["default"] = float(lower) if goal == "max" else float(upper)
         return self.bisection
 
