@@ -20,6 +20,7 @@ from ..symbolic.numbers import finite_matrix, finite_number, positive_integer
 from ..symbolic.shapes import fmt_shape
 from ..symbolic.parameter_values import NotRealError, parameter_value
 from ..symbolic.symbols import Dim, ScalarVariable
+from ..theorem.assumptions import check_assumptions
 from ..theorem.theorem import Theorem
 from ..symbolic.uncertainty import bind_points
 from ..symbolic.uncertainty import scenarios
@@ -125,6 +126,7 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None, *,
     if hasattr(theorem, "specialise"):
         theorem = theorem.specialise(inputs)
     inputs = dict(theorem.inputs_for(inputs) if hasattr(theorem, "inputs_for") else inputs)
+    check_assumptions(theorem, inputs, inputs.get("vertices") if isinstance(inputs.get("vertices"), list) else None)
     uncertain = bind_points(theorem, inputs)
     vertices = inputs.pop("vertices", None)
     per_vertex = theorem.per_vertex_names
@@ -190,10 +192,24 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None, *,
                 if arr.shape[0] == arr.shape[1] and asymmetry(arr) > 1e-12:
                     raise InputError(f"{theorem.id}: data {name} must be symmetric")
     dims = _infer_dims(theorem, matrices, given_dims)
+    _refuse_empty_variables(theorem, dims)
     params = _evaluate_params(theorem, {k: inputs[k] for k in theorem.param_decl if k in inputs})
     instance = Instance(theorem, dims, data, params, nvertices, example, uncertain=uncertain)
     check_symmetric_blocks(instance)
     return instance
+
+
+def _refuse_empty_variables(theorem: Theorem, dims: dict) -> None:
+    """A dimension 0 (a 2×0 matrix) that sizes a decision variable is bad input, in one line."""
+    zero = {str(d) for d, v in dims.items() if int(v) == 0}
+    if not zero:
+        return
+    for name, decl in theorem.var_decl.items():
+        shape = getattr(decl.symbol, "shape", ())
+        empty = sorted(zero & {str(s) for d in shape for s in sp.sympify(d).free_symbols})
+        if empty:
+            raise InputError(f"{theorem.id}: dimension {empty[0]} = 0 (from an empty matrix in the data) "
+                             f"makes variable {name} empty; dimensions must be at least 1")
 
 
 def random_point(instance: Instance, rng: np.random.Generator) -> dict:

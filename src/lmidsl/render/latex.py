@@ -42,7 +42,7 @@ from ..errors import InputError
 from .latex_text import _GREEK, latex_matrix, latex_number, tex_text
 from ..symbolic.symbols import (DerivedParam, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
                       _Described)
-from ..theorem.theorem import LATEX_RENDERER, Theorem
+from ..theorem.theorem import Theorem
 from ..theorem.values import LMI
 
 __all__ = ["LMILatexPrinter", "lmi_latex", "lmi_where", "name_to_latex", "bisection_latex",
@@ -564,18 +564,3 @@ def bisection_latex(theorem: Theorem) -> str | None:
     text = (f"{goal} ${name} \\in [{latex_number(b.lower)}, {latex_number(b.upper)}]$ such that the "
             f"conditions are feasible (bisection on ${name}$ to ${latex_number(b.tol)}$)")
     return text + (f": {tex_text(b.performance)}." if b.performance else ".")
-
-
-def theorem_display_latex(theorem: Theorem) -> str:
-    """The title and every LMI of ``theorem`` as display maths a notebook (MathJax, KaTeX) can
-    typeset: plain LaTeX, none of the document's own macros (:meth:`Theorem._repr_latex_`)."""
-    lines = [f"\\text{{{theorem.id}: {tex_text(theorem.title)}}}"]
-    goal = bisection_latex(theorem)
-    if goal is not None:
-        lines.append(f"\\text{{{goal.replace('$', '$')}}}")
-    for lmi in theorem.lmis:
-        lines.append(f"{lmi_latex(theorem, lmi)} \\qquad \\text{{{tex_text(lmi.label)}}}")
-    return "$$\\begin{gathered}\n" + " \\\\\n".join(lines) + "\n\\end{gathered}$$"
-
-
-LATEX_RENDERER["theorem"] = theorem_display_latex

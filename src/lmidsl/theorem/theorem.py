@@ -22,26 +22,19 @@ from ..errors import TheoremDefinitionError
 from ..symbolic.linearity import check_affine
 from ..symbolic.shapes import check_conformance, dims_equal, fmt_shape
 from ..symbolic.uncertainty import uncertain_symbol
-from ..symbolic.symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, RecoveredMatrix,
+from ..symbolic.symbols import (ConstantMatrix, DataMatrix, DerivedParam, as_symbolic, DiagonalVariable, Dim, Param, RecoveredMatrix,
                       ScalarVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
                       Variable, metadata_snapshot, restore_metadata)
 from . import index_set as _ix
-from .values import (DESIGN_KINDS, FIGURES, LMI, TIME_DOMAINS, AnalysisLink, Bisection, BoundedRealForm, StateFeedbackForm,
+from .values import (DESIGN_KINDS, FIGURES, LATEX_RENDERER, LMI, TIME_DOMAINS, AnalysisLink, Bisection, BoundedRealForm, StateFeedbackForm,
                      Declaration, Derivation, ErrorSystemLink, Example, FactorStep, SignalScaling, Source,
                      check_provenance)
-
-
-LATEX_RENDERER: dict = {}
-"""``{"theorem": function(theorem) -> str}``: how a theorem's LMIs are written in LaTeX, for
-:meth:`Theorem._repr_latex_`.  The printer lives in :mod:`lmidsl.render.latex`, a layer above
-this one, which registers itself here when it is imported (and ``lmidsl``'s public face imports
-it with :class:`Theorem`), so that this layer never imports the one above it."""
 
 
 class Theorem:
     """A theorem: declarations, LMIs, objective, recovery, analysis counterpart, examples."""
 
-    def __init__(self, id: str, title: str, source: Source, *, description: str = "",
+    def __init__(self, id: str, title: str | None = None, source: Source | None = None, *, description: str = "",
                  time: str = "discrete", designs: str | None = None,
                  sample_time: float | None = None, provenance: str = "paper",
                  provenance_note: str = ""):
@@ -51,8 +44,8 @@ class Theorem:
             raise TheoremDefinitionError(f"{id}: designs must be one of {DESIGN_KINDS}, got {designs!r}")
         check_provenance(id, provenance, provenance_note)
         self.id = id
-        self.title = title
-        self.source = source
+        self.title = id if title is None else title                  # quick mode: an id is enough
+        self.source = Source("stated in Python", "") if source is None else source
         self.description = description
         self.time = time
         self.designs = designs              # what the recovery produces: filter, controller, ...
@@ -89,6 +82,7 @@ class Theorem:
         self.coefficient_decl: dict = {}       # name -> CoefficientFamily (Pi[i, j])
         self.indexed_recovery: dict = {}       # name -> (formula, family, quantifier)
         self._members: dict = {}               # sizes -> member theorem (index sets)
+        self.assumptions: list = []           # Theorem.assume (lmidsl.theorem.assumptions)
 
     # -- pickling ----------------------------------------------------------------------
     def __getstate__(self) -> dict:
@@ -332,14 +326,21 @@ class Theorem:
                     f"first, or use a variable of the LMIs)")
 
     # -- conditions ---------------------------------------------------------------------
-    def lmi(self, label: str, rows, *, sense: str = "<", triangle: str = "lower", sizes=None,
+    def lmi(self, label, rows=None, *, sense: str = "<", triangle: str = "lower", sizes=None,
             strict: bool = True, description: str = "", forall=None, where=None) -> LMI:
         """Declare the block LMI ``label``: one triangle of blocks, ``sense`` '<' or '>'.
+        ``thm.lmi(rows)`` labels it itself: (1), (2), ...; a numpy array in a block is constant
+        data (:func:`~lmidsl.symbolic.symbols.constant_matrix`), given in the example 'data'.
 
         With indices (:meth:`index_set`): ``forall`` the quantified indices (default: every free
         index), ``where`` a condition on them (``i < j``, ``Ne(i, j)``); one LMI per instance
         at bind time."""
         condition = where
+        if rows is None:
+            label, rows = f"({len(self.lmis) + 1})", label
+        if isinstance(rows, (list, tuple)):
+            rows = [[as_symbolic(b) for b in row] if isinstance(row, (list, tuple)) else as_symbolic(row)
+                    for row in rows]
         if sense not in ("<", ">", "<=", ">="):
             raise TheoremDefinitionError(f"{self.id}: LMI {label}: sense must be '<' or '>'")
         if any(l.label == label for l in self.lmis):
@@ -359,8 +360,24 @@ class Theorem:
                                         forall, condition)
         if quantifier is not None:
             lmi.quantifier = quantifier
+        self._declare_constants(lmi.symbols())
         self.lmis.append(lmi)
         return lmi
+
+    def _declare_constants(self, symbols) -> None:
+        """Declare the numpy constants an LMI uses as data, their values in the example 'data'."""
+        for c in sorted((s for s in symbols if isinstance(s, ConstantMatrix)), key=lambda s: s.name):
+            if c.name not in self.data_decl:
+                self.data_decl[c.name] = Declaration(c, c.latex_name, c.description)
+                example = self.examples.get("data") or self.example(
+                    "data", {}, description="the constants written in the LMIs")
+                example.data[c.name] = c.value
+
+    def assume(self, assumption):
+        """Declare a hypothesis on the data (:mod:`lmidsl.theorem.assumptions`: ``zero("D11")``,
+        ``stable("A")``, ``full_rank(...)``), checked when data are bound: exit 2 if it fails."""
+        self.assumptions.append(assumption)
+        return assumption
 
     def positive(self, *variables, label: str | None = None, forall=None, where=None) -> list[LMI]:
         """Declare ``X > 0`` for each variable (labelled 'X > 0' unless ``label`` is given);
@@ -382,6 +399,7 @@ class Theorem:
         self._check_determined(objective, "the objective")
         self.objective = objective
         self._set_performance(performance)
+        return self                           # lmidsl.solve(thm.minimize(g)) in quick mode
 
     def feasibility(self, *, performance: tuple[str, Any] | None = None):
         """A feasibility problem (no objective); ``performance`` = (name, expr) names the level
@@ -547,13 +565,16 @@ class Theorem:
             check_conformance(expr, where=f"{self.id}: linearisation of {name}")
             self.linearisation[name] = expr
 
-    def certified_by(self, theorem, design: tuple, gamma_tolerance: float = 1e-3):
+    def certified_by(self, theorem, design: tuple, gamma_tolerance: float = 1e-3, criterion: str = "level"):
         """Name the analysis theorem (a :class:`Theorem`, or the id of one in another file) that
-        certifies the recovered ``design`` matrices, which it takes as data."""
-        if isinstance(theorem, Theorem):
-            self.analysis = AnalysisLink(theorem.id, tuple(design), gamma_tolerance, theorem)
-        else:
-            self.analysis = AnalysisLink(str(theorem), tuple(design), gamma_tolerance)
+        certifies the recovered ``design`` matrices, which it takes as data.  ``criterion``:
+        "level" (the analysis certifies the synthesis γ within ``gamma_tolerance``) or "feasible"
+        (a stabilisation design: the analysis LMIs proved with the design fixed, no level)."""
+        if criterion not in ("level", "feasible"):
+            raise TheoremDefinitionError(f"{self.id}: certified_by: criterion must be 'level' or 'feasible'")
+        target = theorem if isinstance(theorem, Theorem) else None
+        self.analysis = AnalysisLink(theorem.id if target is not None else str(theorem), tuple(design),
+                                     gamma_tolerance, target, criterion)
 
     def error_system(self, system, *, figure: str, design: tuple, simulate=None):
         """Declare the error system (data + design -> stochastic system), its figure and simulation."""

@@ -31,11 +31,13 @@ from ...errors import InputError, SolverUnavailableError
 from . import backend_info
 from .affine import Affine, Cone, VariableSpace, block
 from .base import BackendCompiler, CompiledModel, classify, solver_crashed
+from ..status import (INFEASIBLE, INFEASIBLE_INACCURATE, OPTIMAL, OPTIMAL_INACCURATE, UNBOUNDED,
+                      UNBOUNDED_INACCURATE, USER_LIMIT, SOLVER_ERROR, SOLVED)
 
 DEFAULT_SOLVER = backend_info("direct").default
 
-#: Clarabel's linear-algebra threads (0: by problem size, :func:`solver_threads`).  Parallel runs
-#: set ``LMIDSL_SOLVER_THREADS=1`` in their local workers: N workers on N cores, one thread each.
+#: Clarabel's linear-algebra threads (0: by problem size, :func:`solver_threads`, as in local
+#: Dask workers, so that a parallel run gives the serial run's numbers).
 THREADS = int(os.environ.get("LMIDSL_SOLVER_THREADS", "0") or 0)
 
 #: Below this many PSD-cone rows (svec entries, all LMIs together) one thread is faster than
@@ -45,25 +47,32 @@ THREADS = int(os.environ.get("LMIDSL_SOLVER_THREADS", "0") or 0)
 SINGLE_THREAD_ROWS = 3000
 
 
+#: Clarabel's threads above SINGLE_THREAD_ROWS: a fixed number, not "every core" (0): Clarabel's
+#: answer depends on its thread count (n = 10 of seed 000's family, 2,294 rows: objective
+#: 8.298465416 on one thread, 8.298459366 on two, each repeatable), so "every core" would make
+#: the numbers depend on the machine
+LARGE_PROBLEM_THREADS = 2
+
+
 def solver_threads(problem) -> int:
     """Clarabel's ``max_threads`` for ``problem``: ``LMIDSL_SOLVER_THREADS`` if set, else one
-    thread for small problems (thread start-up costs more than it saves) and 0 (every core)
-    for large ones."""
+    thread for small problems (thread start-up costs more than it saves) and
+    :data:`LARGE_PROBLEM_THREADS` for large ones -- never a number that depends on the machine."""
     if THREADS:
         return THREADS
     psd_rows = sum(c.size for c in problem.cones if c.kind == "psd")
-    return 1 if psd_rows < SINGLE_THREAD_ROWS else 0
+    return 1 if psd_rows < SINGLE_THREAD_ROWS else LARGE_PROBLEM_THREADS
 
 #: Clarabel's statuses, named as the other backends name them (cvxpy's mapping of the same solver)
 _STATUS = {
-    "Solved": "optimal",
-    "AlmostSolved": "optimal_inaccurate",
-    "PrimalInfeasible": "infeasible",
-    "AlmostPrimalInfeasible": "infeasible_inaccurate",
-    "DualInfeasible": "unbounded",
-    "AlmostDualInfeasible": "unbounded_inaccurate",
-    "MaxIterations": "user_limit",
-    "MaxTime": "user_limit",
+    "Solved": OPTIMAL,
+    "AlmostSolved": OPTIMAL_INACCURATE,
+    "PrimalInfeasible": INFEASIBLE,
+    "AlmostPrimalInfeasible": INFEASIBLE_INACCURATE,
+    "DualInfeasible": UNBOUNDED,
+    "AlmostDualInfeasible": UNBOUNDED_INACCURATE,
+    "MaxIterations": USER_LIMIT,
+    "MaxTime": USER_LIMIT,
 }
 
 
@@ -233,13 +242,13 @@ class DirectModel(CompiledModel):
             if not solver_crashed(exc, (ArithmeticError, ValueError, np.linalg.LinAlgError)):
                 raise
             text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            return "solver_error", None, text or "solver failed", None
+            return SOLVER_ERROR, None, text or "solver failed", None
         self.last_solver_call = time.perf_counter() - t0
         self._last = (problem, result)
-        status = _STATUS.get(str(result.status), "solver_error")
-        message = "" if status != "solver_error" else f"CLARABEL: {result.status}"
+        status = _STATUS.get(str(result.status), SOLVER_ERROR)
+        message = "" if status != SOLVER_ERROR else f"CLARABEL: {result.status}"
         objective = None
-        if status in ("optimal", "optimal_inaccurate"):
+        if status in SOLVED:
             x = np.asarray(result.x, dtype=float)
             for v, o in problem.layout.items():
                 v.free = x[o: o + v.size]
