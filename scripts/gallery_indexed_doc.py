@@ -61,7 +61,7 @@ def _result(thm, example: str) -> str:
                 f"{r.infeasible_end:.5f}")
         return text + (f" (printed: {printed})" if printed is not None else "")
     sol = lmidsl.solve(thm, example=example)
-    ok, reasons = sol.verdict()
+    ok, reasons = sol.certified, sol.verdict.reasons
     parts = [f"{sol.status}", "certified" if ok else f"not certified ({'; '.join(reasons)})"]
     if sol.gamma is not None:
         parts.append(f"{thm.performance[0]} = {sol.gamma:.6g}")

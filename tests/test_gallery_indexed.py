@@ -108,7 +108,7 @@ def test_every_certified_mjls_design_is_mean_square_stable(time, thm, count=10, 
     cases = list(mjls_cases(time, count, seed + (7 if time == "continuous" else 8)))
     for data in cases:
         sol = lmidsl.solve(thm, data=data, diagnose=False)
-        if not sol.verdict()[0]:
+        if not sol.certified:
             continue
         certified += 1
         closed = [np.array(md["A"]) + np.array(md["B"]) @ sol.design[f"K_{k + 1}"]
@@ -143,7 +143,7 @@ def test_mjls_hinf_designs_are_mean_square_stable_and_bounded_below_by_each_mode
                           "D11": [[0.0], [0.0]], "D12": [[0.0], [1.0]]})
         Pi = np.zeros((N, N)) if time == "continuous" else np.eye(N)
         sol = lmidsl.solve(thm, data={"modes": modes, "Pi": Pi.tolist()})
-        assert sol.verdict()[0]
+        assert sol.certified
         for k, md in enumerate(modes):
             K = sol.design[f"K_{k + 1}"]
             A, B1, B2 = (np.array(md[x]) for x in ("A", "B1", "B2"))
@@ -182,7 +182,7 @@ def test_every_certified_fuzzy_design_passes_a_fine_grid_and_a_simulation(count=
     cases = list(fuzzy_cases(count, seed))
     for data in cases:
         sol = lmidsl.solve(fuzzy.ts_pdc_ct, data=data, diagnose=False)
-        if not sol.verdict()[0]:
+        if not sol.certified:
             continue
         certified += 1
         r = len(data["rules"])
@@ -212,7 +212,7 @@ def test_every_certified_fuzzy_design_passes_a_fine_grid_and_a_simulation_many()
 
 def test_pendulum_example_is_certified_with_the_grid_check():
     sol = lmidsl.solve(fuzzy.ts_pdc_ct, example="pendulum")
-    assert sol.verdict()[0] and all(c.passed for c in sol.checks)
+    assert sol.certified and all(c.passed for c in sol.checks)
 
 
 # -- switched systems ---------------------------------------------------------------------------
@@ -311,7 +311,7 @@ def h2_case(seed) -> bool:
     data = {k: np.array(plant[k], dtype=float) for k in h2_of.H2_PLANT}
     sol = lmidsl.solve(h2_of.h2_of_ct, data={k: v.tolist() for k, v in data.items()})
     ref = h2syn_norm(data)
-    if sol.verdict()[0]:
+    if sol.certified:
         loop = lmidsl.closed_loop({**{k: v.tolist() for k, v in data.items()},
                                    "D11": np.zeros((2, 2)).tolist()}, sol.design)
         h2 = float(control.norm(loop, 2))
@@ -322,7 +322,7 @@ def h2_case(seed) -> bool:
     if status != "optimal" or optimum is None:
         return False
     assert abs(optimum - ref) <= 1e-4 * ref, (seed, optimum, ref)
-    return sol.verdict()[0]
+    return sol.certified
 
 
 @pytest.mark.parametrize("seed", [21, 22, 23, 24, 25])
@@ -344,7 +344,7 @@ def test_mixed_designs_meet_both_bounds():
                            data={k: ex[k] for k in ("A", "B1", "B2", "C1", "D11", "D12")})
         g0 = 1.3 * ref.gamma
         sol = lmidsl.solve(mixed.h2hinf_sf_ct, data={**ex, "gamma0": g0})
-        if not sol.verdict()[0]:
+        if not sol.certified:
             continue
         met += 1
         d = {k: np.array(v, dtype=float) for k, v in ex.items()}
@@ -360,7 +360,7 @@ def test_energy_to_peak_design_is_below_its_bound_by_the_gramian():
     for seed in range(11, 19):
         ex = mixed._example(seed, False)
         sol = lmidsl.solve(mixed.e2p_sf_ct, data=ex)
-        assert sol.verdict()[0]
+        assert sol.certified
         d = {k: np.array(v, dtype=float) for k, v in ex.items()}
         K = sol.design["K"]
         Acl = d["A"] + d["B2"] @ K

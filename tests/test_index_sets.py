@@ -100,12 +100,12 @@ def test_one_mode_jump_system_is_the_textbook_hinf_state_feedback():
         assert sol.ok and ref.ok      # both optima (the design at the optimum may be ill-conditioned)
         assert abs(sol.gamma - ref.gamma) <= 1e-4 * ref.gamma
         delivered = lmidsl.solve(markov.mjls_hinf_sf_ct, data={"modes": [mode], "Pi": [[0.0]]})
-        assert delivered.verdict()[0] and delivered.analysis.gamma <= delivered.gamma * (1 + 1e-3)
+        assert delivered.certified and delivered.analysis.gamma <= delivered.gamma * (1 + 1e-3)
 
 
 def test_an_uncontrolled_mode_with_zero_input_matrix_gets_a_zero_gain():
     sol = lmidsl.solve(markov.mjls_sf_ct, example="three-modes")
-    assert sol.verdict()[0]
+    assert sol.certified
     assert np.allclose(sol.design["K_3"], 0.0)
     closed = [np.array(md["A"]) + np.array(md["B"]) @ sol.design[f"K_{k + 1}"]
               for k, md in enumerate(markov.EXAMPLE_MODES)]
@@ -168,8 +168,8 @@ def test_an_entry_of_plain_data_is_a_scalar_coefficient():
     thm.feasibility()
     ok = lmidsl.solve(thm, data={"A": [[-1.0, 0.0], [0.0, -2.0]], "Pd": [[0.0, 1.5], [0.0, 0.0]]})
     bad = lmidsl.solve(thm, data={"A": [[-1.0, 0.0], [0.0, -2.0]], "Pd": [[0.0, 2.5], [0.0, 0.0]]})
-    assert ok.verdict()[0]          # A + 0.75 I is Hurwitz
-    assert not bad.verdict()[0]     # A + 1.25 I is not
+    assert ok.certified          # A + 0.75 I is Hurwitz
+    assert not bad.certified     # A + 1.25 I is not
 
 
 @pytest.mark.parametrize("backend", ["direct", "cvxpy", "picos"])
