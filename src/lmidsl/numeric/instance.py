@@ -125,7 +125,7 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None, *,
     """
     if hasattr(theorem, "specialise"):
         theorem = theorem.specialise(inputs)
-    inputs = dict(inputs)
+    inputs = dict(theorem.inputs_for(inputs) if hasattr(theorem, "inputs_for") else inputs)
     check_assumptions(theorem, inputs, inputs.get("vertices") if isinstance(inputs.get("vertices"), list) else None)
     uncertain = bind_points(theorem, inputs)
     vertices = inputs.pop("vertices", None)

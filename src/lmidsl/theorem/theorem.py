@@ -25,6 +25,7 @@ from ..symbolic.uncertainty import uncertain_symbol
 from ..symbolic.symbols import (ConstantMatrix, DataMatrix, DerivedParam, as_symbolic, DiagonalVariable, Dim, Param, RecoveredMatrix,
                       ScalarVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
                       Variable, metadata_snapshot, restore_metadata)
+from . import index_set as _ix
 from .values import (DESIGN_KINDS, FIGURES, LATEX_RENDERER, LMI, TIME_DOMAINS, AnalysisLink, Bisection, BoundedRealForm, StateFeedbackForm,
                      Declaration, Derivation, ErrorSystemLink, Example, FactorStep, SignalScaling, Source,
                      check_provenance)
@@ -76,6 +77,11 @@ class Theorem:
         self.examples: dict[str, Example] = {}
         self.reported: dict[str, sp.Expr] = {}
         self.checks: list = []
+        self.index_sets: dict = {}             # name -> IndexSet (theorem/index_set.py)
+        self.indexed_decl: dict = {}           # name -> IndexedFamily (A[i], P[i], K[i])
+        self.coefficient_decl: dict = {}       # name -> CoefficientFamily (Pi[i, j])
+        self.indexed_recovery: dict = {}       # name -> (formula, family, quantifier)
+        self._members: dict = {}               # sizes -> member theorem (index sets)
         self.assumptions: list = []           # Theorem.assume (lmidsl.theorem.assumptions)
 
     # -- pickling ----------------------------------------------------------------------
@@ -86,7 +92,7 @@ class Theorem:
         solved theorem's variables)."""
         tags = {self.id, f"{self.id}#derivation"}
         tags |= {getattr(s, "tag", None) for lmi in self.lmis for s in lmi.symbols()}
-        return {**self.__dict__, "_symbol_metadata": metadata_snapshot(tags)}
+        return {**self.__dict__, "_members": {}, "_symbol_metadata": metadata_snapshot(tags)}
 
     def __setstate__(self, state: dict) -> None:
         state = dict(state)
@@ -107,7 +113,8 @@ class Theorem:
         taken = (self.dims.keys() | self.data_decl.keys() | self.var_decl.keys()
                  | self.param_decl.keys() | self.derived_decl.keys() | self.notation.keys()
                  | self.uncertain_decl.keys() | self.intermediate_decl.keys()
-                 | self.recovered_decl.keys())
+                 | self.recovered_decl.keys() | getattr(self, "indexed_decl", {}).keys()
+                 | getattr(self, "coefficient_decl", {}).keys())
         if name in taken:
             raise TheoremDefinitionError(f"{self.id}: the name {name!r} is declared twice")
 
@@ -127,9 +134,13 @@ class Theorem:
         return symbol
 
     def data(self, name: str, rows, cols, *, latex: str | None = None, description: str = "",
-             symmetric: bool = False, per_vertex: bool = False) -> DataMatrix:
-        """Declare a given matrix of shape rows × cols (dimension symbols or integers)."""
+             symmetric: bool = False, per_vertex: bool = False, over=None) -> DataMatrix:
+        """Declare a given matrix of shape rows × cols (dimension symbols or integers); ``over``
+        an index set (or a tuple of them): one matrix per member, ``A[i]`` (see
+        :mod:`lmidsl.theorem.index_set`)."""
         self._check_new(name)
+        if over is not None:
+            return self._indexed(name, "data", rows, cols, over, latex, description, symmetric)
         cls = SymmetricDataMatrix if symmetric else DataMatrix
         symbol = self._describe(cls(name, rows, cols, self.id), latex, description)
         symbol.per_vertex = per_vertex
@@ -137,8 +148,9 @@ class Theorem:
         return symbol
 
     def var(self, name: str, rows, cols=None, *, kind: str = "full", latex: str | None = None,
-            description: str = "", per_vertex: bool = False):
-        """Declare a decision matrix; ``kind`` is 'full', 'symmetric' or 'diagonal'."""
+            description: str = "", per_vertex: bool = False, over=None):
+        """Declare a decision matrix; ``kind`` is 'full', 'symmetric' or 'diagonal'; ``over`` an
+        index set (or a tuple of them): one variable per member, ``P[i]``."""
         self._check_new(name)
         classes = {"full": Variable, "symmetric": SymmetricVariable, "diagonal": DiagonalVariable}
         if kind not in classes:
@@ -146,6 +158,8 @@ class Theorem:
         cols = rows if cols is None else cols
         if kind != "full" and sp.expand(sp.sympify(rows) - sp.sympify(cols)) != 0:
             raise TheoremDefinitionError(f"{self.id}: {kind} variable {name} must be square")
+        if over is not None:
+            return self._indexed(name, kind, rows, cols, over, latex, description)
         symbol = self._describe(classes[kind](name, rows, cols, self.id), latex,
                                  description)
         symbol.per_vertex = per_vertex
@@ -222,6 +236,69 @@ class Theorem:
                                                 {"bound": symbol.bound, "points": points})
         return symbol
 
+    # -- index sets (theorem/index_set.py) -------------------------------------------------
+    def index_set(self, name: str, *, key: str | None = None, size: str = "N",
+                  latex: str | None = None, description: str = ""):
+        """Declare an index set {1, …, N} (modes, rules, subsystems); N is the length of the list
+        of objects under ``key`` (default: the name) in the data.  ``size`` names N (it may
+        appear in LMIs: ``(M.size - 1) * X``)."""
+        self._check_new(name)
+        if name in self.index_sets:
+            raise TheoremDefinitionError(f"{self.id}: the index set {name} is declared twice")
+        made = _ix.IndexSet(self, name, key or name, size, latex, description)
+        self.index_sets[name] = made
+        return made
+
+    def _indexed(self, name, kind, rows, cols, over, latex, description, symmetric=False):
+        sets = tuple(over) if isinstance(over, (tuple, list)) else (over,)
+        for s in sets:
+            if not isinstance(s, _ix.IndexSet) or self.index_sets.get(s.name) is not s:
+                raise TheoremDefinitionError(f"{self.id}: {name}: over={s!r} is not an index set "
+                                             f"of this theorem")
+        family = _ix.IndexedFamily(self, name, kind, rows, cols, sets, latex, description, symmetric)
+        self.indexed_decl[name] = family
+        # the template declares the generic member A[i] (printing: tables of data and variables)
+        generic = family[tuple(s.generic_index for s in sets)]
+        table = self.data_decl if kind == "data" else self.var_decl
+        table[name] = Declaration(generic, family.latex, description, {"indexed": True})
+        return family
+
+    def coefficients(self, name: str, over, *, structure: str | None = None,
+                     latex: str | None = None, matrix_latex: str | None = None,
+                     description: str = ""):
+        """Declare a matrix of scalar coefficients over an index set, used as ``Pi[i, j]``; bound
+        as one N×N datum whose ``structure`` ('generator', 'stochastic', 'nonnegative') is
+        checked at bind time; ``latex`` names the entries (π → π_ij), ``matrix_latex`` the
+        matrix (Π)."""
+        self._check_new(name)
+        if not isinstance(over, _ix.IndexSet):
+            raise TheoremDefinitionError(f"{self.id}: coefficients {name}: over must be an index set")
+        family = _ix.CoefficientFamily(self, name, over, structure, latex, description)
+        self.coefficient_decl[name] = family
+        symbol = self._describe(DataMatrix(f"{name}#matrix", over.size, over.size, self.id),
+                                matrix_latex or name, description)
+        self.data_decl[name] = Declaration(symbol, symbol.latex_name, description, {"indexed": True})
+        return family
+
+    def specialise(self, inputs: dict) -> "Theorem":
+        """The theorem for these inputs: itself, or, for a theorem with index sets, the member
+        for the sizes the inputs give (built once per sizes, see :mod:`lmidsl.theorem.index_set`)."""
+        if not self.index_sets:
+            return self
+        sizes = _ix.sizes_from_inputs(self, inputs)
+        key = tuple(sorted(sizes.items()))
+        if key not in self._members:
+            self._members[key] = _ix.build_member(self, sizes)
+        return self._members[key]
+
+    def inputs_for(self, inputs: dict) -> dict:
+        """The inputs in this theorem's own names (a member of an indexed theorem flattens
+        ``"modes": [{"A": …}, …]`` into ``A_1, …``); unchanged for any other theorem."""
+        template = getattr(self, "template", None)
+        if template is None:
+            return inputs
+        return _ix.flatten_inputs(template, inputs, self.member_sizes)
+
     def determined(self) -> set:
         """The decision variables the LMIs declared so far determine: every variable in an LMI
         block (a structured variable's entries included)."""
@@ -238,9 +315,11 @@ class Theorem:
         mentions: its value at the solution would be whatever the solver left there.  ``what``
         says where the expression is used ("the recovery of Af", "the objective")."""
         determined = self.determined()
+        names = {getattr(s, "name", None) for s in determined}
         for symbol in sorted(sp.sympify(expr).atoms(sp.Symbol, sp.MatrixSymbol), key=str):
             if (isinstance(symbol, (Variable, ScalarVariable, StructuredVariable))
-                    and symbol not in determined):
+                    and symbol not in determined
+                    and not (len(getattr(symbol, "args", ())) > 4 and symbol.name in names)):
                 raise TheoremDefinitionError(
                     f"{self.id}: {what} uses the decision variable {symbol.name}, which is in no "
                     f"LMI declared before it, so the LMIs do not determine it (declare the LMIs "
@@ -248,10 +327,15 @@ class Theorem:
 
     # -- conditions ---------------------------------------------------------------------
     def lmi(self, label, rows=None, *, sense: str = "<", triangle: str = "lower", sizes=None,
-            strict: bool = True, description: str = "") -> LMI:
+            strict: bool = True, description: str = "", forall=None, where=None) -> LMI:
         """Declare the block LMI ``label``: one triangle of blocks, ``sense`` '<' or '>'.
         ``thm.lmi(rows)`` labels it itself: (1), (2), ...; a numpy array in a block is constant
-        data (:func:`~lmidsl.symbolic.symbols.constant_matrix`), given in the example 'data'."""
+        data (:func:`~lmidsl.symbolic.symbols.constant_matrix`), given in the example 'data'.
+
+        With indices (:meth:`index_set`): ``forall`` the quantified indices (default: every free
+        index), ``where`` a condition on them (``i < j``, ``Ne(i, j)``); one LMI per instance
+        at bind time."""
+        condition = where
         if rows is None:
             label, rows = f"({len(self.lmis) + 1})", label
         if isinstance(rows, (list, tuple)):
@@ -272,6 +356,10 @@ class Theorem:
         if any(isinstance(a, RecoveredMatrix) for a in lmi.symbols()):
             raise TheoremDefinitionError(f"{where}: uses a recovery intermediate (declared by factor)")
         lmi.per_vertex = any(getattr(s, "per_vertex", False) for s in lmi.symbols())
+        quantifier = _ix.quantifier_for(self.id, f"LMI {label}", [b for r in spec.lower for b in r],
+                                        forall, condition)
+        if quantifier is not None:
+            lmi.quantifier = quantifier
         self._declare_constants(lmi.symbols())
         self.lmis.append(lmi)
         return lmi
@@ -291,9 +379,11 @@ class Theorem:
         self.assumptions.append(assumption)
         return assumption
 
-    def positive(self, *variables, label: str | None = None) -> list[LMI]:
-        """Declare ``X > 0`` for each variable (labelled 'X > 0' unless ``label`` is given)."""
-        return [self.lmi(label or f"{v.name} > 0", [[v]], sense=">") for v in variables]
+    def positive(self, *variables, label: str | None = None, forall=None, where=None) -> list[LMI]:
+        """Declare ``X > 0`` for each variable (labelled 'X > 0' unless ``label`` is given);
+        ``P[i]`` of an index set: for every i."""
+        return [self.lmi(label or f"{v.name} > 0", [[v]], sense=">", forall=forall, where=where)
+                for v in variables]
 
     def minimize(self, objective, *, performance: tuple[str, Any] | None = None):
         """Minimise a scalar objective affine in the decision variables (``g``, ``g1 + g2``,
@@ -339,6 +429,27 @@ class Theorem:
         """Extra certificates run after recovery: callables ``check(solution) -> CheckResult``
         (frequency sweeps, simulations; see :mod:`lmidsl.theorem.checks`)."""
         self.checks.extend(checks)
+
+    def recover_each(self, forall, **formulas):
+        """Recovery formulas for every member, e.g. ``K = thm.recover_each(i, K=W[i] * Y[i].I)``
+        (Kᵢ = WᵢYᵢ⁻¹ for every i); returns the indexed families (``K[i]``)."""
+        made = []
+        q = _ix.quantifier_for(self.id, "recovery", list(formulas.values()), forall, None)
+        if q is None:
+            raise TheoremDefinitionError(f"{self.id}: recover_each: no index in {list(formulas)}")
+        for name, expr in formulas.items():
+            where = f"{self.id}: recovery of {name}"
+            shape = check_conformance(expr, where=where)
+            self._check_determined(expr, f"the recovery of {name}")
+            self._check_new(name)
+            sets = tuple(self.index_sets[k.set_name] for k in q.indices)
+            family = _ix.IndexedFamily(self, name, "recovered", shape[0], shape[1], sets, None, "")
+            self.indexed_decl[name] = family
+            self.indexed_recovery[name] = (sp.sympify(expr), family, q)
+            self.recovery[name] = sp.sympify(expr)      # printed as K = W_i Y_i^{-1}
+            self.recovery_steps.append(("formula", name))
+            made.append(family)
+        return made[0] if len(made) == 1 else tuple(made)
 
     def recover(self, **formulas):
         """Recovery formulas, e.g. ``Af=V2.I * Af_hat``: evaluated after the solve, in order.
@@ -585,5 +696,9 @@ class Theorem:
         if not (lower < upper and tol > 0):
             raise TheoremDefinitionError(f"{self.id}: bisect: need lower < upper and tol > 0")
         self.bisection = Bisection(parameter, float(lower), float(upper), float(tol), goal, performance)
+        extra = self.param_decl[parameter].extra
+        if extra.get("default") is None:
+            # the bisection sets the parameter: data need not give it (bound at the feasible end)
+            extra["default"] = float(lower) if goal == "max" else float(upper)
         return self.bisection
 
