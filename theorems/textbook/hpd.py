@@ -50,11 +50,12 @@ PIPELEERS = ("G. Pipeleers, B. Demeulenaere, J. Swevers, L. Vandenberghe, Extend
 
 
 def random_polytope(seed: int, n: int = 3, vertices: int = 2, time: str = "continuous",
-                    spread: float = 1.0, margin: float = 1.0, inputs: int = 0, outputs: int = 0) -> dict:
+                    spread: float = 1.0, margin: float = 1.0, inputs: int = 0, outputs: int = 0,
+                    centre: bool = False) -> dict:
     """{"vertices": [{"A": …}, …]}: a stable centre A₀ (abscissa −``margin`` / radius 1 −
     0.1·``margin``) plus ``spread`` times random directions of unit 2-norm, one per vertex
     (numpy seed ``seed``); with ``inputs``/``outputs``, B and C per vertex, a random centre
-    spread likewise (D = 0)."""
+    spread likewise (D = 0).  ``centre``: A₀ under "A0" too (not an input of the theorems)."""
     rng = np.random.default_rng(seed)
     A0 = rng.standard_normal((n, n))
     if time == "continuous":
@@ -75,7 +76,7 @@ def random_polytope(seed: int, n: int = 3, vertices: int = 2, time: str = "conti
         if outputs:
             v["C"] = spread_of(C0)
         out.append(v)
-    return {"vertices": out}
+    return {"vertices": out, **({"A0": A0} if centre else {})}
 
 
 def _statement(id, title, equations, time, *, description, degree=1, polya=0, source=OP2007,

@@ -148,21 +148,16 @@ def worst_point(vertex_systems: list, sizes: tuple, measure: str, time: str, *, 
     moves = _moves(sizes)
     for start in order:
         alpha, value = flats[start].copy(), float(values[start])
-        h = 0.5 / resolution
-        while h > 1e-6:
-            improved = False
-            for d in moves:
-                trial = alpha + h * d
-                if trial.min() < 0:
-                    continue
-                v = measure_value(at(vertex_systems, _split(trial, sizes)), measure, time)
-                if v > value:
-                    alpha, value, improved = trial, v, True
-                    if np.isinf(v):
-                        break
-            if np.isinf(value):
-                break
-            if not improved:
+        h, steps = 0.5 / resolution, 0
+        while h > 1e-6 and steps < 400 and not np.isinf(value):
+            steps += 1
+            trials = [alpha + h * d for d in moves]
+            trials = [t for t in trials if t.min() >= 0]
+            scores = [measure_value(at(vertex_systems, _split(t, sizes)), measure, time) for t in trials]
+            k = int(np.argmax(scores)) if scores else -1
+            if k >= 0 and scores[k] > value:           # the steepest move, or a smaller step
+                alpha, value = trials[k], scores[k]
+            else:
                 h /= 2
         if value > best:
             best_alpha, best = alpha, value
