@@ -1,13 +1,13 @@
 """HPPD robust stability on generated polytopes, checked against a grid of the simplex.
 
-For each (time domain, n, N vertices, seed): a centre A_c and N random directions Xᵢ
-(``random_polytope`` of theorems/textbook/hpd.py), vertices Aᵢ(t) = A_c + tXᵢ shifted (continuous:
-spectral abscissa −1) or scaled (discrete: spectral radius 0.95), so that every vertex is stable
-for every t while the vertices move apart as t grows.  The grid of the simplex
+For each (time domain, n, N vertices, seed): ``spread_polytope`` of theorems/textbook/hpd.py,
+vertices Aᵢ(t) = A_c + tXᵢ shifted (continuous: spectral abscissa −1) or scaled (discrete:
+spectral radius 0.95), so that every vertex is stable for every t while the vertices move apart
+as t grows.  The grid of the simplex
 (lmidsl.certify.simplex_grid: eigenvalues at every grid point, refined; independent of the
 LMIs) gives t*, where an unstable point first appears (bisection).  Two polytopes per case:
 
-* "stable": t = 0.97 t*, robustly stable by the grid;
+* "stable": t = 0.97 t* and t = 0.995 t*, robustly stable by the grid;
 * "interior-unstable": t = 1.03 t*, stable vertices and an unstable point inside (the grid's).
 
 Each is solved by textbook.hpd_stability_ct/dt for (g, d) in DEGREES; a certificate (every LMI
@@ -31,35 +31,22 @@ sys.path.insert(0, str(ROOT))
 
 from lmidsl.certify.simplex_grid import grid_evidence  # noqa: E402
 from lmidsl.pipeline import make_instance, solve_instance  # noqa: E402
-from theorems.textbook.hpd import hpd_stability_ct, hpd_stability_dt, random_polytope  # noqa: E402
+from theorems.textbook.hpd import hpd_stability_ct, hpd_stability_dt, spread_polytope  # noqa: E402
 
 DEGREES = ((0, 0), (1, 0), (1, 1), (2, 0), (2, 1), (3, 0), (3, 1))
 CASES = [(n, N) for n in (2, 3, 4, 6) for N in (2, 3, 4)]
 
 
-def vertices_at(parts: dict, t: float, time_: str) -> list:
-    """Aᵢ(t) from Mᵢ(t) = A_c + t Xᵢ, normalised so that every vertex keeps its spectral abscissa
-    at −1 (continuous) or its spectral radius at 0.95 (discrete) for every t."""
-    out = []
-    for X in parts["directions"]:
-        M = parts["centre"] + t * X
-        eig = np.linalg.eigvals(M)
-        A = M - (eig.real.max() + 1.0) * np.eye(len(M)) if time_ == "continuous" else 0.95 * M / np.abs(eig).max()
-        out.append({"A": A.tolist()})
-    return out
+def vertices_at(case: tuple, t: float) -> list:
+    seed, n, N, time_ = case
+    return spread_polytope(seed, n, N, time_, t)["vertices"]
 
 
-def generate(seed: int, n: int, N: int, time_: str) -> dict:
-    """A_c and N directions Xᵢ (numpy seed ``seed``; ``random_polytope`` of theorems/textbook/hpd.py)."""
-    data = random_polytope(seed, n=n, vertices=N, time=time_, spread=1.0, margin=1.0, centre=True)
-    return {"centre": data["A0"], "directions": [np.asarray(v["A"]) - data["A0"] for v in data["vertices"]]}
-
-
-def grid_threshold(parts: dict, time_: str, resolution: int, hi: float = 1.0) -> float | None:
+def grid_threshold(case: tuple, resolution: int, hi: float = 1.0) -> float | None:
     """The t at which the grid first finds an unstable point (bisection, 20 steps); None when
     none up to t = 64."""
     def stable(t):
-        return not grid_evidence(vertices_at(parts, t, time_), None, time_, resolution=resolution).refutes
+        return not grid_evidence(vertices_at(case, t), None, case[3], resolution=resolution).refutes
     lo = 0.0
     while stable(hi):
         if hi >= 64:
@@ -83,16 +70,16 @@ def run(seeds: int, resolution: int = 16) -> list:
         theorem = hpd_stability_ct if time_ == "continuous" else hpd_stability_dt
         for n, N in CASES:
             for seed in range(seeds):
-                parts = generate(1000 * n + 100 * N + seed, n, N, time_)
-                t_star = grid_threshold(parts, time_, resolution)
+                case = (1000 * n + 100 * N + seed, n, N, time_)
+                t_star = grid_threshold(case, resolution)
                 if t_star is None:
                     continue
-                for kind, factor in (("stable", 0.97), ("interior-unstable", 1.03)):
-                    vertices = vertices_at(parts, factor * t_star, time_)
+                for kind, factor in (("stable", 0.97), ("stable", 0.995), ("interior-unstable", 1.03)):
+                    vertices = vertices_at(case, factor * t_star)
                     ev = grid_evidence(vertices, None, time_, resolution=resolution)
                     if ev.refutes != (kind == "interior-unstable"):
                         continue
-                    row = {"time": time_, "n": n, "N": N, "seed": seed, "kind": kind, "t": factor * t_star,
+                    row = {"time": time_, "n": n, "N": N, "seed": seed, "kind": kind, "t": factor * t_star, "factor": factor, "case_seed": case[0],
                            "grid_worst": ev.worst_value, "grid_alpha": ev.worst_alpha, "certified": {}}
                     t0 = time.perf_counter()
                     for g, d in DEGREES:
@@ -105,15 +92,15 @@ def run(seeds: int, resolution: int = 16) -> list:
 
 
 def table(rows: list) -> str:
-    lines = ["| time | polytopes | kind | " + " | ".join(f"g={g}, d={d}" for g, d in DEGREES) + " |",
+    lines = ["| time | polytopes | kind (t/t*) | " + " | ".join(f"g={g}, d={d}" for g, d in DEGREES) + " |",
              "|---|---|---|" + "---|" * len(DEGREES)]
     for time_ in ("continuous", "discrete"):
-        for kind in ("stable", "interior-unstable"):
-            sel = [r for r in rows if r["time"] == time_ and r["kind"] == kind]
+        for kind, factor in (("stable", 0.97), ("stable", 0.995), ("interior-unstable", 1.03)):
+            sel = [r for r in rows if r["time"] == time_ and r["kind"] == kind and r["factor"] == factor]
             if not sel:
                 continue
             cells = [f"{sum(r['certified'][f'{g},{d}'] for r in sel)}/{len(sel)}" for g, d in DEGREES]
-            lines.append(f"| {time_} | {len(sel)} | {kind} | " + " | ".join(cells) + " |")
+            lines.append(f"| {time_} | {len(sel)} | {kind} ({factor}) | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 

@@ -11,7 +11,8 @@ from .h2 import THEOREMS as _H2
 from .kyp import THEOREMS as _KYP
 from .regions import THEOREMS as _REGIONS
 from .polytopic import THEOREMS as _POLYTOPIC
+from .hpd import THEOREMS as _HPD
 
-THEOREMS = [*_BRL, *_HINF_SF, *_HINF_OF, *_HINF_FILTER, *_H2, *_KYP, *_REGIONS, *_POLYTOPIC]
+THEOREMS = [*_BRL, *_HINF_SF, *_HINF_OF, *_HINF_FILTER, *_H2, *_KYP, *_REGIONS, *_POLYTOPIC, *_HPD]
 
 __all__ = ["THEOREMS"]

@@ -79,6 +79,21 @@ def random_polytope(seed: int, n: int = 3, vertices: int = 2, time: str = "conti
     return {"vertices": out, **({"A0": A0} if centre else {})}
 
 
+def spread_polytope(seed: int, n: int, vertices: int, time: str, t: float) -> dict:
+    """{"vertices": [{"A": Aᵢ(t)}, …]}: Mᵢ(t) = A_c + t Xᵢ (A_c, Xᵢ of :func:`random_polytope`
+    with this seed), shifted to spectral abscissa −1 (continuous) or scaled to spectral radius
+    0.95 (discrete): every vertex is stable for every t, and the vertices move apart as t
+    grows, until some interior point is unstable (benchmarks/stress/hppd_study.py finds where)."""
+    data = random_polytope(seed, n=n, vertices=vertices, time=time, spread=1.0, margin=1.0, centre=True)
+    out = []
+    for v in data["vertices"]:
+        M = data["A0"] + t * (np.asarray(v["A"]) - data["A0"])
+        eig = np.linalg.eigvals(M)
+        A = M - (eig.real.max() + 1.0) * np.eye(n) if time == "continuous" else 0.95 * M / np.abs(eig).max()
+        out.append({"A": A.tolist()})
+    return {"vertices": out}
+
+
 def _statement(id, title, equations, time, *, description, degree=1, polya=0, source=OP2007,
                short="Oliveira & Peres 2007", provenance="paper", provenance_note=""):
     thm = RobustTheorem(id, title, Source(short, equations, source), time=time, degree=degree, polya=polya,
