@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from lmidsl import He, InputError, Source
+from lmidsl import He, I, InputError, Source
 from lmidsl.certify.simplex_grid import grid_evidence, simplex_points
 from lmidsl.numeric.evaluate import NumericEvaluator
 from lmidsl.pipeline import make_instance, solve, solve_instance
@@ -291,3 +291,28 @@ def test_latex_of_the_statement_and_of_the_coefficients():
 def test_grid_points_cover_the_simplex():
     pts = simplex_points(3, 4)
     assert len(pts) == comb(3 + 4 - 1, 4) and np.allclose(pts.sum(axis=1), 1) and pts.min() >= 0
+
+
+# -- a published number: YALMIP's robust Pólya test --------------------------------------------------
+def test_yalmip_robust_polya_example():
+    """YALMIP's test suite, test_robust_4.m (github.com/yalmip/YALMIP): A(t) = [[-1, 1 + t1 + 0.1 t2],
+    [0, -2 + 0.9 t1]], t in the simplex, P(t) = t1 P1 + t2 P2, A'P + PA ⪯ −I, P ⪰ 0, min trace P(t)
+    (the worst case over t), robust.polya = 1: YALMIP asserts max(tr P1, tr P2) = 1.8203 (±1e-2).
+    Here stated once in α; the vertices are A at t = (1, 0) and (0, 1)."""
+    thm = RobustTheorem("t.yalmip", "YALMIP test_robust_4", Source("YALMIP", "test_robust_4.m"),
+                        time="continuous", degree=1, polya=1)
+    n = thm.dim("n")
+    alpha = thm.simplex("alpha")
+    A = thm.data("A", n, n, over=alpha)
+    P = thm.var("P", n, kind="symmetric", over=alpha)
+    tau = thm.scalar("tau")
+    thm.lmi("(Lyapunov)", [[He(P * A) + I]], sense="<=")
+    thm.lmi("(P)", [[P]], sense=">=")
+    thm.lmi("(objective)", [[(tau - sp.Trace(P)) * I]], sense=">=", sizes=[1])
+    thm.minimize(tau)
+    vertices = [{"A": [[-1, 2], [0, -1.1]]}, {"A": [[-1, 1.1], [0, -2]]}]
+    sol = solve(thm, data={"vertices": vertices}, certify=False)
+    assert sol.ok
+    traces = [np.trace(sol.values["P_10"]), np.trace(sol.values["P_01"])]
+    assert max(traces) == pytest.approx(1.8203, abs=1e-4)
+    assert sol.values["tau"] == pytest.approx(max(traces), rel=1e-6)

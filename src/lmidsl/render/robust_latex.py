@@ -105,3 +105,25 @@ def coefficient_lmis_latex(member) -> str:
             body = lmi_latex(member, by_label[member_label])
             lines.append(rf"{body} \qquad \text{{{tex_text(label)}, }} {alpha}^{{({exponent_latex(exponent)})}}")
     return "$$\\begin{gathered}\n" + " \\\\\n".join(lines) + "\n\\end{gathered}$$"
+
+
+def robust_conditions_latex(theorem, member=None) -> str:
+    r"""The 'Conditions' of a LaTeX document (:func:`lmidsl.render.latex_document.theorem_latex`)
+    for a statement over the simplex: each LMI once, in α, "for all α ∈ Λ_N", the polynomial
+    forms and the degrees (uses the document's ``\lmidisplay``)."""
+    from .latex import display_lmi, grouped_display
+    out = [rf"For all ${domain_latex(theorem, member)}$:"]
+    for lmi in theorem.lmis:
+        body = printer_for(theorem, lmi, vertex_index=None).doprint(lmi)
+        out.append(display_lmi(theorem, _untagged_vertex(lmi), body, []))
+    sizes = _sizes(theorem, member)
+    where = _definitions(theorem, member) + [_simplex_set(s, n) for s, n in zip(theorem.simplices, sizes)]
+    out.append("where\n" + grouped_display(where, end="."))
+    out.append(f"${_degrees_text(theorem, member)}$.")
+    return "\n\n".join(out)
+
+
+def _untagged_vertex(lmi):
+    """The LMI as printed: stated once in α, not per vertex."""
+    from dataclasses import replace
+    return replace(lmi, per_vertex=False)
