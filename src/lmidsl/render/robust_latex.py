@@ -13,10 +13,12 @@ Plain LaTeX (MathJax, KaTeX and the document preamble alike).
 """
 from __future__ import annotations
 
-from ..symbolic.simplex import exponent_latex
-from .latex import lmi_latex, printer_for, tex_text
+from dataclasses import replace
 
-__all__ = ["robust_statement_latex", "coefficient_lmis_latex", "domain_latex"]
+from ..symbolic.simplex import exponent_latex
+from .latex import display_lmi, grouped_display, lmi_latex, printer_for, tex_text
+
+__all__ = ["robust_statement_latex", "robust_conditions_latex", "coefficient_lmis_latex", "domain_latex"]
 
 
 def _simplex_set(s, size: str) -> str:
@@ -111,7 +113,6 @@ def robust_conditions_latex(theorem, member=None) -> str:
     r"""The 'Conditions' of a LaTeX document (:func:`lmidsl.render.latex_document.theorem_latex`)
     for a statement over the simplex: each LMI once, in α, "for all α ∈ Λ_N", the polynomial
     forms and the degrees (uses the document's ``\lmidisplay``)."""
-    from .latex import display_lmi, grouped_display
     out = [rf"For all ${domain_latex(theorem, member)}$:"]
     for lmi in theorem.lmis:
         body = printer_for(theorem, lmi, vertex_index=None).doprint(lmi)
@@ -125,5 +126,4 @@ def robust_conditions_latex(theorem, member=None) -> str:
 
 def _untagged_vertex(lmi):
     """The LMI as printed: stated once in α, not per vertex."""
-    from dataclasses import replace
     return replace(lmi, per_vertex=False)
