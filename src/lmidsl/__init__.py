@@ -53,7 +53,7 @@ _LAZY = {
     "kron": "symbolic.indexed",
     "CheckResult": "theorem.checks", "reported_agree": "theorem.checks",
     "Family": "theorem.family", "SubsystemFamily": "theorem.family", "TheoremFamily": "theorem.family",
-    "member_label": "theorem.family",
+    "member_label": "theorem.family", "RobustTheorem": "theorem.robust",
     "all_theorems": "theorem.registry", "get_theorem": "theorem.registry",
     "Theorem": "theorem.theorem",
     "Example": "theorem.values", "SimulationTable": "theorem.values", "Source": "theorem.values",
@@ -70,7 +70,7 @@ _LAZY.update({name: "numeric.changes_of_variables" for name in (
 
 __all__ = ["Theorem", "Source", "Example", "I", "He", "diag", "schur", "congruence",
            "block_matrix", "NormBounded", "sprocedure", "TheoremFamily", "SubsystemFamily",
-           "Family", "member_label", "rs_split", "balanced_split", "ErrorSystem",
+           "Family", "member_label", "RobustTheorem", "rs_split", "balanced_split", "ErrorSystem",
            "mn_split", "state_feedback_gain", "output_feedback_blocks", "filter_blocks",
            "output_feedback", "loop_shift", "full_order_filter", "closed_loop_matrices",
            "state_feedback_closed_loop", "filter_error_matrices",

@@ -193,6 +193,8 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None, *,
                     raise InputError(f"{theorem.id}: data {name} must be symmetric")
     dims = _infer_dims(theorem, matrices, given_dims)
     _refuse_empty_variables(theorem, dims)
+    for alias, (name, v) in getattr(theorem, "vertex_data", {}).items():   # A_i of A(α): theorem/robust.py
+        data[alias] = data[name][v]
     params = _evaluate_params(theorem, {k: inputs[k] for k in theorem.param_decl if k in inputs})
     instance = Instance(theorem, dims, data, params, nvertices, example, uncertain=uncertain)
     check_symmetric_blocks(instance)

@@ -20,6 +20,7 @@ from .latex import (equation_tag, grouped_display, latex_of,
                     printer_for, lmi_where, name_to_latex, with_vertex_index)
 from .latex_layout import choose_letter, definition, lmi_layout
 from .latex_text import latex_matrix, latex_number, tex_text
+from .robust_latex import robust_conditions_latex
 from ..symbolic.symbols import DiagonalVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable
 from ..errors import InputError, LmidslError, did_you_mean
 from ..theorem.registry import get_theorem, linked_analysis
@@ -229,7 +230,7 @@ def theorem_latex(theorem, solution=None, **settings) -> str:
         for decl in theorem.data_decl.values():
             s = decl.symbol
             note = tex_text(decl.description)
-            if s.per_vertex:
+            if s.per_vertex and not getattr(theorem, "simplices", None):
                 note += (", " if note else "") + f"per vertex (${with_vertex_index(latex_of(s), 'i')}$)"
             rows.append([f"${printer.doprint(s)}$", f"${_shape_latex(printer, s)}$", note])
         out.append("\\subsection*{Data}\n" + _table(["symbol", "in", "description"], rows,
@@ -263,10 +264,13 @@ def theorem_latex(theorem, solution=None, **settings) -> str:
                    + _table(["symbol", "in", "kind", "description"], rows, "llll"))
 
     out.append("\\subsection*{Conditions}")
-    if any(l.per_vertex for l in theorem.lmis):
-        out.append(r"The subscript $i$ runs over the $N$ vertices of the polytope of data.")
     defined: set = set()
-    out += _condition_latex(theorem, settings, defined)
+    if getattr(theorem, "simplices", None):      # stated once in α: render/robust_latex.py
+        out.append(robust_conditions_latex(theorem))
+    else:
+        if any(l.per_vertex for l in theorem.lmis):
+            out.append(r"The subscript $i$ runs over the $N$ vertices of the polytope of data.")
+        out += _condition_latex(theorem, settings, defined)
 
     if theorem.objective is not None:
         obj = printer.doprint(theorem.objective)
