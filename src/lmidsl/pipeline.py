@@ -261,7 +261,7 @@ def finish_solution(solution: Solution, plan: Plan | None = None, certify: bool 
 def solve(theorem, example: str | None = None, data: dict | None = None,
           overrides: dict | None = None, solver: str | None = None, backend: str | None = None,
           margin: float | None = None, certify: bool = True, scaling="auto",
-          backoff="auto", diagnose: bool = True, **options) -> Solution:
+          backoff="auto", diagnose: bool = True, bounds: bool = True, **options) -> Solution:
     """Solve a theorem on an example or data; returns a :class:`Solution`.  By default
     (``backoff="auto"``) a design that its analysis does not certify at the optimum, or whose
     recovery is ill-conditioned, is recovered at γ² ≤ (1 + 10⁻²) γ*² instead (both reported)."""
@@ -269,6 +269,6 @@ def solve(theorem, example: str | None = None, data: dict | None = None,
     instance = make_instance(theorem, example, data, overrides)
     bind_time = time.perf_counter() - t0
     solution = solve_instance(instance, solver, backend, margin, certify, scaling, backoff,
-                              diagnose=diagnose, **options)
+                              diagnose=diagnose, bounds=bounds, **options)
     solution.times = {"bind": bind_time, **solution.times}
     return solution

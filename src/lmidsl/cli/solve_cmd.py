@@ -21,6 +21,9 @@ def register(sub):
                    help="exact signal rescaling declared by the theorem, applied and undone by lmidsl "
                         "(default auto)")
     add_backoff_argument(p)
+    p.add_argument("--no-bounds", action="store_true",
+                   help="skip the proved lower bound on the optimum (the dual bound) and the "
+                        "infeasibility proof; the verdict then never says 'optimal'")
     p.add_argument("--no-certify", action="store_true", help="skip the analysis certificate")
     p.set_defaults(run=run)
 
@@ -53,6 +56,7 @@ def run(args):
     if spec is not None and spec.parameter not in parse_overrides(args.overrides):
         return run_bisection(args)     # a GEVP: bisect on the declared parameter (--set it to solve at one value)
     sol = solve(args.theorem, certify=not args.no_certify, scaling=args.scaling, backoff=args.backoff,
+                bounds=not args.no_bounds,
                 **solve_arguments(args), **instance_spec(args))
     if args.json:
         print_json(sol.as_dict())

@@ -49,6 +49,7 @@ class ReproductionRow:
     expect: str = "certified"
     verdict: dict | None = None     # the solve's verdict record (lmidsl.solver.verdict), refuted by
                                     # an exact figure above the certified level
+    bounds: dict | None = None      # the optimum's bracket: proved lower bound, proved optimum level
 
     @property
     def outcome(self) -> str:
@@ -132,7 +133,8 @@ def reproduce_one(theorem_id: str, example: str, solver: str | None = None, **so
         record = replace(record, certified=False, word=REFUTED, why=why, reasons=(why,))
     row = ReproductionRow(theorem_id, example, kind, printed, computed, rel, sol.status,
                           sol.worst_eig, analysis.gamma if analysis is not None else None, certified,
-                          verdict, provenance=provenance, expect=expect, verdict=record.as_dict())
+                          verdict, provenance=provenance, expect=expect, verdict=record.as_dict(),
+                          bounds=record.bracket)
     if figure is not None:
         row.exact_kind, row.exact_gamma = figure.kind, figure.value
         row.mean_square_stable, row.spectral_radius = figure.mean_square_stable, figure.spectral_radius
