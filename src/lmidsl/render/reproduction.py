@@ -36,7 +36,8 @@ def defined_words() -> list[tuple[str, str]]:
         ("certified", "every LMI proved at the returned point, the analysis counterpart certifies "
                       "the recovered design, and its exact figure does not exceed γ"),
         ("NOT certified", "one of these fails (the row says which)"),
-        ("infeasible", "no strictly feasible point exists (feasp); other words are solver statuses"),
+        ("infeasible", "no strictly feasible point exists, proved (a theorem-of-alternatives "
+                       "certificate); other words are solver statuses"),
     ]
 
 

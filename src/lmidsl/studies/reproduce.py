@@ -56,8 +56,10 @@ class ReproductionRow:
         """One of :data:`~lmidsl.theorem.values.OUTCOMES`."""
         if self.certified:
             return "certified"
+        if (self.verdict or {}).get("word") == "infeasible":
+            return "infeasible"                # proved (lmidsl.solver.infeasibility)
         if self.status in (INFEASIBLE, MARGINAL):
-            return "infeasible"
+            return "not solved"                # feasp's word, not a proof
         if self.computed_gamma is not None or solved(self.status):
             return "not certified"
         return "not solved"

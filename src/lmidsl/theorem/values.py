@@ -29,8 +29,8 @@ PROVENANCE = {
 
 OUTCOMES = ("certified", "not certified", "infeasible", "not solved")
 """What solving an example ends in, best first: the solution certified (every LMI proved, the
-analysis and checks passed); solved but not certified; proved infeasible (feasp); no solver
-returned a point.  An example declares the outcome it is known to have (``expect``, default
+analysis and checks passed); solved but not certified; proved infeasible (a theorem-of-alternatives certificate); neither
+a point proved nor infeasibility proved.  An example declares the outcome it is known to have (``expect``, default
 certified); ``lmidsl reproduce`` fails when a row ends worse than that."""
 
 
