@@ -23,6 +23,7 @@ from ..errors import InputError, LmidslError
 from ..numeric.instance import Instance
 from ..pipeline import finish_solution
 from ..solver.backends import get_backend
+from ..solver.infeasibility import prove_infeasible
 from ..solver.plan import Plan
 from ..solver.solution import Solution
 from ..solver.verdict import CERTIFIED, NOT_CERTIFIED, NOT_SOLVED, Verdict, quantity_words
@@ -43,6 +44,7 @@ class BisectionResult:
     steps: list = field(default_factory=list)   # {value, feasible, status, worst_eig}
     solution: Solution | None = None        # certified (and proved) point at the feasible end
     message: str = ""
+    infeasible_end_proof: object = None      # lmidsl.solver.infeasibility.InfeasibilityCertificate
     compile_time: float = 0.0
     total_time: float = 0.0
 
@@ -57,6 +59,14 @@ class BisectionResult:
         return self.solution is not None and self.solution.verdict.certified
 
     @property
+    def feasible_end_proved(self) -> bool:
+        return self.holds
+
+    @property
+    def infeasible_end_proved(self) -> bool:
+        return bool(self.infeasible_end_proof is not None and self.infeasible_end_proof.proved)
+
+    @property
     def verdict(self) -> Verdict:
         """The headline is the feasible end (proved by the point there); the bracket's other end
         is where no route returned a certified point (not a proof of infeasibility)."""
@@ -65,7 +75,8 @@ class BisectionResult:
         if self.holds:
             why = f"a proved point at {self.parameter} = {self.feasible_end:.10g}"
             if self.infeasible_end is not None:
-                why += f"; none found at {self.infeasible_end:.10g} (not a proof)"
+                why += (f"; infeasible at {self.infeasible_end:.10g}, proved" if self.infeasible_end_proved
+                        else f"; none found at {self.infeasible_end:.10g} (not proved infeasible)")
             return Verdict(True, CERTIFIED, self.feasible_end, why, self.parameter, words, levels)
         if self.solution is None:
             return Verdict(False, NOT_SOLVED, None, self.message or "no certified point on the interval",
@@ -78,7 +89,10 @@ class BisectionResult:
                 "goal": self.goal, "lower": self.lower, "upper": self.upper, "tol": self.tol,
                 "feasible_end": self.feasible_end, "infeasible_end": self.infeasible_end,
                 "interval": list(self.interval), "steps": self.steps, "message": self.message,
-                "holds": self.holds, "verdict": self.verdict.as_dict(), "gamma": self.verdict.gamma,
+                "holds": self.holds, "feasible_end_proved": self.feasible_end_proved,
+                "infeasible_end_proved": self.infeasible_end_proved,
+                "infeasible_end_proof": None if self.infeasible_end_proof is None else self.infeasible_end_proof.as_dict(),
+                "verdict": self.verdict.as_dict(), "gamma": self.verdict.gamma,
                 "compile_time": self.compile_time, "total_time": self.total_time,
                 "solution": None if self.solution is None else self.solution.as_dict()}
 
@@ -173,6 +187,9 @@ def bisect(instance: Instance, *, lower: float | None = None, upper: float | Non
         solution.notes.append(f"bisection on {spec.parameter}: {len(stepper.steps)} solves of one compiled "
                               f"model; certificate at the feasible end {result.feasible_end:.10g}")
         result.solution = finish_solution(solution, plan=plan, certify=True, diagnose=False)
+    if result.infeasible_end is not None:       # the other end of the bracket, proved where possible
+        stepper.solve_at(result.infeasible_end)
+        result.infeasible_end_proof = prove_infeasible(stepper.model)
     result.total_time = time.perf_counter() - t0
     return result
 
