@@ -288,7 +288,7 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
         analysis_thm = linked_analysis(thm)
         link = analysis_thm.certification
         tol = thm.analysis.gamma_tolerance
-        names = thm.analysis.design
+        names = instance.theorem.analysis.design     # a member of an index set: K_1 … K_N
         result = Verification(thm.id, instance.example, "designed", {}, gamma, tol, kind=kind,
                               analysis_theorem=analysis_thm.id)
         if design is None:
