@@ -75,7 +75,7 @@ def format_check(result) -> str:
              for r in result.rows if not r.trusted]
     if notes:
         lines += ["not trusted:"] + notes + [""]
-    lines.append(result.verdict())
+    lines.append("verdict: " + result.verdict.line())
     lines.append("(cert: every LMI's largest eigenvalue < 0 and the analysis certifies the recovered filter; "
                  "trust: cert + status optimal from a non-first-order solver; rel diff against the best "
                  f"trusted {result.compared}; '!' marks a disagreement)")

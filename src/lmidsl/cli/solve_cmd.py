@@ -19,13 +19,18 @@ def register(sub):
     p.add_argument("--scaling", default="auto", choices=("auto", "none"),
                    help="exact signal rescaling declared by the theorem, applied and undone by lmidsl "
                         "(default auto)")
+    add_backoff_argument(p)
+    p.add_argument("--no-certify", action="store_true", help="skip the analysis certificate")
+    p.set_defaults(run=run)
+
+
+def add_backoff_argument(p):
+    """``--backoff``: one meaning and one default wherever a design is delivered (solve, verify)."""
     p.add_argument("--backoff", type=backoff_argument, metavar="DELTA|auto|none", default="auto",
                    help="re-solve at objective <= (1+DELTA)*optimum, minimising the condition number "
                         "of what the recovery inverts (e.g. 1e-2); 'auto' (default): only when the "
                         "design recovered at the optimum is not certified or is ill-conditioned; "
                         "'none': never")
-    p.add_argument("--no-certify", action="store_true", help="skip the analysis certificate")
-    p.set_defaults(run=run)
 
 
 def backoff_argument(text):
@@ -49,13 +54,10 @@ def run(args):
     sol = solve(args.theorem, certify=not args.no_certify, scaling=args.scaling, backoff=args.backoff,
                 **solve_arguments(args), **instance_spec(args))
     if args.json:
-        out = sol.as_dict()
-        analysis = getattr(sol, "analysis", None)
-        out["analysis"] = analysis.as_dict() if analysis is not None else None
-        print_json(out)
+        print_json(sol.as_dict())
     else:
         print(format_solution(sol))
-    return 0 if sol.verdict()[0] else 1
+    return 0 if sol.verdict.certified else 1
 
 
 def run_bisection(args):

@@ -21,6 +21,7 @@ from ..errors import LmidslError
 from ..theorem.registry import get_theorem, linked_analysis
 from ..theorem.theorem import Theorem
 from ..theorem.values import FactorStep
+from ..solver.verdict import LEVEL_NAMES
 
 PREAMBLE = r"""\documentclass[10pt]{article}
 \usepackage{amsmath,amssymb,graphicx}
@@ -330,8 +331,13 @@ def _solution_latex(theorem: Theorem, sol, printer, settings: dict) -> str:
     rows = [["status", tex_text(f"{sol.status} ({sol.backend}, {sol.solver})")]]
     perf = theorem.performance[0] if theorem.performance else "gamma"
     perf_tex = name_to_latex(perf)
-    if sol.gamma is not None:
-        rows.append([f"${perf_tex}$ computed", f"${latex_number(sol.gamma, 6)}$"])
+    verdict = sol.verdict
+    if verdict.gamma is not None:
+        rows.append([f"${perf_tex}$ ({tex_text(verdict.word)})", f"${latex_number(verdict.gamma, 6)}$"])
+    for name, level in verdict.levels.items():
+        if level is not None and level != verdict.gamma:
+            rows.append([f"${perf_tex}$ at the {tex_text(LEVEL_NAMES.get(name, name))}",
+                         f"${latex_number(level, 6)}$"])
     printed = ex.printed if ex is not None else {}
     if "gamma" in printed:
         rows.append([f"${perf_tex}$ printed in the paper", f"${latex_number(printed['gamma'], 6)}$"])
@@ -341,9 +347,9 @@ def _solution_latex(theorem: Theorem, sol, printer, settings: dict) -> str:
     analysis = getattr(sol, "analysis", None)
     if analysis is not None:
         g = "infeasible" if analysis.gamma is None else f"${latex_number(analysis.gamma, 6)}$"
-        verdict = "certified" if analysis.passed else "not certified"
+        passed = "certified" if analysis.passed else "not certified"
         rows.append([f"${perf_tex}$ by analysis \\texttt{{{tex_text(analysis.theorem)}}}",
-                     f"{g} ({verdict})"])
+                     f"{g} ({passed})"])
     for r in sol.lmis:
         where = f" (vertex {r.vertex})" if r.vertex is not None else ""
         rows.append([f"$\\lambda_{{\\max}}$ of {_label_latex(theorem, r.label, settings)}{where}",

@@ -3,6 +3,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..numeric.interconnection import design_kind
+from ..solver.verdict import LEVEL_NAMES
+
 
 def format_matrix(name: str, M, indent: str = "  ") -> str:
     M = np.atleast_2d(np.asarray(M, dtype=float))
@@ -13,19 +16,44 @@ def format_matrix(name: str, M, indent: str = "  ") -> str:
     return "\n".join(lines)
 
 
+def headline_words(sol, verdict) -> str:
+    """What the headline level is: of the delivered design (its analysis level), or of the
+    proved point."""
+    what = verdict.quantity_words or "the level"
+    analysis = sol.analysis
+    if sol.design is not None and analysis is not None and analysis.passed and analysis.gamma is not None:
+        return f"{what} of the delivered {design_kind(sol.design.kind).noun}, by its analysis"
+    if not verdict.certified:
+        return f"{what} at the returned point, not certified"
+    return f"{what} at the proved point"
+
+
+def level_words(verdict) -> str:
+    """The levels besides the headline, each named (empty when there is only one)."""
+    named = [(k, v) for k, v in verdict.levels.items() if v is not None]
+    if len(named) < 2 and not (named and named[0][1] != verdict.gamma):
+        return ""
+    return ", ".join(f"{LEVEL_NAMES.get(k, k)} {v:.8g}" for k, v in named)
+
+
 def format_solution(sol) -> str:
     head = f"{sol.theorem}" + (f" [{sol.example}]" if sol.example else "")
     lines = [head, f"  backend {sol.backend}, solver {sol.solver}: {sol.status}"
              + (f" ({sol.message})" if sol.message else "")]
-    if sol.objective is not None:
+    verdict = sol.verdict
+    theorem = sol.instance.theorem if sol.instance is not None else None
+    if sol.objective is not None and (theorem is None or theorem.objective is not None):
         lines.append(f"  objective = {sol.objective:.8g}")
-    if sol.gamma is not None:
-        lines.append(f"  gamma     = {sol.gamma:.8g}")
+    if verdict.gamma is not None:
+        lines.append(f"  {verdict.quantity or 'level':<9} = {verdict.gamma:.8g}   ({headline_words(sol, verdict)})")
+    levels = level_words(verdict)
+    if levels:
+        lines.append(f"  levels: {levels}")
     scaling = getattr(sol, "scaling", None)
     if scaling is not None and scaling.records:
         for rec in scaling.records:
             lines.append(f"  scaling: {rec.signal} = diag({', '.join(f'{f:g}' for f in rec.factors)}) "
-                         f"{rec.signal}' ({rec.how}); solved on the scaled data, filter mapped back")
+                         f"{rec.signal}' ({rec.how}); solved on the scaled data, design mapped back")
     backoff = getattr(sol, "backoff", None)
     if backoff and backoff.get("failed"):
         lines.append(f"  back-off δ = {backoff['delta']:g} FAILED: {backoff['failed']}; this is the optimum")
@@ -70,21 +98,23 @@ def format_solution(sol) -> str:
         lines.append(f"  inverted {inv['matrix']}: condition number {inv['cond']:.3g}{note}")
     analysis = getattr(sol, "analysis", None)
     if analysis is not None:
-        verdict = "certified" if analysis.passed else "NOT certified"
+        passed = "certified" if analysis.passed else "NOT certified"
         g = analysis.status if analysis.gamma is None else f"gamma = {analysis.gamma:.8g}"
+        if analysis.criterion == "feasible":
+            g = "feasible with the design fixed" if analysis.passed else f"{analysis.status}, not proved feasible"
         if getattr(analysis, "method", "min") == "level" and analysis.gamma is not None:
             low = "" if analysis.minimum is None else f", solver minimum {analysis.minimum:.6g} not strictly feasible"
             g += f" (point inside the strict set at level {analysis.synthesis_gamma or analysis.minimum:.6g}{low})"
         via = f" [{', '.join(analysis.solvers)}]" if getattr(analysis, "solvers", None) else ""
-        lines.append(f"  analysis {analysis.theorem}{via} with the recovered filter: {g} ({verdict})")
+        noun = design_kind(sol.design.kind).noun if sol.design is not None else "design"
+        lines.append(f"  analysis {analysis.theorem}{via} of the recovered {noun}: {g} ({passed})")
         for rep in getattr(analysis, "feasp", []):
             lines.append(rep.format("    "))
     for note in sol.notes:
         lines.append(f"  note: {note}")
     for check in getattr(sol, "checks", []):
         lines.append(f"  check {check.name}: {'passed' if check.passed else 'FAILED'}: {check.summary}")
-    certified, reasons = sol.verdict()
-    lines.append("  verdict: " + ("CERTIFIED" if certified else "NOT CERTIFIED: " + "; ".join(reasons)))
+    lines.append("  verdict: " + verdict.line())
     if sol.times:
         lines.append("  times: " + ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in sol.times.items()))
     return "\n".join(lines)

@@ -44,7 +44,7 @@ def shown_verdict(row) -> tuple[str, str | None]:
     """(the verdict cell, a note or None): the study's verdict with its first words replaced by
     the table's word (:data:`WORDS`); what it says in parentheses (e.g. the back-off) and a
     worse outcome than the example expects go to the note."""
-    text, note = row.verdict, []
+    text, note = row.comparison, []
     for study, word in WORDS.items():
         if text.startswith(study):
             text = word + text[len(study):]

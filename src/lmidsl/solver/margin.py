@@ -54,23 +54,23 @@ def solve_model(model, solver: str | None = None, escalate: bool = True,
     tried = [base]
     calls = _solver_call_time(solution)
     for factor in (MARGIN_ESCALATION if escalate else ()):
-        if not solution.ok or solution.certified:
+        if not solution.ok or solution.lmis_hold:
             break
         model.set_margin(base * factor)
         tried.append(model.margin)
         solution = model.solve(solver, **options)
         calls += _solver_call_time(solution)
-    if len(tried) == 1 and solution.ok and solution.certified and base == DEFAULT_MARGIN:
+    if len(tried) == 1 and solution.ok and solution.lmis_hold and base == DEFAULT_MARGIN:
         solution, calls = _reduce_margin(model, solver, solution, calls, restore_margin, **options)
-    elif len(tried) == 1 and solution.ok and solution.certified:
+    elif len(tried) == 1 and solution.ok and solution.lmis_hold:
         _flag_margin_limited(model, solution)   # a margin the caller chose is honoured, never lowered
-    elif solution.ok and solution.certified:
+    elif solution.ok and solution.lmis_hold:
         _flag_margin_limited(model, solution)   # an escalated margin can set the optimum
     solution.times["solver_calls"] = calls
     if len(tried) > 1:
         solution.notes.append(
             "margin escalated " + " -> ".join(f"{m:g}" for m in tried)
-            + (" (certificate holds)" if solution.certified else " (certificate still fails)"))
+            + (" (certificate holds)" if solution.lmis_hold else " (certificate still fails)"))
         if restore_margin:
             model.set_margin(base)
     return solution
@@ -86,7 +86,7 @@ def _reduce_margin(model, solver, solution: Solution, calls: float, restore: boo
         tried.append(model.margin)
         smaller = model.solve(solver, **options)
         calls += _solver_call_time(smaller)
-        if not (smaller.ok and smaller.certified):
+        if not (smaller.ok and smaller.lmis_hold):
             break
         solution, influence = smaller, margin_influence(model, smaller)
     if len(tried) > 1:

@@ -25,6 +25,8 @@ import numpy as np
 from ..pipeline import make_instance
 from ..numeric.proof import PROVED
 from ..solver.margin import solve_model
+from ..solver.status import solved
+from ..solver.verdict import CERTIFIED, NOT_CERTIFIED, NOT_SOLVED, Verdict
 from ..solver.solution import evaluate_performance, lmi_certificate
 from ..solver.backends import choose_backend, get_backend
 from .. import __version__
@@ -91,10 +93,26 @@ class SweepPoint:
     prove_time: float = 0.0
     values: dict | None = field(default=None, repr=False, compare=False)   # the solver's point (stores)
 
+    @property
+    def verdict(self) -> Verdict:
+        """A sweep point proves the level at its point (every LMI in ball arithmetic); a sweep
+        recovers no design, so nothing more is claimed."""
+        if not solved(self.status):
+            return Verdict(False, NOT_SOLVED, None, f"no point was returned ({self.status})",
+                           reasons=(f"status {self.status}",))
+        if not self.proved:
+            return Verdict(False, NOT_CERTIFIED, self.gamma, "not every LMI is proved at the point",
+                           reasons=("LMIs not proved at the point",))
+        return Verdict(True, CERTIFIED, self.gamma, "every LMI proved at the point (a sweep recovers no design)")
+
     def as_dict(self) -> dict:
-        out = dict(self.__dict__)
+        out = {**self.__dict__, "verdict": self.verdict.as_dict()}
         out.pop("values")
         return out
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "SweepPoint":
+        return cls(**{k: v for k, v in d.items() if k != "verdict"})
 
 
 @dataclass
@@ -116,7 +134,7 @@ class SweepResult:
         """Read back what :meth:`as_dict` wrote (e.g. to redraw a figure without re-solving)."""
         t = d.get("timing", {})
         return cls(d["theorem"], d.get("example"), d["solver"], d["grid"],
-                   [SweepPoint(**p) for p in d["points"]], t.get("compile", 0.0),
+                   [SweepPoint.from_dict(p) for p in d["points"]], t.get("compile", 0.0),
                    t.get("first_point", 0.0), d.get("scaling"), d.get("labels", {}))
 
     def timing(self) -> dict:
@@ -137,9 +155,19 @@ class SweepResult:
     def as_dict(self) -> dict:
         return {"theorem": self.theorem, "example": self.example, "solver": self.solver,
                 "grid": self.grid, "labels": self.labels, "scaling": self.scaling,
-                "timing": self.timing(), "certified": self.certified_count(),
+                "timing": self.timing(), "proved_points": self.certified_count(),
+                "verdict": self.verdict.as_dict(),
                 "resumed": self.resumed, "solved": self.solved,
                 "points": [p.as_dict() for p in self.points]}
+
+    @property
+    def verdict(self) -> Verdict:
+        """Certified when every point's LMIs are proved; no single headline level."""
+        bad = [p for p in self.points if not p.proved]
+        if self.points and not bad:
+            return Verdict(True, CERTIFIED, None, f"every LMI proved at all {len(self.points)} points")
+        why = f"{len(bad)} of {len(self.points)} points not proved" if self.points else "no point"
+        return Verdict(False, NOT_CERTIFIED, None, why, reasons=(why,))
 
     def certified_count(self) -> int:
         """Points whose every LMI is proved at the returned point (ball arithmetic)."""
@@ -289,7 +317,7 @@ def _solve_point(model, base, params: dict, solver, options) -> SweepPoint:
     internal = sol.times.get("solver")
     call = sol.times["solver_calls"]
     t2 = time.perf_counter()
-    proved = sol.ok and sol.certified and all(
+    proved = sol.ok and sol.lmis_hold and all(
         r.proof == PROVED for r in lmi_certificate(sol.instance, {**sol.instance.data, **sol.values},
                                                    prove=True))
     return SweepPoint(params, sol.status, sol.gamma, sol.objective, sol.worst_eig, call,
@@ -314,7 +342,8 @@ def store_header(instance, grids: list, **run) -> dict:
 def store_record(point: SweepPoint, run: str) -> dict:
     """A store line: the point's numbers, the solver's point (``values``, for a proved point:
     its certificate is proved again on resume) and the run it belongs to."""
-    return {**point.as_dict(), "values": point.values, "run": run}
+    record = {k: v for k, v in point.as_dict().items() if k != "verdict"}     # derived: not stored
+    return {**record, "values": point.values, "run": run}
 
 
 _NUMBERS = ("gamma", "objective", "worst_eig", "solver_call", "solver_internal", "total", "prove_time")

@@ -443,13 +443,16 @@ class Theorem:
             check_conformance(expr, where=f"{self.id}: linearisation of {name}")
             self.linearisation[name] = expr
 
-    def certified_by(self, theorem, design: tuple, gamma_tolerance: float = 1e-3):
+    def certified_by(self, theorem, design: tuple, gamma_tolerance: float = 1e-3, criterion: str = "level"):
         """Name the analysis theorem (a :class:`Theorem`, or the id of one in another file) that
-        certifies the recovered ``design`` matrices, which it takes as data."""
-        if isinstance(theorem, Theorem):
-            self.analysis = AnalysisLink(theorem.id, tuple(design), gamma_tolerance, theorem)
-        else:
-            self.analysis = AnalysisLink(str(theorem), tuple(design), gamma_tolerance)
+        certifies the recovered ``design`` matrices, which it takes as data.  ``criterion``:
+        "level" (the analysis certifies the synthesis γ within ``gamma_tolerance``) or "feasible"
+        (a stabilisation design: the analysis LMIs proved with the design fixed, no level)."""
+        if criterion not in ("level", "feasible"):
+            raise TheoremDefinitionError(f"{self.id}: certified_by: criterion must be 'level' or 'feasible'")
+        target = theorem if isinstance(theorem, Theorem) else None
+        self.analysis = AnalysisLink(theorem.id if target is not None else str(theorem), tuple(design),
+                                     gamma_tolerance, target, criterion)
 
     def error_system(self, system, *, figure: str, design: tuple, simulate=None):
         """Declare the error system (data + design -> stochastic system), its figure and simulation."""

@@ -166,6 +166,7 @@ class AnalysisLink:
     design: tuple
     gamma_tolerance: float = 1e-3
     target: Any = None
+    criterion: str = "level"     # "level": the analysis certifies γ; "feasible": its LMIs hold (stabilisation)
 
 
 @dataclass

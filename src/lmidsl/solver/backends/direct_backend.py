@@ -31,6 +31,8 @@ from ...errors import InputError, SolverUnavailableError
 from . import backend_info
 from .affine import Affine, Cone, VariableSpace, block
 from .base import BackendCompiler, CompiledModel, classify, solver_crashed
+from ..status import (INFEASIBLE, INFEASIBLE_INACCURATE, OPTIMAL, OPTIMAL_INACCURATE, UNBOUNDED,
+                      UNBOUNDED_INACCURATE, USER_LIMIT, SOLVER_ERROR, SOLVED)
 
 DEFAULT_SOLVER = backend_info("direct").default
 
@@ -63,14 +65,14 @@ def solver_threads(problem) -> int:
 
 #: Clarabel's statuses, named as the other backends name them (cvxpy's mapping of the same solver)
 _STATUS = {
-    "Solved": "optimal",
-    "AlmostSolved": "optimal_inaccurate",
-    "PrimalInfeasible": "infeasible",
-    "AlmostPrimalInfeasible": "infeasible_inaccurate",
-    "DualInfeasible": "unbounded",
-    "AlmostDualInfeasible": "unbounded_inaccurate",
-    "MaxIterations": "user_limit",
-    "MaxTime": "user_limit",
+    "Solved": OPTIMAL,
+    "AlmostSolved": OPTIMAL_INACCURATE,
+    "PrimalInfeasible": INFEASIBLE,
+    "AlmostPrimalInfeasible": INFEASIBLE_INACCURATE,
+    "DualInfeasible": UNBOUNDED,
+    "AlmostDualInfeasible": UNBOUNDED_INACCURATE,
+    "MaxIterations": USER_LIMIT,
+    "MaxTime": USER_LIMIT,
 }
 
 
@@ -240,13 +242,13 @@ class DirectModel(CompiledModel):
             if not solver_crashed(exc, (ArithmeticError, ValueError, np.linalg.LinAlgError)):
                 raise
             text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            return "solver_error", None, text or "solver failed", None
+            return SOLVER_ERROR, None, text or "solver failed", None
         self.last_solver_call = time.perf_counter() - t0
         self._last = (problem, result)
-        status = _STATUS.get(str(result.status), "solver_error")
-        message = "" if status != "solver_error" else f"CLARABEL: {result.status}"
+        status = _STATUS.get(str(result.status), SOLVER_ERROR)
+        message = "" if status != SOLVER_ERROR else f"CLARABEL: {result.status}"
         objective = None
-        if status in ("optimal", "optimal_inaccurate"):
+        if status in SOLVED:
             x = np.asarray(result.x, dtype=float)
             for v, o in problem.layout.items():
                 v.free = x[o: o + v.size]

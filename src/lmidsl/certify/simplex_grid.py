@@ -1,0 +1,251 @@
+"""Evidence on a grid of the simplex: is a robust claim refuted at some α?
+
+A robust LMI certifies a property for every α ∈ Λ_N (or a product of simplices).  The claim is
+tested independently: the system at α, M(α) = Σ_v w_v(α) M_v (w_v(α) = αᵢ on a simplex,
+α¹ᵢ α²ⱼ ⋯ at the product vertex (i, j, …) of a multi-simplex), is evaluated on the regular grid
+{α : αᵢ = kᵢ/r} of every simplex, the measure computed at each point by numpy /
+python-control, and the worst point refined by a pattern search inside the domain (moves
+α ± h(eᵢ − eⱼ), h halved down to 1e-6).  Measures:
+
+* ``"abscissa"``: max Re λ(A(α)), the claim "Hurwitz" is refuted by a value ≥ 0;
+* ``"radius"``: max |λ(A(α))|, the claim "Schur" is refuted by a value ≥ 1;
+* ``"hinf"``: ‖(A, B, C, D)(α)‖∞ (python-control, SLICOT AB13DD; +∞ where A(α) is unstable),
+  a claimed bound γ is refuted by a value > γ(1 + tol);
+* ``"h2"``: ‖(A, B, C, D)(α)‖₂ (python-control), likewise.
+
+The grid is evidence, not proof: a claim it does not refute may still be false between grid
+points, and a refutation is a concrete α at which the property fails (exact up to the
+eigenvalue / norm computation).
+
+:func:`grid_evidence` is the entry point: (a bound instance of a polytopic theorem, or the vertex
+systems as dicts; the claimed level; the time domain) → :class:`GridEvidence` (worst α, its
+value, whether it refutes).  :func:`grid_check` wraps it as a theorem check
+(:meth:`lmidsl.theorem.theorem.Theorem.verify_with`).
+"""
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from ..theorem.checks import CheckResult
+
+MEASURES = ("abscissa", "radius", "hinf", "h2")
+STABILITY_LEVEL = {"abscissa": 0.0, "radius": 1.0}
+
+
+@dataclass
+class GridEvidence:
+    """The worst point of the domain found, and whether it refutes the claim."""
+
+    measure: str
+    time: str
+    claim: float | None             # the claimed level (stability: 0 / 1)
+    worst_alpha: list               # one list per simplex
+    worst_value: float
+    refutes: bool
+    points: int                     # grid points evaluated (refinement steps not counted)
+    resolution: int
+    vertex_values: list = field(default_factory=list)
+
+    def as_dict(self) -> dict:
+        return {"measure": self.measure, "time": self.time, "claim": self.claim,
+                "worst_alpha": self.worst_alpha, "worst_value": self.worst_value,
+                "refutes": self.refutes, "points": self.points, "resolution": self.resolution,
+                "vertex_values": self.vertex_values}
+
+    def summary(self) -> str:
+        where = "; ".join("(" + ", ".join(f"{a:.4f}" for a in s) + ")" for s in self.worst_alpha)
+        claim = "" if self.claim is None else f" against the claim {self.claim:.6g}"
+        verdict = "refutes" if self.refutes else "does not refute"
+        return (f"{self.measure} on {self.points} grid points (resolution {self.resolution}) and refined: "
+                f"worst {self.worst_value:.6g} at α = {where}{claim}: {verdict}")
+
+
+# -- the domain ----------------------------------------------------------------------------------
+def simplex_points(N: int, resolution: int) -> np.ndarray:
+    """Every α ∈ Λ_N with αᵢ = kᵢ/resolution (C(N + r − 1, r) points)."""
+    out = [np.array(k, dtype=float) / resolution
+           for k in itertools.product(range(resolution + 1), repeat=N - 1) if sum(k) <= resolution]
+    return np.array([np.append(k, 1.0 - k.sum()) for k in out]).clip(0.0, 1.0)
+
+
+def vertex_weights(alphas: tuple) -> np.ndarray:
+    """w_v(α) at the product vertices, first simplex slowest (the order of the vertex data)."""
+    w = np.array([1.0])
+    for a in alphas:
+        w = np.outer(w, a).reshape(-1)
+    return w
+
+
+def at(vertex_systems: list, alphas: tuple) -> dict:
+    """The system at α: Σ_v w_v(α) M_v for every matrix name."""
+    w = vertex_weights(alphas)
+    return {name: sum(wv * np.asarray(v[name], dtype=float) for wv, v in zip(w, vertex_systems))
+            for name in vertex_systems[0]}
+
+
+# -- measures ------------------------------------------------------------------------------------
+def measure_value(system: dict, measure: str, time: str) -> float:
+    """The measure of one system (see the module docstring); +∞ for a norm of an unstable one."""
+    A = np.atleast_2d(system["A"])
+    eig = np.linalg.eigvals(A)
+    abscissa, radius = float(np.max(eig.real)), float(np.max(np.abs(eig)))
+    if measure == "abscissa":
+        return abscissa
+    if measure == "radius":
+        return radius
+    if (abscissa >= 0) if time == "continuous" else (radius >= 1):
+        return float("inf")
+    import control     # 1–2 s to import: only when a norm is computed
+    B, C = np.atleast_2d(system["B"]), np.atleast_2d(system["C"])
+    D = np.atleast_2d(system.get("D", np.zeros((C.shape[0], B.shape[1]))))
+    sys = control.ss(A, B, C, D, 0 if time == "continuous" else True)
+    if measure == "hinf":
+        return float(control.norm(sys, "inf", tol=1e-10))
+    return float(control.norm(sys, 2))
+
+
+def _moves(sizes: tuple) -> list:
+    """Directions e_i − e_j inside each simplex (as flat vectors over the concatenated α)."""
+    total, offset, out = sum(sizes), 0, []
+    for N in sizes:
+        for i, j in itertools.permutations(range(N), 2):
+            d = np.zeros(total)
+            d[offset + i], d[offset + j] = 1.0, -1.0
+            out.append(d)
+        offset += N
+    return out
+
+
+def _split(flat: np.ndarray, sizes: tuple) -> tuple:
+    return tuple(np.split(flat, np.cumsum(sizes)[:-1]))
+
+
+def worst_point(vertex_systems: list, sizes: tuple, measure: str, time: str, *, resolution: int | None = None,
+                refine: int = 3, max_points: int = 20000) -> tuple:
+    """(worst flat α, its value, number of grid points): the grid, then a pattern search from
+    the ``refine`` best grid points."""
+    if resolution is None:       # about max_points points in all
+        resolution = 1
+        while resolution < 200:
+            count = np.prod([len(simplex_points(N, resolution + 1)) for N in sizes])
+            if count > max_points:
+                break
+            resolution += 1
+    grids = [simplex_points(N, resolution) for N in sizes]
+    flats, values = [], []
+    for combo in itertools.product(*grids):
+        flats.append(np.concatenate(combo))
+        values.append(measure_value(at(vertex_systems, combo), measure, time))
+    values = np.array(values)
+    order = np.argsort(-values)[:max(refine, 1)]
+    best_alpha, best = flats[order[0]], float(values[order[0]])
+    if np.isinf(best):
+        return best_alpha, best, len(flats), resolution
+    moves = _moves(sizes)
+    for start in order:
+        alpha, value = flats[start].copy(), float(values[start])
+        h = 0.5 / resolution
+        while h > 1e-6:
+            improved = False
+            for d in moves:
+                trial = alpha + h * d
+                if trial.min() < 0:
+                    continue
+                v = measure_value(at(vertex_systems, _split(trial, sizes)), measure, time)
+                if v > value:
+                    alpha, value, improved = trial, v, True
+                    if np.isinf(v):
+                        break
+            if np.isinf(value):
+                break
+            if not improved:
+                h /= 2
+        if value > best:
+            best_alpha, best = alpha, value
+    return best_alpha, best, len(flats), resolution
+
+
+# -- entry points ----------------------------------------------------------------------------------
+def vertex_systems_of(instance, names=("A", "B", "C", "D")) -> tuple:
+    """(vertex systems, sizes) of a bound polytopic instance: the per-vertex data among ``names``
+    (a datum common to the vertices repeated), and the simplex sizes (a robust member's, else one
+    simplex of all vertices)."""
+    robust = getattr(instance.theorem, "robust", None)
+    sizes = robust.sizes if robust is not None else (instance.nvertices,)
+    count = int(np.prod(sizes))
+    systems = [{} for _ in range(count)]
+    for name in names:
+        if name not in instance.data:
+            continue
+        value = instance.data[name]
+        for v in range(count):
+            systems[v][name] = value[v] if isinstance(value, list) else value
+    return systems, tuple(sizes)
+
+
+def grid_evidence(source, claim: float | None = None, time: str | None = None, *, measure: str | None = None,
+                  sizes: tuple | None = None, resolution: int | None = None, tolerance: float = 1e-6,
+                  max_points: int = 20000) -> GridEvidence:
+    """Test a robust claim on a grid of the domain.
+
+    ``source``: a bound :class:`~lmidsl.numeric.instance.Instance` of a polytopic theorem (its
+    vertex data A, B, C, D; the time domain from the theorem) or a list of vertex systems (dicts
+    with "A" and, for norms, "B", "C", optionally "D"; ``sizes`` their simplices, default one
+    simplex).  ``claim``: the claimed level (a norm bound γ); None for a stability claim.
+    ``measure``: default "abscissa"/"radius" for stability, "hinf" for a level.  A refutation
+    is a worst value ≥ 0 (abscissa), ≥ 1 (radius) or > claim·(1 + tolerance) (norms)."""
+    if isinstance(source, list):
+        systems, sizes = source, tuple(sizes or (len(source),))
+    else:
+        systems, found = vertex_systems_of(source)
+        sizes = tuple(sizes or found)
+        time = time or source.theorem.time
+    if time not in ("continuous", "discrete"):
+        raise InputError(f"grid evidence: time must be 'continuous' or 'discrete', got {time!r}")
+    if int(np.prod(sizes)) != len(systems):
+        raise InputError(f"grid evidence: {len(systems)} vertex systems for a domain of sizes {sizes}")
+    if measure is None:
+        measure = ("abscissa" if time == "continuous" else "radius") if claim is None else "hinf"
+    if measure not in MEASURES:
+        raise InputError(f"grid evidence: measure must be one of {', '.join(MEASURES)}")
+    alpha, value, points, resolution = worst_point(systems, sizes, measure, time, resolution=resolution,
+                                                   max_points=max_points)
+    if measure in STABILITY_LEVEL:
+        level = STABILITY_LEVEL[measure]
+        refutes = value >= level
+    else:
+        level = claim
+        refutes = claim is not None and value > claim * (1 + tolerance)
+    vertex_values = [measure_value(s, measure, time) for s in systems]
+    return GridEvidence(measure, time, level, [list(map(float, a)) for a in _split(alpha, sizes)],
+                        float(value), bool(refutes), points, resolution, vertex_values)
+
+
+def grid_check(measure: str | None = None, *, closed_loop=None, name: str = "simplex grid",
+               resolution: int | None = None, max_points: int = 4000):
+    """A theorem check (:meth:`~lmidsl.theorem.theorem.Theorem.verify_with`): the solution's
+    claim — robust stability, or the level ``solution.gamma`` for a norm measure — tested by
+    :func:`grid_evidence` on the instance's vertex systems.  ``closed_loop(system, design)``
+    maps a vertex system and the recovered design to the system to test (e.g. A + B K)."""
+
+    def check(solution) -> CheckResult:
+        systems, sizes = vertex_systems_of(solution.instance)
+        if closed_loop is not None:
+            systems = [closed_loop(s, solution.design) for s in systems]
+        norm = measure in ("hinf", "h2")
+        claim = solution.gamma if norm else None
+        if norm and claim is None:
+            return CheckResult(name, False, "no level to test")
+        evidence = grid_evidence(systems, claim, solution.instance.theorem.time, measure=measure,
+                                 sizes=sizes, resolution=resolution, max_points=max_points)
+        return CheckResult(name, not evidence.refutes, evidence.summary(), evidence.as_dict())
+
+    return check
+
+
+__all__ = ["GridEvidence", "grid_evidence", "grid_check", "worst_point", "simplex_points", "measure_value",
+           "vertex_systems_of", "at"]
