@@ -185,7 +185,7 @@ def test_update_and_margin_recompile():
     fresh = get_backend("direct")(changed)
     assert model.solve().objective == pytest.approx(fresh.solve().objective, rel=1e-9)
     model.set_margin(1e-5)
-    assert model.margin == 1e-5 and model.solve().certified
+    assert model.margin == 1e-5 and model.solve().lmis_hold
 
 
 def test_feasp_on_the_direct_backend():
