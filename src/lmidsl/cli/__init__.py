@@ -161,11 +161,9 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
     they would, in the command's words."""
     if issubclass(category, LmidslWarning):
         print(f"warning: {message}", file=sys.stderr)
-    elif os.environ.get("LMIDSL_DEBUG"):
-        _show_warning(message, category, filename, lineno, file, line)
-
-
-_show_warning = warnings.showwarning
+    elif os.environ.get("LMIDSL_DEBUG"):       # as Python prints it, on stderr as it is now
+        print(warnings.formatwarning(message, category, filename, lineno, line),
+              file=file or sys.stderr, end="")
 
 
 class Deadline:

@@ -106,8 +106,9 @@ class SweepPoint:
         return Verdict(True, CERTIFIED, self.gamma, "every LMI proved at the point (a sweep recovers no design)")
 
     def as_dict(self) -> dict:
-        out = {**self.__dict__, "verdict": self.verdict.as_dict()}
+        out = dict(self.__dict__)
         out.pop("values")
+        out["verdict"] = self.verdict.as_dict()
         return out
 
     @classmethod
@@ -342,8 +343,7 @@ def store_header(instance, grids: list, **run) -> dict:
 def store_record(point: SweepPoint, run: str) -> dict:
     """A store line: the point's numbers, the solver's point (``values``, for a proved point:
     its certificate is proved again on resume) and the run it belongs to."""
-    record = {k: v for k, v in point.as_dict().items() if k != "verdict"}     # derived: not stored
-    return {**record, "values": point.values, "run": run}
+    return {**{k: v for k, v in point.as_dict().items() if k != "verdict"}, "values": point.values, "run": run}
 
 
 _NUMBERS = ("gamma", "objective", "worst_eig", "solver_call", "solver_internal", "total", "prove_time")
