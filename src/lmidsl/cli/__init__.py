@@ -315,6 +315,13 @@ def _run(args, deadline=None) -> int:
             deadline.cancel()
         deadline = Deadline(getattr(args, "timeout", None))
     try:
+        return _run_command(args, deadline)
+    finally:                          # whatever ended the command, no clock is left running
+        deadline.cancel()
+
+
+def _run_command(args, deadline) -> int:
+    try:
         deadline.start()
         code = args.run(args)
         deadline.cancel()
