@@ -87,7 +87,10 @@ def test_probability_outside_unit_interval(value):
 
 def test_unknown_theorem_example_solver():
     assert_one_line_error(*run_cli("solve", "nosuch.thm"), "unknown theorem 'nosuch.thm'",
-                          "wang_l2linf.thm3")
+                          "`lmidsl list` shows the")
+    assert_one_line_error(*run_cli("solve", "wnag_l2linf.thm3"), "(did you mean 'wang_l2linf.thm3'")
+    assert_one_line_error(*run_cli("solve", "wang_l2linf.thm3", "--example", "paper-fll"),
+                          "(did you mean 'paper-full'?)")
     assert_one_line_error(*run_cli("solve", "wang_l2linf.thm3", "--example", "nope"),
                           "unknown example 'nope'", "paper-full")
     assert_one_line_error(*run_cli("solve", "wang_l2linf.thm3", "--solver", "gurobix"),

@@ -3,7 +3,8 @@
 A theorem file declares dimensions, data, variables and parameters on a :class:`Theorem`,
 writes each LMI as a block triangle (``*`` implicit, ``0``/``I`` sized from their position),
 and names its objective, its change of variables (recovery) and its analysis counterpart.
-:func:`solve` binds an example or user data, compiles to a backend (cvxpy by default), solves,
+:func:`solve` binds an example or user data, compiles to a backend (by default ``direct``,
+lmidsl's own standard form for Clarabel; ``cvxpy`` or ``picos`` on request), solves,
 recovers the :class:`Design` and certifies it; :func:`verify` gathers independent evidence.
 
 The public face, by use:
@@ -31,6 +32,9 @@ A theorem file imports only ``lmidsl`` (and its own paper's modules).  The layer
 from .errors import (InputError, LmidslError, LmidslWarning, NoResultError, NonlinearityError,
                      ShapeMismatchError, SolverUnavailableError, TheoremDefinitionError,
                      UnusedDataWarning)
+
+import importlib as _importlib
+import sys as _sys
 
 __version__ = "0.1.0"
 
@@ -75,8 +79,8 @@ __all__ = ["Theorem", "Source", "Example", "I", "He", "diag", "schur", "congruen
            "LmidslWarning", "UnusedDataWarning"]
 
 
-#: the modules whose names hand theorems to the user: with them comes the LaTeX printer, which
-#: registers itself for ``Theorem._repr_latex_`` (the theorem layer cannot import the render layer)
+#: the modules whose names hand theorems to the user: with them comes the notebook display, which
+#: registers the LaTeX printer for ``Theorem._repr_latex_`` and ``LMI._repr_latex_`` (the theorem layer cannot import the render layer)
 _WITH_LATEX = ("theorem.", "pipeline", "studies.")
 
 
@@ -85,10 +89,14 @@ def __getattr__(name):
         import importlib
         value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
         if _LAZY[name].startswith(_WITH_LATEX):
-            importlib.import_module(".render.latex", __name__)
+            importlib.import_module(".render.notebook", __name__)
         globals()[name] = value
         return value
     raise AttributeError(f"module 'lmidsl' has no attribute {name!r}")
+
+
+if "IPython" in _sys.modules:        # a notebook: results display as HTML (render.notebook)
+    _importlib.import_module(".render.notebook", __name__).register_ipython()
 
 
 def __dir__():

@@ -43,7 +43,7 @@ def format_check(result) -> str:
                 labels.append(label)
     # the objective only at full width (--wide) when it is not the compared value itself
     objective = Settings.wide and result.compared != "objective"
-    headers = ["backend", "solver", "status"] + (["objective"] if objective else []) + [
+    headers = ["backend:solver", "status"] + (["objective"] if objective else []) + [
         result.compared, "max eig", "analysis", "time s", "cert", "trust", "rel diff"]
     rows = []
     for r in result.rows:
@@ -52,7 +52,7 @@ def format_check(result) -> str:
             ("infeasible" if r.analysis_gamma is None else _fmt(r.analysis_gamma, ".6g"))
             + ("" if r.analysis_passed else " (fails)"))
         rel = "" if r.rel_diff is None else f"{r.rel_diff:+.1e}" + (" !" if r.disagrees else "")
-        rows.append([r.backend, r.solver, r.status] + ([_fmt(r.objective, ".8g")] if objective else [])
+        rows.append([f"{r.backend}:{r.solver}", r.status] + ([_fmt(r.objective, ".8g")] if objective else [])
                     + [_fmt(r.value, ".8g"), _fmt(max(eigs) if eigs else None, ".2e"), analysis,
                        f"{r.wall_time:.2f}", "yes" if r.certified else "no", "yes" if r.trusted else "no", rel])
     # the largest eigenvalue of each LMI: one row per LMI, one column per solver row (a table of
@@ -60,7 +60,7 @@ def format_check(result) -> str:
     solved = [r for r in result.rows if r.max_eig_by_label()]
     eig_rows = [[label] + [_fmt(r.max_eig_by_label().get(label), ".2e") for r in solved] for label in labels]
     title = f"{result.theorem}" + (f" [{result.example}]" if result.example else "")
-    status, analysis_column = 2, len(headers) - 5           # these two wrap; ids and numbers never
+    status, analysis_column = 1, len(headers) - 5           # these two wrap; ids and numbers never
     lines = [title, format_table(headers, rows, nowrap=tuple(i for i in range(len(headers))
                                                              if i not in (status, analysis_column))), ""]
     if eig_rows:

@@ -4,7 +4,9 @@ states lmidsl's SDP, solve it with cvxpy directly and compare with lmidsl's opti
 SDP: :func:`lmidsl.studies.export.check_round_trip`)."""
 from __future__ import annotations
 
+from ..errors import InputError
 from ..pipeline import make_instance
+from ..render.terminal import echo
 from ..studies.export import FORMATS, OPTIMUM_RTOL, check_round_trip, export
 from .common import add_solve_arguments, instance_spec, print_json, refuse, solve_arguments
 
@@ -24,6 +26,9 @@ def register(sub):
 
 
 def run(args):
+    if args.check and args.format == "json":
+        raise InputError("--check reads the written SDP back and solves it; --format json writes only "
+                         "the map: use --format sdpa or cbf with --check")
     instance = make_instance(args.theorem, **instance_spec(args))
     if not args.check:
         refuse(args, "export writes the SDP (compiled by PICOS) and solves nothing; the backend and "
@@ -31,18 +36,25 @@ def run(args):
     solving = solve_arguments(args)
     mapping = export(instance, args.format, args.output, margin=args.margin)
     code = 0
-    if args.check and args.format != "json":
+    if args.check:
         solving.pop("margin")                         # the file's own margin is the one checked
         mapping["check"] = check_round_trip(instance, args.output, mapping, **solving)
         code = 0 if mapping["check"]["holds"] else 1
     if args.json:
         print_json(mapping)
         return code
-    print(f"wrote {args.output} ({args.format}; {mapping['nvars']} scalar variables, "
-          f"{len(mapping['blocks'])} blocks)" + ("" if args.format == "json" else f"; map {args.output}.map.json"))
+    echo(format_export(mapping, args.output, args.format))
+    return code
+
+
+def format_export(mapping: dict, output: str, fmt: str) -> str:
+    """What was written, block by block, and the --check comparison (wrapped to the width)."""
+    lines = [f"wrote {output} ({fmt}; {mapping['nvars']} scalar variables, {len(mapping['blocks'])} blocks)"
+             + ("" if fmt == "json" else f"; map {output}.map.json")]
     for b in mapping["blocks"]:
-        print(f"  block {b['block']}: " + (f"LMI {b['lmi']}" if "lmi" in b else b["kind"])
-              + (f" vertex {b['vertex']}" if b.get("vertex") else "") + (f" {b['scenario']}" if b.get("scenario") else ""))
+        lines.append(f"  block {b['block']}: " + (f"LMI {b['lmi']}" if "lmi" in b else b["kind"])
+                     + (f" vertex {b['vertex']}" if b.get("vertex") else "")
+                     + (f" {b['scenario']}" if b.get("scenario") else ""))
     if "check" in mapping:
         c = mapping["check"]
         said = (f"the file states lmidsl's SDP (identity {c['identity_error']:.1e} at three random points)"
@@ -53,5 +65,5 @@ def run(args):
         if "lmidsl_certified" in c:
             said += (f"; solved by cvxpy: a point found; lmidsl: "
                      f"{'a certified point' if c['lmidsl_certified'] else 'no certified point'}")
-        print("  read back: " + "; ".join(x for x in (said, c["reason"]) if x))
-    return code
+        lines.append("  read back: " + "; ".join(x for x in (said, c["reason"]) if x))
+    return "\n".join(lines)

@@ -5,6 +5,7 @@ import argparse
 
 from ..pipeline import make_instance, solve
 from ..render.report import format_solution
+from ..render.terminal import wrap
 from ..render.bisection import format_bisection
 from ..studies.bisection import bisect
 from ..theorem.registry import get_theorem
@@ -56,7 +57,7 @@ def run(args):
     if args.json:
         print_json(sol.as_dict())
     else:
-        print(format_solution(sol))
+        print(wrap(format_solution(sol)))
     return 0 if sol.verdict.certified else 1
 
 
@@ -65,5 +66,5 @@ def run_bisection(args):
     if args.json:
         print_json(result.as_dict())
     else:
-        print(format_bisection(result))
+        print(wrap(format_bisection(result)))
     return 0 if result.holds else 1

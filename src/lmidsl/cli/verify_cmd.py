@@ -9,6 +9,7 @@ from .common import (add_output_arguments, add_solve_arguments, instance_spec, n
                      positive_int, print_json, probability, show_progress, solve_arguments, strict_loads)
 from .solve_cmd import add_backoff_argument
 from ..render.progress import Stages
+from ..render.report import format_verification
 from ..render.terminal import wrap
 from ..studies.verify import verify
 
@@ -90,5 +91,5 @@ def run(args):
     if args.json:
         print_json(result.as_dict())
     else:
-        print(wrap(result.format()))
+        print(wrap(format_verification(result)))
     return 0 if result.certified else 1

@@ -41,7 +41,7 @@ from ..errors import InputError
 from .latex_text import _GREEK, latex_matrix, latex_number, tex_text
 from ..symbolic.symbols import (DerivedParam, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
                       _Described)
-from ..theorem.theorem import LATEX_RENDERER, Theorem
+from ..theorem.theorem import Theorem
 from ..theorem.values import LMI
 
 __all__ = ["LMILatexPrinter", "lmi_latex", "lmi_where", "name_to_latex",
@@ -499,15 +499,3 @@ def grouped_display(items: list[str], end: str = "") -> str:
     body = "\\hskip 2em plus 1em minus 0.5em\n".join(
         f"\\lmiitem{{{item}{',' if k < len(items) - 1 else end}}}" for k, item in enumerate(items))
     return "\\begin{lmiitems}\n" + body + "\n\\end{lmiitems}"
-
-
-def theorem_display_latex(theorem: Theorem) -> str:
-    """The title and every LMI of ``theorem`` as display maths a notebook (MathJax, KaTeX) can
-    typeset: plain LaTeX, none of the document's own macros (:meth:`Theorem._repr_latex_`)."""
-    lines = [f"\\text{{{theorem.id}: {tex_text(theorem.title)}}}"]
-    for lmi in theorem.lmis:
-        lines.append(f"{lmi_latex(theorem, lmi)} \\qquad \\text{{{tex_text(lmi.label)}}}")
-    return "$$\\begin{gathered}\n" + " \\\\\n".join(lines) + "\n\\end{gathered}$$"
-
-
-LATEX_RENDERER["theorem"] = theorem_display_latex

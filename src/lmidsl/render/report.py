@@ -1,19 +1,9 @@
 """Human-readable text for solutions and tables (the JSON forms are ``as_dict`` methods)."""
 from __future__ import annotations
 
-import numpy as np
-
 from ..numeric.interconnection import design_kind
+from .table import format_matrix
 from ..solver.verdict import LEVEL_NAMES
-
-
-def format_matrix(name: str, M, indent: str = "  ") -> str:
-    M = np.atleast_2d(np.asarray(M, dtype=float))
-    rows = [" ".join(f"{x:11.5g}" for x in row) for row in M]
-    pad = " " * (len(name) + 3)
-    lines = [f"{indent}{name} = [{rows[0]}"] + [f"{indent}{pad}{r}" for r in rows[1:]]
-    lines[-1] += "]"
-    return "\n".join(lines)
 
 
 def headline_words(sol, verdict) -> str:
@@ -117,4 +107,47 @@ def format_solution(sol) -> str:
     lines.append("  verdict: " + verdict.line())
     if sol.times:
         lines.append("  times: " + ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in sol.times.items()))
+    return "\n".join(lines)
+
+
+def format_verification(result) -> str:
+    """The text of ``lmidsl verify``: the design, each piece of evidence, the checks, the verdict."""
+    def g(x):
+        return "—" if x is None else f"{x:.6g}"
+    lines = [f"{result.theorem}" + (f" [{result.example}]" if result.example else "") + f"  ({result.mode} {design_kind(result.kind).noun})"]
+    lines += [format_matrix(name, M) for name, M in result.design.items()]
+    if result.claimed_gamma is not None:
+        lines.append(f"  claimed γ            {g(result.claimed_gamma)}")
+    if result.synthesis_status is not None:
+        lines.append(f"  synthesis            {result.synthesis_status}, γ = {g(result.synthesis_gamma)}")
+        for r in result.lmis:
+            where = (f" @ vertex {r['vertex']}" if "vertex" in r else "") + \
+                    (f" @ {r['point']}" if r.get("point") else "")
+            lines.append(f"    {r['label'] + where:<20} λmax = {r['max_eig']: .3e}"
+                         f"  ({'holds' if r['max_eig'] < 0 else 'VIOLATED'})")
+        for inv in result.inverted:
+            lines.append(f"    inverted {inv['matrix']}: condition number {inv['cond']:.3g}")
+    if result.analysis_theorem is not None:
+        certified = (f"γ = {g(result.analysis_gamma)}" if result.analysis_gamma is not None
+                     else "no γ certified")
+        lines.append(f"  analysis {result.analysis_theorem}: {result.analysis_status}, {certified}")
+    if result.exact is not None:
+        e = result.exact
+        extra = ""
+        if e.details.get("feedback_value") is not None:
+            extra = f"; state-feedback disturbances {g(e.details['feedback_value'])}"
+        lines.append(f"  exact {e.kind}: γ = {g(e.value) if e.value is not None else '∞'}"
+                     f" (squared {g(e.squared)}){extra}")
+        measure = "max Re λ(A)" if e.time == "continuous" else "ρ(𝓛)"
+        lines.append(f"  mean-square stability: {measure} = {e.spectral_radius:.6g}"
+                     f" ({'stable' if e.mean_square_stable else 'UNSTABLE'})")
+    mc = result.monte_carlo
+    if mc is not None:
+        lines.append(f"  Monte Carlo ({mc.runs} runs, {mc.disturbance} disturbance, seed {mc.seed}): "
+                     f"ratio {g(mc.ratio)}, {100 * mc.confidence:.0f}% CI [{g(mc.ci_low)}, {g(mc.ci_high)}]"
+                     f"; exact for this w {g(mc.expected)} (squared units)")
+    lines.append("  checks: " + ", ".join(f"{k} {'ok' if v else ('—' if v is None else 'FAILED')}"
+                                         for k, v in result.checks.items()))
+    lines += [f"  note: {n}" for n in result.notes]
+    lines.append("  verdict: " + result.verdict.line())
     return "\n".join(lines)

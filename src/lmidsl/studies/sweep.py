@@ -139,7 +139,7 @@ class SweepResult:
                    t.get("first_point", 0.0), d.get("scaling"), d.get("labels", {}))
 
     def timing(self) -> dict:
-        """Mean per-point times, excluding the first point (cvxpy builds its parametrised form then)."""
+        """Mean per-point times, excluding the first point (it sets up the backend model)."""
         pts = self.points[1:] if len(self.points) > 1 else self.points
         calls = [p.solver_call for p in pts if p.solver_call is not None]
         internal = [p.solver_internal for p in pts if p.solver_internal is not None]
@@ -439,7 +439,7 @@ def _certificate_problem(record: dict, scaled) -> str | None:
 
 def format_timing(t: dict) -> str:
     lines = [f"compile {t['compile'] * 1e3:.1f} ms once; first point {t['first_point'] * 1e3:.1f} ms "
-             "(cvxpy builds its parametrised form)",
+             "(it includes setting up the backend model)",
              f"per point (mean of {t['points_timed']}): total {t['total_per_point'] * 1e3:.1f} ms, "
              f"solver call {t['solver_call_per_point'] * 1e3:.1f} ms, overhead "
              f"{t['overhead_per_point'] * 1e3:.1f} ms = {100 * t['overhead_ratio']:.1f} % of the solver call"]

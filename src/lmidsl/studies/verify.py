@@ -125,50 +125,6 @@ class Verification:
             "notes": self.notes,
         }
 
-    def format(self) -> str:
-        """Human-readable report."""
-        def g(x):
-            return "—" if x is None else f"{x:.6g}"
-        lines = [f"{self.theorem}" + (f" [{self.example}]" if self.example else "") + f"  ({self.mode} {design_kind(self.kind).noun})"]
-        for name, M in self.design.items():
-            rows = np.atleast_2d(np.asarray(M, dtype=float))
-            lines.append(f"  {name} = " + "; ".join(" ".join(f"{x:.6g}" for x in r) for r in rows))
-        if self.claimed_gamma is not None:
-            lines.append(f"  claimed γ            {g(self.claimed_gamma)}")
-        if self.synthesis_status is not None:
-            lines.append(f"  synthesis            {self.synthesis_status}, γ = {g(self.synthesis_gamma)}")
-            for r in self.lmis:
-                where = (f" @ vertex {r['vertex']}" if "vertex" in r else "") + \
-                        (f" @ {r['point']}" if r.get("point") else "")
-                lines.append(f"    {r['label'] + where:<20} λmax = {r['max_eig']: .3e}"
-                             f"  ({'holds' if r['max_eig'] < 0 else 'VIOLATED'})")
-            for inv in self.inverted:
-                lines.append(f"    inverted {inv['matrix']}: condition number {inv['cond']:.3g}")
-        if self.analysis_theorem is not None:
-            certified = (f"γ = {g(self.analysis_gamma)}" if self.analysis_gamma is not None
-                         else "no γ certified")
-            lines.append(f"  analysis {self.analysis_theorem}: {self.analysis_status}, {certified}")
-        if self.exact is not None:
-            e = self.exact
-            extra = ""
-            if e.details.get("feedback_value") is not None:
-                extra = f"; state-feedback disturbances {g(e.details['feedback_value'])}"
-            lines.append(f"  exact {e.kind}: γ = {g(e.value) if e.value is not None else '∞'}"
-                         f" (squared {g(e.squared)}){extra}")
-            measure = "max Re λ(A)" if e.time == "continuous" else "ρ(𝓛)"
-            lines.append(f"  mean-square stability: {measure} = {e.spectral_radius:.6g}"
-                         f" ({'stable' if e.mean_square_stable else 'UNSTABLE'})")
-        mc = self.monte_carlo
-        if mc is not None:
-            lines.append(f"  Monte Carlo ({mc.runs} runs, {mc.disturbance} disturbance, seed {mc.seed}): "
-                         f"ratio {g(mc.ratio)}, {100 * mc.confidence:.0f}% CI [{g(mc.ci_low)}, {g(mc.ci_high)}]"
-                         f"; exact for this w {g(mc.expected)} (squared units)")
-        lines.append("  checks: " + ", ".join(f"{k} {'ok' if v else ('—' if v is None else 'FAILED')}"
-                                             for k, v in self.checks.items()))
-        lines += [f"  note: {n}" for n in self.notes]
-        lines.append("  verdict: " + self.verdict.line())
-        return "\n".join(lines)
-
 
 def _backoff_summary(record: dict | None) -> dict | None:
     """The back-off record without the bulky per-LMI list."""

@@ -40,7 +40,7 @@ from functools import lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..errors import InputError, LmidslError, LmidslWarning
+from ..errors import InputError, LmidslError, LmidslWarning, did_you_mean
 from . import build_cache
 
 if TYPE_CHECKING:       # the registry itself never builds a theorem: `lmidsl list` reads an index
@@ -319,7 +319,8 @@ def get_theorem(theorem_id: str) -> Theorem:
             _REPORTED.update(p.path for p in problems)
             raise InputError(f"unknown theorem {theorem_id!r}; theorem files that failed to load: "
                              + "; ".join(str(p) for p in problems))
-        raise InputError(f"unknown theorem {theorem_id!r}; known: {', '.join(sorted(theorems))}")
+        raise InputError(f"unknown theorem {theorem_id!r}{did_you_mean(theorem_id, theorems)}; "
+                         f"`lmidsl list` shows the {len(theorems)} theorems")
     return theorems[theorem_id]
 
 
@@ -360,7 +361,8 @@ def linked_analysis(theorem: Theorem) -> Theorem:
 def get_example(theorem: Theorem, name: str):
     if name not in theorem.examples:
         known = ", ".join(theorem.examples) or "none"
-        raise InputError(f"{theorem.id}: unknown example {name!r}; examples: {known}")
+        raise InputError(f"{theorem.id}: unknown example {name!r}{did_you_mean(name, theorem.examples)}; "
+                         f"examples: {known}")
     return theorem.examples[name]
 
 

@@ -22,25 +22,18 @@ from ..errors import TheoremDefinitionError
 from ..symbolic.linearity import check_affine
 from ..symbolic.shapes import check_conformance, dims_equal, fmt_shape
 from ..symbolic.uncertainty import uncertain_symbol
-from ..symbolic.symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, RecoveredMatrix,
+from ..symbolic.symbols import (ConstantMatrix, DataMatrix, DerivedParam, as_symbolic, DiagonalVariable, Dim, Param, RecoveredMatrix,
                       ScalarVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
                       Variable, metadata_snapshot, restore_metadata)
-from .values import (DESIGN_KINDS, FIGURES, LMI, TIME_DOMAINS, AnalysisLink, Bisection, BoundedRealForm, StateFeedbackForm,
+from .values import (DESIGN_KINDS, FIGURES, LATEX_RENDERER, LMI, TIME_DOMAINS, AnalysisLink, Bisection, BoundedRealForm, StateFeedbackForm,
                      Declaration, Derivation, ErrorSystemLink, Example, FactorStep, SignalScaling, Source,
                      check_provenance)
-
-
-LATEX_RENDERER: dict = {}
-"""``{"theorem": function(theorem) -> str}``: how a theorem's LMIs are written in LaTeX, for
-:meth:`Theorem._repr_latex_`.  The printer lives in :mod:`lmidsl.render.latex`, a layer above
-this one, which registers itself here when it is imported (and ``lmidsl``'s public face imports
-it with :class:`Theorem`), so that this layer never imports the one above it."""
 
 
 class Theorem:
     """A theorem: declarations, LMIs, objective, recovery, analysis counterpart, examples."""
 
-    def __init__(self, id: str, title: str, source: Source, *, description: str = "",
+    def __init__(self, id: str, title: str | None = None, source: Source | None = None, *, description: str = "",
                  time: str = "discrete", designs: str | None = None,
                  sample_time: float | None = None, provenance: str = "paper",
                  provenance_note: str = ""):
@@ -50,8 +43,8 @@ class Theorem:
             raise TheoremDefinitionError(f"{id}: designs must be one of {DESIGN_KINDS}, got {designs!r}")
         check_provenance(id, provenance, provenance_note)
         self.id = id
-        self.title = title
-        self.source = source
+        self.title = id if title is None else title                  # quick mode: an id is enough
+        self.source = Source("stated in Python", "") if source is None else source
         self.description = description
         self.time = time
         self.designs = designs              # what the recovery produces: filter, controller, ...
@@ -254,9 +247,16 @@ class Theorem:
                     f"first, or use a variable of the LMIs)")
 
     # -- conditions ---------------------------------------------------------------------
-    def lmi(self, label: str, rows, *, sense: str = "<", triangle: str = "lower", sizes=None,
+    def lmi(self, label, rows=None, *, sense: str = "<", triangle: str = "lower", sizes=None,
             strict: bool = True, description: str = "") -> LMI:
-        """Declare the block LMI ``label``: one triangle of blocks, ``sense`` '<' or '>'."""
+        """Declare the block LMI ``label``: one triangle of blocks, ``sense`` '<' or '>'.
+        ``thm.lmi(rows)`` labels it itself: (1), (2), ...; a numpy array in a block is constant
+        data (:func:`~lmidsl.symbolic.symbols.constant_matrix`), given in the example 'data'."""
+        if rows is None:
+            label, rows = f"({len(self.lmis) + 1})", label
+        if isinstance(rows, (list, tuple)):
+            rows = [[as_symbolic(b) for b in row] if isinstance(row, (list, tuple)) else as_symbolic(row)
+                    for row in rows]
         if sense not in ("<", ">", "<=", ">="):
             raise TheoremDefinitionError(f"{self.id}: LMI {label}: sense must be '<' or '>'")
         if any(l.label == label for l in self.lmis):
@@ -272,8 +272,18 @@ class Theorem:
         if any(isinstance(a, RecoveredMatrix) for a in lmi.symbols()):
             raise TheoremDefinitionError(f"{where}: uses a recovery intermediate (declared by factor)")
         lmi.per_vertex = any(getattr(s, "per_vertex", False) for s in lmi.symbols())
+        self._declare_constants(lmi.symbols())
         self.lmis.append(lmi)
         return lmi
+
+    def _declare_constants(self, symbols) -> None:
+        """Declare the numpy constants an LMI uses as data, their values in the example 'data'."""
+        for c in sorted((s for s in symbols if isinstance(s, ConstantMatrix)), key=lambda s: s.name):
+            if c.name not in self.data_decl:
+                self.data_decl[c.name] = Declaration(c, c.latex_name, c.description)
+                example = self.examples.get("data") or self.example(
+                    "data", {}, description="the constants written in the LMIs")
+                example.data[c.name] = c.value
 
     def assume(self, assumption):
         """Declare a hypothesis on the data (:mod:`lmidsl.theorem.assumptions`: ``zero("D11")``,
@@ -299,6 +309,7 @@ class Theorem:
         self._check_determined(objective, "the objective")
         self.objective = objective
         self._set_performance(performance)
+        return self                           # lmidsl.solve(thm.minimize(g)) in quick mode
 
     def feasibility(self, *, performance: tuple[str, Any] | None = None):
         """A feasibility problem (no objective); ``performance`` = (name, expr) names the level

@@ -57,6 +57,13 @@ class Source:
         return f"{self.citation or self.paper}, {self.equations}"
 
 
+LATEX_RENDERER: dict = {}
+"""``{"theorem": f(theorem) -> str, "lmi": f(lmi) -> str}``: how a theorem's and an LMI's
+``_repr_latex_`` write them.  The printer lives in the render layer, above this one, which
+registers itself here when it is imported (:mod:`lmidsl.render.notebook`; ``lmidsl``'s public face
+imports it with :class:`Theorem`), so that this layer never imports the one above it."""
+
+
 @dataclass
 class LMI:
     """A labelled block LMI ``M < 0`` (or ``M > 0``) as the paper writes it."""
@@ -78,6 +85,12 @@ class LMI:
             lower = [[-b for b in row] for row in self.spec.lower]
             self._negative = BlockMatrixSpec(lower, self.spec.sizes, self.spec.given_as)
         return self._negative
+
+    def _repr_latex_(self) -> str | None:
+        """The LMI in LaTeX for a notebook, by the printer the render layer registers in
+        :data:`LATEX_RENDERER` (None: the plain repr)."""
+        render = LATEX_RENDERER.get("lmi")
+        return None if render is None else render(self)
 
     def symbols(self) -> set:
         """Every symbol in the LMI's blocks (computed once; an LMI does not change)."""
