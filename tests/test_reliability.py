@@ -169,12 +169,12 @@ def test_timeout_holds_with_sigint_ignored_and_keeps_the_store(tmp_path):
     """A command started with `&` from a script ignores SIGINT: the deadline still stops it
     (exit 1, one line) and the points solved are in the store (a strict prefix of the grid)."""
     out = tmp_path / "out"
-    code, _, err = _cli(_env(tmp_path), "sweep", *THM3, "--grid", "rbar=0.05:0.95:2000", "--timeout", "10",
+    code, _, err = _cli(_env(tmp_path), "sweep", *THM3, "--grid", "rbar=0.05:0.95:5000", "--timeout", "20",
                         "--no-progress", "--out", str(out), preexec_fn=_ignore_sigint)
     assert code == 1, err
-    assert "--timeout 10: stopped after 10 s (timed out" in err.strip().splitlines()[-1]
+    assert "--timeout 20: stopped after 20 s (timed out" in err.strip().splitlines()[-1], err
     records = [json.loads(line) for line in (out / "sweep.jsonl").read_text().splitlines()][1:]
-    assert 0 < len(records) < 2000
+    assert 0 < len(records) < 5000
 
 
 def test_the_watchdog_ends_a_command_that_swallows_the_interrupt():
@@ -508,5 +508,6 @@ def test_the_clock_covers_start_up(tmp_path):
     SIGINT ignored as for a background job."""
     code, _, err = _cli(_env(tmp_path), "solve", *THM3, "--timeout", "0.3", preexec_fn=_ignore_sigint)
     assert code == 1, err
-    assert err.strip().splitlines()[-1].startswith("error: --timeout 0.3: stopped after 0.3 s (timed out")
-    assert "Traceback" not in err
+    assert any(line.startswith("error: --timeout 0.3: stopped after 0.3 s (timed out")
+               for line in err.splitlines()), err
+    assert "Traceback" not in err and "internal error" not in err, err
