@@ -169,12 +169,12 @@ def test_timeout_holds_with_sigint_ignored_and_keeps_the_store(tmp_path):
     """A command started with `&` from a script ignores SIGINT: the deadline still stops it
     (exit 1, one line) and the points solved are in the store (a strict prefix of the grid)."""
     out = tmp_path / "out"
-    code, _, err = _cli(_env(tmp_path), "sweep", *THM3, "--grid", "rbar=0.05:0.95:2000", "--timeout", "3",
+    code, _, err = _cli(_env(tmp_path), "sweep", *THM3, "--grid", "rbar=0.05:0.95:5000", "--timeout", "20",
                         "--no-progress", "--out", str(out), preexec_fn=_ignore_sigint)
     assert code == 1, err
-    assert "--timeout 3: stopped after 3 s (timed out" in err.strip().splitlines()[-1]
+    assert "--timeout 20: stopped after 20 s (timed out" in err.strip().splitlines()[-1], err
     records = [json.loads(line) for line in (out / "sweep.jsonl").read_text().splitlines()][1:]
-    assert 0 < len(records) < 2000
+    assert 0 < len(records) < 5000
 
 
 def test_the_watchdog_ends_a_command_that_swallows_the_interrupt():
@@ -314,7 +314,25 @@ def test_one_out_folder_is_used_by_one_run_at_a_time(capsys, tmp_path):
 # -- bad data, unwritable outputs, the umask --------------------------------------------------
 def test_an_empty_dimension_is_one_line(capsys):
     code, _, err = run_main(capsys, "solve", *THM3, "--set", "E=[[],[]]")
-    assert_one_line(code, err, "dimension k = 0", "variable")
+    assert_one_line(code, err, "data E is 2×0", "dimension k = 0")
+
+
+@pytest.mark.parametrize("theorem,example,name,value", [
+    ("textbook.h2_ct", None, "B", "[[],[],[]]"),                    # were internal errors: 3×0 data
+    ("textbook.h2_ct_sf", None, "B1", "[[],[],[]]"),
+    ("zhang_quantized_loss.thm2", None, "Bd", "[[],[]]"),
+    ("textbook.h2_ct", None, "A", "[[0,0,0],[0,0,0],[0,0,0]]"),     # PICOS returned a sparse CVXOPT value
+    ("textbook.hinf_sf_ct", None, "C1", "[[0,0,0]]"),
+])
+def test_empty_and_zero_data_give_an_answer_not_a_crash(capsys, theorem, example, name, value):
+    """Found by setting each datum of every paper theorem's first example to an empty matrix, a
+    zero matrix or []: 279 cases, 9 internal errors before (now 1, listed in the report)."""
+    argv = ["solve", theorem, "--set", f"{name}={value}", "--no-certify"] + (["--example", example] if example else [])
+    code, _, err = run_main(capsys, *argv)
+    assert code in (0, 1, 2), err
+    assert "internal error" not in err and "Traceback" not in err, err
+    if "[]" in value:
+        assert_one_line(code, err, f"data {name} is", "= 0")
 
 
 def test_a_full_disk_mid_sweep_is_exit_1_and_keeps_what_was_stored(capsys, tmp_path, monkeypatch):
@@ -482,3 +500,14 @@ def test_local_clusters_have_no_dashboard_unless_asked(monkeypatch):
     assert dashboard_options()["scheduler_kwargs"] == {"dashboard": False, "dashboard_address": "127.0.0.1:0"}
     monkeypatch.setenv("LMIDSL_DASK_DASHBOARD", ":8790")
     assert dashboard_options() == {"dashboard_address": ":8790"}
+
+
+def test_the_clock_covers_start_up(tmp_path):
+    """The deadline starts before the command's imports (cvxpy, sympy: about a second): 0.3 s
+    ends the command during start-up or just after, exit 1 with the one "timed out" line, with
+    SIGINT ignored as for a background job."""
+    code, _, err = _cli(_env(tmp_path), "solve", *THM3, "--timeout", "0.3", preexec_fn=_ignore_sigint)
+    assert code == 1, err
+    assert any(line.startswith("error: --timeout 0.3: stopped after 0.3 s (timed out")
+               for line in err.splitlines()), err
+    assert "Traceback" not in err and "internal error" not in err, err

@@ -192,8 +192,8 @@ class Deadline:
         self.timer.daemon = True
 
     def start(self):
-        """Start the clock (inside the ``try`` that handles its interrupt)."""
-        if self.timer is not None:
+        """Start the clock (inside the ``try`` that handles its interrupt); once."""
+        if self.timer is not None and not self.timer.is_alive() and not self.expired:
             self.timer.start()
 
     @staticmethod
@@ -273,17 +273,54 @@ def console_main() -> None:
     os._exit(code)
 
 
+def _early_timeout(argv) -> float | None:
+    """``--timeout SECONDS`` read from the raw arguments, before the parser (and the command's
+    imports: cvxpy, Dask) run, so that the clock covers start-up too; None when absent or not a
+    positive finite number (the parser then says so)."""
+    words = list(sys.argv[1:] if argv is None else argv)
+    for i, word in enumerate(words):
+        text = word.partition("=")[2] if word.startswith("--timeout=") else \
+            (words[i + 1] if word == "--timeout" and i + 1 < len(words) else None)
+        if text is not None:
+            try:
+                value = float(text)
+            except ValueError:
+                return None
+            return value if 0 < value < float("inf") else None
+    return None
+
+
 def _main(argv=None) -> int:
-    parser = build_parser(argv)
-    args = parser.parse_args(argv)
+    deadline = Deadline(_early_timeout(argv))
+    try:
+        deadline.start()
+        parser = build_parser(argv)
+        args = parser.parse_args(argv)
+    except KeyboardInterrupt:              # the deadline during start-up (or Ctrl-C)
+        deadline.cancel()
+        print(deadline.message("during start-up") if deadline.expired else "error: interrupted", file=sys.stderr)
+        return 1 if deadline.expired else 130
+    except BaseException:                  # argparse's exit: no clock left running
+        deadline.cancel()
+        raise
     configure(wide=getattr(args, "wide", False))
     with warnings.catch_warnings():
         warnings.showwarning = _one_line_warning
-        return _run(args)
+        return _run(args, deadline)
 
 
-def _run(args) -> int:
-    deadline = Deadline(getattr(args, "timeout", None))
+def _run(args, deadline=None) -> int:
+    if deadline is None or deadline.seconds != getattr(args, "timeout", None):
+        if deadline is not None:
+            deadline.cancel()
+        deadline = Deadline(getattr(args, "timeout", None))
+    try:
+        return _run_command(args, deadline)
+    finally:                          # whatever ended the command, no clock is left running
+        deadline.cancel()
+
+
+def _run_command(args, deadline) -> int:
     try:
         deadline.start()
         code = args.run(args)

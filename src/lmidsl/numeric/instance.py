@@ -192,7 +192,7 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None, *,
                 if arr.shape[0] == arr.shape[1] and asymmetry(arr) > 1e-12:
                     raise InputError(f"{theorem.id}: data {name} must be symmetric")
     dims = _infer_dims(theorem, matrices, given_dims)
-    _refuse_empty_variables(theorem, dims)
+    _refuse_empty_dimensions(theorem, dims, data)
     for alias, (name, v) in getattr(theorem, "vertex_data", {}).items():   # A_i of A(α): theorem/robust.py
         data[alias] = data[name][v]
     params = _evaluate_params(theorem, {k: inputs[k] for k in theorem.param_decl if k in inputs})
@@ -201,17 +201,20 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None, *,
     return instance
 
 
-def _refuse_empty_variables(theorem: Theorem, dims: dict) -> None:
-    """A dimension 0 (a 2×0 matrix) that sizes a decision variable is bad input, in one line."""
-    zero = {str(d) for d, v in dims.items() if int(v) == 0}
+def _refuse_empty_dimensions(theorem: Theorem, dims: dict, data: dict) -> None:
+    """A dimension 0 (a 2×0 matrix in the data) is bad input, in one line naming the datum: an
+    empty variable or block has no meaning in an LMI, and solvers and modelling layers fail on it
+    each in their own way."""
+    zero = sorted(str(d) for d, v in dims.items() if int(v) == 0)
     if not zero:
         return
-    for name, decl in theorem.var_decl.items():
-        shape = getattr(decl.symbol, "shape", ())
-        empty = sorted(zero & {str(s) for d in shape for s in sp.sympify(d).free_symbols})
-        if empty:
-            raise InputError(f"{theorem.id}: dimension {empty[0]} = 0 (from an empty matrix in the data) "
-                             f"makes variable {name} empty; dimensions must be at least 1")
+    for name, value in data.items():
+        for array in (value if isinstance(value, list) else [value]):
+            if 0 in np.shape(array):
+                shape = "×".join(str(n) for n in np.shape(array))
+                raise InputError(f"{theorem.id}: data {name} is {shape}, so dimension {zero[0]} = 0; "
+                                 f"dimensions must be at least 1")
+    raise InputError(f"{theorem.id}: dimension {zero[0]} = 0; dimensions must be at least 1")
 
 
 def random_point(instance: Instance, rng: np.random.Generator) -> dict:

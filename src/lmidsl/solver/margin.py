@@ -112,7 +112,8 @@ def _flag_margin_limited(model, solution: Solution, influence: float | None = No
 def _influence_by_difference(model, solution: Solution) -> float | None:
     """The margin's influence without duals (a backend that gives none, e.g. PICOS): the
     objective's drop when ε is divided by 100, over |objective|, times 100/99 (the slope of a
-    linear dependence on ε); None for a feasibility problem or when the second solve fails."""
+    linear dependence on ε); None for a feasibility problem or when the second solve returns no
+    point whose LMIs hold (its objective would mean nothing)."""
     if solution.objective is None or model.instance.theorem.objective is None:
         return None
     margin = model.margin
@@ -121,7 +122,7 @@ def _influence_by_difference(model, solution: Solution) -> float | None:
         smaller = model.solve(solution.solver)
     finally:
         model.set_margin(margin)
-    if not smaller.ok or smaller.objective is None:
+    if not (smaller.ok and smaller.lmis_hold) or smaller.objective is None:   # only a point that holds
         return None
     return max(0.0, solution.objective - smaller.objective) / max(abs(solution.objective), 1e-300) * 100 / 99
 

@@ -26,7 +26,8 @@ CVXPY_KEYWORDS = frozenset({"warm_start", "canon_backend", "ignore_dpp", "enforc
 def finite_value(value, where: str):
     """``value`` itself when every number in it is finite (JSON's 1e400 is inf), else one line."""
     if isinstance(value, float) and not math.isfinite(value):
-        raise InputError(f"{where}: {value} is not a finite number")
+        raise InputError(f"{where}: not a finite number (it overflows a double)" if math.isinf(value)
+                         else f"{where}: not a finite number")
     if isinstance(value, list):
         for item in value:
             finite_value(item, where)

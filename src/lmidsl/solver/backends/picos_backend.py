@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from functools import lru_cache
 
+import cvxopt
 import numpy as np
 import picos
 
@@ -221,4 +222,7 @@ class PicosModel(CompiledModel):
     def expression_value(self, expression):
         if not _is_picos(expression):
             return np.asarray(expression, dtype=float)
-        return np.array(expression.value, dtype=float).reshape(expression.shape)
+        value = expression.value
+        if isinstance(value, cvxopt.spmatrix):       # PICOS gives a sparse CVXOPT matrix for some values
+            value = cvxopt.matrix(value)
+        return np.array(value, dtype=float).reshape(expression.shape)
