@@ -100,7 +100,7 @@ def test_reproduction_text_fits_any_row_and_reads_clearly(monkeypatch):
             _row(theorem="textbook.brl_dt", example="random-3", printed_gamma=None, certified=True,
                  comparison="computed (no printed value)", provenance="illustration", expect="certified"),
             _row(theorem="textbook.quadstab_dt", example="interval-3", printed_gamma=None, computed_gamma=None,
-                 status="infeasible", comparison="infeasible", provenance="illustration")]
+                 status="infeasible", comparison="infeasible", verdict={"certified": False, "word": "infeasible", "gamma": None, "why": "proved"}, provenance="illustration")]
     configure(wide=False)
     for width in (80, 100):
         monkeypatch.setenv("COLUMNS", str(width))
@@ -214,7 +214,7 @@ def test_solution_repr_is_one_line_and_theorem_has_latex():
     sol = lmidsl.solve("wang_l2linf.thm3", example="paper-full")
     text = repr(sol)
     assert "\n" not in text and len(text) < 200, text
-    assert text.startswith("<Solution wang_l2linf.thm3 [paper-full]: optimal, gamma=0.33674") and "CERTIFIED" in text
+    assert text.startswith("<Solution wang_l2linf.thm3 [paper-full]: optimal, gamma=0.33674") and ("OPTIMAL" in text or "CERTIFIED" in text)
     theorem = lmidsl.get_theorem("wang_l2linf.thm3")
     latex = theorem._repr_latex_()
     assert latex.startswith("$$") and latex.endswith("$$") and "\\begin{bmatrix}" in latex

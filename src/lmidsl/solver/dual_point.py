@@ -38,11 +38,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from fractions import Fraction
 
 import numpy as np
 from scipy import sparse
 from flint import arb, arb_mat, ctx, fmpq, fmpq_mat
 
+from .backends.direct_backend import psd_diagonal
 from .feasibility import compiled_lmis
 
 U = 2.0 ** -53                  # unit roundoff of double precision (round to nearest)
@@ -247,7 +249,6 @@ def last_dual(model, statuses: tuple, shifted: bool = False) -> np.ndarray | Non
         return None
     z = np.asarray(last[1].z, dtype=float)
     if shifted and getattr(model, "last_shift", 0.0):
-        from .backends.direct_backend import psd_diagonal
         z = z + model.last_shift * psd_diagonal(model.problem)
     return z if np.all(np.isfinite(z)) and np.abs(z).max(initial=0.0) > 0 else None
 
@@ -328,7 +329,6 @@ def _independent_equations(data: DualData, M, t: np.ndarray, rows: np.ndarray, k
     Σ_j c_j (row j) with c rounded to rationals, and the identity row_i = Σ c_j row_j,
     t_i = Σ c_j t_j is checked in exact arithmetic on the compiled coefficients (then M z = t on
     the independent rows implies it on row i).  None when a dependency is not exact."""
-    from fractions import Fraction
     from scipy.linalg import qr
 
     n = M.shape[0]
