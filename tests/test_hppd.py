@@ -102,12 +102,16 @@ def test_coefficient_lmis_sum_to_the_stated_lmi_on_the_simplex(sizes, degree, po
         assert np.allclose(summed, stated, rtol=1e-10, atol=1e-10)
 
 
-def test_a_non_polynomial_term_is_refused():
-    sizes = (2,)
-    A, P, forms, _ = _numeric_forms(sizes, 1, np.random.default_rng(0))
-    spec = block_matrix([[He(P.I * A)]])
-    with pytest.raises(Exception, match="not polynomial"):
-        coefficient_blocks(spec, forms, sizes, 0)
+def test_a_non_polynomial_term_is_refused_at_declaration():
+    from lmidsl import TheoremDefinitionError
+    thm = RobustTheorem("t.bad", "t", Source("a", "b"), time="continuous")
+    n = thm.dim("n")
+    alpha = thm.simplex("alpha")
+    A = thm.data("A", n, n, over=alpha)
+    P = thm.var("P", n, kind="symmetric", over=alpha)
+    with pytest.raises(TheoremDefinitionError, match=r"t.bad: LMI \(bad\): .* is not polynomial"):
+        thm.lmi("(bad)", [[He(P * A.I)]])
+    assert thm.lmis == []
 
 
 # -- the theorem -------------------------------------------------------------------------------------
