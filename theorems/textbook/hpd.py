@@ -107,7 +107,7 @@ def _statement(id, title, equations, time, *, description, degree=1, polya=0, so
 # -- robust stability ----------------------------------------------------------------------------
 hpd_stability_ct = _statement(
     "textbook.hpd_stability_ct", "Robust stability over the simplex with an HPPD Lyapunov matrix (continuous time)",
-    "Theorem 3 (HPPD P(α), Pólya relaxation)", "continuous",
+    "Theorem 3 (HPPD P(α), Polya relaxation)", "continuous",
     description="find P(α) = Σ α^k P_k ≻ 0 with A(α)ᵀP(α) + P(α)A(α) ≺ 0 for all α in the simplex")
 _thm = hpd_stability_ct
 _n, _alpha = _thm.dims["n"], _thm.simplices[0]
@@ -120,7 +120,7 @@ _thm.verify_with(grid_check())
 
 hpd_stability_dt = _statement(
     "textbook.hpd_stability_dt", "Robust stability over the simplex with an HPPD Lyapunov matrix (discrete time)",
-    "Theorem 3, discrete-time form (HPPD P(α), Pólya relaxation)", "discrete",
+    "Theorem 3, discrete-time form (HPPD P(α), Polya relaxation)", "discrete",
     description="find P(α) ≻ 0 with [[−P(α), A(α)ᵀP(α)], [P(α)A(α), −P(α)]] ≺ 0 for all α in the simplex")
 _thm = hpd_stability_dt
 _n, _alpha = _thm.dims["n"], _thm.simplices[0]
@@ -167,7 +167,7 @@ hpd_margin_dt = _margin("textbook.hpd_margin_dt", "discrete")
 # -- robust H∞ and H2 analysis -----------------------------------------------------------------------
 hpd_hinf_ct = _statement(
     "textbook.hpd_hinf_ct", "Robust H∞ bound over the simplex with an HPPD Lyapunov matrix (continuous time)",
-    "the bounded real lemma with P(α) (HPPD), Pólya relaxation", "continuous",
+    "the bounded real lemma with P(α) (HPPD), Polya relaxation", "continuous",
     description="min μ: [[He(P(α)A(α)), P(α)B(α), C(α)ᵀ], [⋆, −μI, D(α)ᵀ], [⋆, ⋆, −I]] ≺ 0 for all α",
     provenance="illustration",
     provenance_note="the H∞ counterpart of Theorem 3 (the standard bounded real lemma with an HPPD "
@@ -192,7 +192,7 @@ _thm.verify_with(grid_check("hinf"))
 
 hpd_h2_ct = _statement(
     "textbook.hpd_h2_ct", "Robust H2 bound over the simplex with an HPPD Lyapunov matrix (continuous time)",
-    "the observability-Gramian LMIs with P(α) (HPPD), Pólya relaxation", "continuous",
+    "the observability-Gramian LMIs with P(α) (HPPD), Polya relaxation", "continuous",
     description="min tr W: He(P(α)A(α)) + C(α)ᵀC(α) ≺ 0, [[W, B(α)ᵀP(α)], [P(α)B(α), P(α)]] ≻ 0 for all α",
     provenance="illustration",
     provenance_note="the H2 counterpart of Theorem 3 (observability Gramian bounded by an HPPD P(α), "
