@@ -97,7 +97,7 @@ def reproduce_table(sources: Sources, papers: list[str]) -> str:
     for r in rows:
         lines.append(f"| `{r['theorem']}` | {r['example']} | {fmt(r['printed_gamma'])} | "
                      f"{fmt(r['computed_gamma'])} | {fmt(r['certified_gamma'])} | "
-                     f"{fmt(r['exact_gamma'])} | {r['verdict']} |")
+                     f"{fmt(r['exact_gamma'])} | {r['comparison']} |")
     return "\n".join(lines) + "\n"
 
 

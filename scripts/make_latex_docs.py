@@ -1,5 +1,6 @@
 """docs/latex/: the LaTeX document of each listed theorem (with its example solved), its PDF and a
-PNG of page 1 — what `lmidsl latex THEOREM [--example NAME] -o docs/latex/THEOREM.tex --pdf` writes.
+PNG of page 1 — what `lmidsl latex THEOREM [--example NAME] -o docs/latex/THEOREM.tex --pdf` writes;
+for the documents of the largest LMIs (:data:`LARGEST`), a PNG of every page at full size.
 
     python scripts/make_latex_docs.py [--out DIR]
 
@@ -28,6 +29,11 @@ DOCUMENTS = {
     "interconnected_delay.thm1": None, "interconnected_delay.thm2": None,
 }
 
+#: the documents of the largest LMIs (9, 10 and 6 block rows, two LMIs each): every page as PNG
+LARGEST = ("interconnected_delay.thm2", "zhang_quantized_loss.exact", "pan_impulsive.thm1")
+#: resolution of the PNGs (dots per inch): page 1 of each document, every page of LARGEST
+DPI, LARGE_DPI = 90, 110
+
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
@@ -53,8 +59,13 @@ def main(argv=None) -> int:
         if png:
             for old in out.glob(f"{theorem}-*.png"):
                 old.unlink()
-            subprocess.run([png, "-r", "90", "-png", "-f", "1", "-l", "1", "-singlefile", str(pdf),
-                            str(out / f"{theorem}-1")], check=True)
+            if theorem in LARGEST:
+                subprocess.run([png, "-r", str(LARGE_DPI), "-png", str(pdf), str(out / theorem)], check=True)
+                for page in out.glob(f"{theorem}-*.png"):      # pdftoppm pads page numbers: -01
+                    page.rename(out / f"{theorem}-{int(page.stem.rsplit('-', 1)[1])}.png")
+            else:
+                subprocess.run([png, "-r", str(DPI), "-png", "-f", "1", "-l", "1", "-singlefile", str(pdf),
+                                str(out / f"{theorem}-1")], check=True)
         print(f"{theorem}: {pdf.name}" + (f", {theorem}-1.png" if png else ""), flush=True)
     return 1 if failed else 0
 

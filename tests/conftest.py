@@ -43,3 +43,46 @@ def run_cli_json(*argv, **kw):
 @pytest.fixture
 def cli():
     return run_cli
+
+
+
+# -- the slow tests a default run leaves out (pyproject's addopts: -m 'not slow') --------------
+# counted where tests are collected (each xdist worker collects them all) and handed to the
+# process that prints the summary through xdist's workeroutput
+def _markexpr_leaves_out_slow(config) -> bool:
+    """Does ``-m`` deselect a test marked slow (and nothing else)?"""
+    markexpr = config.getoption("markexpr", "") or ""
+    if not markexpr:
+        return False
+    try:
+        from _pytest.mark.expression import Expression
+        return not Expression.compile(markexpr).evaluate(lambda name: name == "slow")
+    except Exception:  # noqa: BLE001  (another pytest: the plain reading)
+        return markexpr.strip() == "not slow"
+
+
+def pytest_deselected(items):
+    if items and _markexpr_leaves_out_slow(items[0].config):
+        config = items[0].config
+        config._lmidsl_slow_left_out = getattr(config, "_lmidsl_slow_left_out", 0) + sum(
+            1 for item in items if item.get_closest_marker("slow") is not None)
+
+
+def pytest_sessionfinish(session):
+    if hasattr(session.config, "workeroutput"):
+        session.config.workeroutput["slow_left_out"] = getattr(session.config, "_lmidsl_slow_left_out", 0)
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_testnodedown(node, error):
+    count = getattr(node, "workeroutput", {}).get("slow_left_out", 0)
+    node.config._lmidsl_slow_left_out = max(getattr(node.config, "_lmidsl_slow_left_out", 0), count)
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus, config):
+    """Say how many slow tests the run left out and how to run them."""
+    count = getattr(config, "_lmidsl_slow_left_out", 0)
+    if count:
+        terminalreporter.write_line(
+            f"{count} slow test(s) not run (-m 'not slow', pyproject's default); run them with "
+            f"`python -m pytest -m slow`, or everything with `python -m pytest -m ''`")

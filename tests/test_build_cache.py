@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from lmidsl.pipeline import make_instance
-from lmidsl.render.latex import theorem_display_latex
+from lmidsl.render.notebook import theorem_display_latex
 from lmidsl.solver.backends.direct_backend import DirectModel
 from lmidsl.symbolic import symbols
 from lmidsl.theorem import build_cache, registry

@@ -289,7 +289,8 @@ def test_cli_verify_bad_filter_file(tmp_path, capsys):
 def test_reproduce_row_has_the_independent_figure():
     from lmidsl.studies.reproduce import reproduce_one
     row = reproduce_one("wang_l2linf.thm3", "paper-full").as_dict()
-    assert row["verdict"] == "reproduced" and row["certified"] is True
+    assert row["comparison"] == "reproduced" and row["certified"] is True
+    assert row["verdict"]["certified"] and row["gamma"] == row["verdict"]["gamma"]
     assert row["exact_kind"] == "energy_to_peak" and row["mean_square_stable"] is True
     assert row["exact_gamma"] < row["computed_gamma"]
 

@@ -195,7 +195,7 @@ def test_reproduce_row_shows_the_exact_h_infinity_figure():
     """`reproduce` pairs the recovered filter (original coordinates) with the unscaled data."""
     from lmidsl.studies.reproduce import reproduce_one
     row = reproduce_one(THM, "paper").as_dict()
-    assert row["verdict"].startswith("reproduced") and row["certified"] is True
+    assert row["comparison"].startswith("reproduced") and row["certified"] is True
     assert row["exact_kind"] == "h_infinity" and row["mean_square_stable"] is True
     assert row["exact_gamma"] < row["certified_gamma"] <= row["computed_gamma"] * 1.01
 

@@ -77,7 +77,7 @@ def test_forced_disagreement_is_flagged():
     assert not capped.trusted and not capped.disagrees and capped.rel_diff is not None
     assert capped.rel_diff > 1e-3                                      # visible, not hidden
     assert not result.agree and result.exit_code == 1
-    assert "DISAGREEMENT" in result.verdict() and "cvxpy/CLARABEL" in result.verdict()
+    assert "DISAGREEMENT" in result.summary() and "cvxpy/CLARABEL" in result.summary()
 
 
 def test_forced_disagreement_cli_exit_code():
@@ -105,7 +105,7 @@ def test_iteration_limited_row_without_point():
                    options={"clarabel": {"max_iter": 3}})
     (row,) = result.rows
     assert not row.certified and not row.trusted and row.gamma is None
-    assert result.exit_code == 1 and "NO TRUSTED" in result.verdict()
+    assert result.exit_code == 1 and "NO TRUSTED" in result.summary()
 
 
 def _row(name, value, trusted, certified=True):
@@ -164,7 +164,7 @@ def test_check_backs_off_as_solve_does_and_compares_the_optima():
 
     result = check("textbook.hinf_filter_ct", example="random-3", solvers="direct:clarabel,picos:cvxopt")
     alone = solve("textbook.hinf_filter_ct", "random-3")
-    assert alone.backoff and alone.verdict()[0]
+    assert alone.backoff and alone.verdict.certified
     direct = next(r for r in result.rows if r.backend == "direct")
     assert direct.backoff_gamma is not None and direct.certified and direct.trusted
     assert direct.gamma == pytest.approx(alone.backoff["gamma_opt"], rel=1e-6)   # the optimum's γ

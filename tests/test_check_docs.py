@@ -13,7 +13,7 @@ spec.loader.exec_module(check_docs)
 
 ROWS = {"rows": [{"theorem": "li_delay_dropout.thm2", "example": "paper", "printed_gamma": 0.3813,
                   "computed_gamma": 0.3810009235, "certified_gamma": 0.3810355301,
-                  "exact_gamma": 0.3640331032, "verdict": "reproduced"}]}
+                  "exact_gamma": 0.3640331032, "comparison": "reproduced"}]}
 
 
 @pytest.mark.parametrize("written,value,percent,expected", [

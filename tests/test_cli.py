@@ -33,7 +33,8 @@ def test_solve_json_fields():
         assert key in data, key
     assert data["backend"] == "direct" and data["solver"] == "CLARABEL"
     assert data["gamma"] == pytest.approx(0.3373, rel=5e-3)
-    assert data["objective"] == pytest.approx(data["gamma"] ** 2, rel=1e-9)
+    assert data["objective"] == pytest.approx(data["point_gamma"] ** 2, rel=1e-9)
+    assert data["gamma"] == data["verdict"]["gamma"] == pytest.approx(data["analysis"]["gamma"], rel=1e-12)
     assert [l["label"] for l in data["lmis"]] == ["(30)", "(31)", "P1 > 0", "P3 > 0"]
     assert all(l["max_eig"] < 0 for l in data["lmis"])
     assert set(data["recovered"]) == {"Af", "Bf", "Cf"}
@@ -46,7 +47,10 @@ def test_solve_with_cvxopt_same_gamma():
     b = run_cli_json("solve", "wang_l2linf.thm3", "--example", "paper-reduced", "--solver", "cvxopt")
     assert a["solver"] == "CVXOPT"
     assert a["gamma"] == pytest.approx(0.3373, rel=5e-3)
-    assert b["gamma"] == pytest.approx(2.0103, rel=5e-3)
+    # the paper's 2.0103 is the reduced-order synthesis optimum; the headline is the level the
+    # analysis (Theorem 1) certifies for the delivered filter, which may only be lower
+    assert b["verdict"]["levels"]["optimum"] == pytest.approx(2.0103, rel=5e-3)
+    assert b["verdict"]["certified"] and b["gamma"] <= b["verdict"]["levels"]["optimum"] * (1 + 1e-3)
 
 
 def test_set_and_data_file(tmp_path):
@@ -83,7 +87,10 @@ def test_probability_outside_unit_interval(value):
 
 def test_unknown_theorem_example_solver():
     assert_one_line_error(*run_cli("solve", "nosuch.thm"), "unknown theorem 'nosuch.thm'",
-                          "wang_l2linf.thm3")
+                          "`lmidsl list` shows the")
+    assert_one_line_error(*run_cli("solve", "wnag_l2linf.thm3"), "(did you mean 'wang_l2linf.thm3'")
+    assert_one_line_error(*run_cli("solve", "wang_l2linf.thm3", "--example", "paper-fll"),
+                          "(did you mean 'paper-full'?)")
     assert_one_line_error(*run_cli("solve", "wang_l2linf.thm3", "--example", "nope"),
                           "unknown example 'nope'", "paper-full")
     assert_one_line_error(*run_cli("solve", "wang_l2linf.thm3", "--solver", "gurobix"),
@@ -115,7 +122,7 @@ def test_argument_errors_are_one_line():
 def test_reproduce_json():
     data = run_cli_json("reproduce", "--theorem", "wang_l2linf.thm3")
     rows = {r["example"]: r for r in data["rows"]}
-    assert rows["paper-full"]["verdict"] == "reproduced"
+    assert rows["paper-full"]["comparison"] == "reproduced"
     assert rows["paper-full"]["rel_diff"] < 5e-3
-    assert rows["paper-reduced"]["verdict"] == "reproduced"
+    assert rows["paper-reduced"]["comparison"] == "reproduced"
     assert rows["paper-full"]["certified"] is True

@@ -76,7 +76,7 @@ def test_reproduce_fits_100_columns_and_leads_with_a_summary():
     for word in ("reproduced", "bound holds", "computed only", "certified"):
         assert f"  {word} " in definitions, word
     table = out[out.index("PAPER:"):]
-    assert "-32.37 %" in table and "bound holds" in table          # the printed bound holds, with room
+    assert "-32.37%" in table and "bound holds" in table          # the printed bound holds, with room
     assert "computed (no printed value)" not in out
     # progress off a terminal: one line per finished row, on stderr (rows finish in any order
     # on the default 2 workers)
@@ -87,7 +87,7 @@ def _row(**kw):
     base = dict(theorem="zhang_quantized_loss.thm2_literal", example="paper-N3-robust-long-name",
                 printed_kind="gamma", printed_gamma=1.2584, computed_gamma=0.850646, rel_diff=0.324,
                 status="optimal", worst_eig=-9.99e-8, certified_gamma=0.85, certified=False,
-                verdict="differs from print, NOT certified (filter from the back-off at γ 0.8512)",
+                comparison="differs from print, NOT certified (filter from the back-off at γ 0.8512)",
                 exact_kind="h_infinity", exact_gamma=0.81, provenance="paper")
     base.update(kw)
     return ReproductionRow(**{f.name: base[f.name] for f in fields(ReproductionRow) if f.name in base})
@@ -96,17 +96,17 @@ def _row(**kw):
 def test_reproduction_text_fits_any_row_and_reads_clearly(monkeypatch):
     rows = [_row(), _row(theorem="wang_l2linf.thm1", example="paper-reduced-printed", printed_kind="gamma_bound",
                          printed_gamma=2.0103, computed_gamma=1.35951, certified=True,
-                         verdict="printed bound holds"),
+                         comparison="printed bound holds"),
             _row(theorem="textbook.brl_dt", example="random-3", printed_gamma=None, certified=True,
-                 verdict="computed (no printed value)", provenance="illustration", expect="certified"),
+                 comparison="computed (no printed value)", provenance="illustration", expect="certified"),
             _row(theorem="textbook.quadstab_dt", example="interval-3", printed_gamma=None, computed_gamma=None,
-                 status="infeasible", verdict="infeasible", provenance="illustration")]
+                 status="infeasible", comparison="infeasible", provenance="illustration")]
     configure(wide=False)
     for width in (80, 100):
         monkeypatch.setenv("COLUMNS", str(width))
         text = format_reproduction(rows)
         assert_fits(text, width)
-    assert "bound holds" in text and "-32.37 %" in text and "computed only" in text
+    assert "bound holds" in text and "-32.37%" in text and "computed only" in text
     flat = " ".join(text.split())                     # words, whatever the wrapping
     assert "WORSE than expected" in flat and "expects the outcome 'certified', it ended 'infeasible'" in flat
     assert "filter from the back-off at γ 0.8512" in flat     # the verdict's parenthesis, as a note
@@ -142,7 +142,7 @@ def test_closed_pipe_is_not_an_error():
     shell = subprocess.run(["bash", "-c", f"{sys.executable} -m lmidsl list | head -1; exit ${{PIPESTATUS[0]}}"],
                            capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert shell.returncode == 0, shell.stderr
-    assert shell.stdout.startswith("theorem") and len(shell.stdout.splitlines()) == 1
+    assert shell.stdout.startswith("interconnected_delay: ") and len(shell.stdout.splitlines()) == 1
     assert "error" not in shell.stderr
 
 

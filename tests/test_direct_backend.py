@@ -15,6 +15,7 @@ from lmidsl.pipeline import make_instance, solve
 from lmidsl.solver.backends import get_backend, second_opinion, Route
 from lmidsl.solver.backends.affine import Affine, Cone, VariableSpace, block, svec_map
 from lmidsl.solver.feasibility import feasp
+from lmidsl.solver.status import solved
 from lmidsl.symbolic.uncertainty import scenarios
 
 CASES = [("wang_l2linf.thm3", "paper-full"), ("wang_l2linf.thm3", "paper-reduced"),
@@ -113,16 +114,49 @@ def test_a_product_of_two_variables_is_refused():
 @pytest.mark.parametrize("theorem,example", CASES)
 def test_same_problem_and_optimum_as_cvxpy(theorem, example):
     """The standard form has cvxpy's sizes (rows of A, cones, variables) and Clarabel gives the
-    same status and optimum on both (scaled as the pipeline scales, so that it solves)."""
+    same optimum on both (scaled as the pipeline scales, so that it solves).
+
+    Not the status word: whether Clarabel stops at "Solved" or "AlmostSolved" on the same
+    problem depends on the last bits of its iterates (a fresh machine gave optimal_inaccurate on
+    li_delay_dropout.thm2).  What is compared: both return a point or neither does; each point's
+    certificate (numpy's largest eigenvalue of every N, margin ε = 1e-7 imposed) holds to within
+    Clarabel's feasibility tolerance; the two objectives agree within the sum of the duality gaps
+    Clarabel accepts for the status it reported (|p − d| ≤ abs + rel·|p|: 1e-8 + 1e-8 for
+    "optimal", 5e-5 + 5e-5 for "optimal_inaccurate", its reduced tolerances), widened to 1e-5
+    relative for full accuracy, which covers the 1e-8 primal infeasibility times the dual's size."""
     instance = apply_scaling(make_instance(theorem, example), "auto").scaled
     direct, cvx = get_backend("direct")(instance), get_backend("cvxpy")(instance)
     data, _, _ = cvx.problem.get_problem_data("CLARABEL")
     assert direct.problem.A.shape == data["A"].shape
     assert [c.dim for c in direct.problem.cones if c.kind == "psd"] == list(data["dims"].psd)
     a, b = direct.solve(), cvx.solve()
-    assert a.status == b.status
-    if a.status == "optimal":
-        assert a.objective == pytest.approx(b.objective, rel=1e-5, abs=1e-8)
+    assert solved(a.status) == solved(b.status), (a.status, b.status)
+    if not solved(a.status):
+        return
+    for s in (a, b):
+        assert s.worst_eig < CLARABEL_FEASIBILITY * max(1.0, max(r.scale for r in s.lmis)), (s.backend, s.worst_eig)
+    tolerance = sum(_gap_tolerance(s.status, s.objective) for s in (a, b))
+    assert abs(a.objective - b.objective) <= tolerance, (a.status, b.status, a.objective, b.objective)
+
+
+#: Clarabel's defaults (clarabel.DefaultSettings(): tol_feas; tol_gap_abs/rel, and the reduced
+#: ones it accepts for AlmostSolved)
+CLARABEL_FEASIBILITY = 1e-8
+CLARABEL_GAP = {"optimal": (1e-8, 1e-5), "optimal_inaccurate": (5e-5, 5e-5)}
+
+
+def _gap_tolerance(status: str, objective: float) -> float:
+    absolute, relative = CLARABEL_GAP[status]
+    return absolute + relative * abs(objective)
+
+
+def test_clarabel_tolerances_are_the_ones_the_comparison_assumes():
+    """The tolerances above are Clarabel's defaults (a new Clarabel changing them must be seen)."""
+    import clarabel
+    s = clarabel.DefaultSettings()
+    assert (s.tol_feas, s.tol_gap_abs, s.reduced_tol_gap_abs, s.reduced_tol_gap_rel) == \
+        (CLARABEL_FEASIBILITY, CLARABEL_GAP["optimal"][0], *CLARABEL_GAP["optimal_inaccurate"])
+    assert s.tol_gap_rel <= CLARABEL_GAP["optimal"][1]
 
 
 def test_solve_defaults_to_direct_and_certifies():
@@ -139,7 +173,7 @@ def test_level_problem_and_margin_sensitivity_match_cvxpy():
     assert direct.margin_sensitivity() == pytest.approx(cvx.margin_sensitivity(), rel=1e-2)
     bound = 1.01 * a.objective
     level = direct.solve(problem=direct.level_problem(bound))
-    assert level.status == "optimal" and level.certified
+    assert level.ok and level.lmis_hold
     assert direct.expression_value(direct.objective) <= bound * (1 + 1e-7)
 
 
@@ -151,7 +185,7 @@ def test_update_and_margin_recompile():
     fresh = get_backend("direct")(changed)
     assert model.solve().objective == pytest.approx(fresh.solve().objective, rel=1e-9)
     model.set_margin(1e-5)
-    assert model.margin == 1e-5 and model.solve().status == "optimal"
+    assert model.margin == 1e-5 and model.solve().lmis_hold
 
 
 def test_feasp_on_the_direct_backend():
@@ -234,8 +268,9 @@ def test_recompiling_backends_keep_their_conditioning(backend):
 
 
 def test_small_problems_run_clarabel_on_one_thread(monkeypatch):
-    """One thread below SINGLE_THREAD_ROWS PSD rows (faster there on 2 cores), Clarabel's own
-    choice (0: every core) above, and LMIDSL_SOLVER_THREADS wins over both."""
+    """One thread below SINGLE_THREAD_ROWS PSD rows (faster there on 2 cores), a fixed number
+    above (never 0, "every core": Clarabel's answer depends on its thread count, so it would
+    depend on the machine), and LMIDSL_SOLVER_THREADS wins over both."""
     from lmidsl.solver.backends import direct_backend
 
     small = get_backend("direct")(make_instance("wang_l2linf.thm3", "paper-full")).problem
@@ -243,6 +278,6 @@ def test_small_problems_run_clarabel_on_one_thread(monkeypatch):
     assert rows < direct_backend.SINGLE_THREAD_ROWS
     assert direct_backend.solver_threads(small) == 1
     monkeypatch.setattr(direct_backend, "SINGLE_THREAD_ROWS", rows)
-    assert direct_backend.solver_threads(small) == 0
+    assert direct_backend.solver_threads(small) == direct_backend.LARGE_PROBLEM_THREADS >= 1
     monkeypatch.setattr(direct_backend, "THREADS", 3)
     assert direct_backend.solver_threads(small) == 3

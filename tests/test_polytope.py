@@ -54,7 +54,7 @@ def test_two_vertex_mechanism_equals_hand_written_shared_variables():
     ex = get_theorem("pan_impulsive.thm1_min").examples["modified-two-vertex"]
     vertices = [{**ex.data, **v} for v in ex.vertices]
     sol = solve("pan_impulsive.thm1_min", "modified-two-vertex", certify=False)
-    assert sol.ok and sol.certified and sol.instance.nvertices == 2
+    assert sol.ok and sol.lmis_hold and sol.instance.nvertices == 2
     status, gamma = _hand_written_theorem1_min(vertices, ex.params["lambda1"], ex.params["lambda2"],
                                                ex.params["epsilon"])
     assert status == "optimal"

@@ -73,7 +73,7 @@ def test_paper_example_is_proved_end_to_end():
     sol = lmidsl.solve("wang_l2linf.thm3", example="paper-full")
     assert sol.proved and all(r.proof == PROVED for r in sol.lmis)
     assert all(r["proof"] == PROVED for r in sol.analysis.lmis)
-    certified, reasons = sol.verdict()
+    certified, reasons = sol.verdict.certified, sol.verdict.reasons
     assert certified, reasons
 
 

@@ -118,7 +118,7 @@ def test_sweep_where_every_point_fails_reports_no_division_by_zero():
     timing = result.timing()
     assert math.isnan(timing["overhead_ratio"])
     format_timing(timing)
-    assert json.loads(strict_json(result.as_dict()))["certified"] == 0
+    assert json.loads(strict_json(result.as_dict()))["proved_points"] == 0
 
 
 def test_parse_grid_limits():

@@ -51,7 +51,7 @@ def test_bounded_real_lemma_is_scale_free(sb, sc):
     data = {"A": A3.tolist(), "B": (sb * B3).tolist(), "C": (sc * C3).tolist(), "D": D3.tolist()}
     true = control.linfnorm(control.ss(A3, sb * B3, sc * C3, D3))[0]
     sol = lmidsl.solve(BRL, data=data)
-    certified, reasons = sol.verdict()
+    certified, reasons = sol.verdict.certified, sol.verdict.reasons
     assert certified, reasons
     assert sol.gamma == pytest.approx(true, rel=1e-4)
     assert sol.gamma >= true * (1 - 1e-9)          # a certified γ is an upper bound
@@ -63,7 +63,7 @@ def test_lightly_damped_plant():
     B, C, D = np.array([[0.0], [1.0]]), np.array([[1.0, 0.0]]), np.array([[0.0]])
     true = control.linfnorm(control.ss(A, B, C, D))[0]     # 1/(2ζωn²) ≈ 5
     sol = lmidsl.solve(BRL, data={"A": A.tolist(), "B": B.tolist(), "C": C.tolist(), "D": D.tolist()})
-    assert sol.verdict()[0], sol.verdict()[1]
+    assert sol.verdict.certified, sol.verdict.reasons
     assert sol.gamma == pytest.approx(true, rel=1e-4)
 
 
@@ -75,7 +75,7 @@ def test_seed000_disturbance_scaled(factor):
     data["D"] = (factor * np.asarray(data["D"])).tolist()
     sol = lmidsl.solve("wang_l2linf.thm3", data={**data, **SEED000.params})
     assert sol.status != "infeasible"
-    assert sol.verdict()[0], sol.verdict()[1]
+    assert sol.verdict.certified, sol.verdict.reasons
     assert sol.gamma == pytest.approx(factor * GAMMA_000, rel=1e-4)
     assert not sol.margin_limited
 
@@ -88,7 +88,7 @@ def test_seed000_state_scaled():
     data["C"] = (np.asarray(data["C"]) / s).tolist()
     data["L"] = (np.asarray(data["L"]) / s).tolist()
     sol = lmidsl.solve("wang_l2linf.thm3", data={**data, **SEED000.params})
-    assert sol.verdict()[0], sol.verdict()[1]
+    assert sol.verdict.certified, sol.verdict.reasons
     assert sol.gamma == pytest.approx(GAMMA_000, rel=1e-4)
 
 
@@ -126,7 +126,7 @@ def test_exit_code_certified_solve():
 def test_exit_code_infeasible_solve():
     code, out, err = run_cli("solve", "pan_impulsive.thm1", "--example", "paper")
     assert code == 1, err
-    assert "NOT CERTIFIED" in out
+    assert "verdict: INFEASIBLE" in out and "CERTIFIED" not in out
 
 
 def test_exit_code_bad_input():
@@ -149,7 +149,8 @@ def test_exit_code_sweep_every_point_proved(tmp_path):
                              "--grid", "rbar=0.5:0.9:3", "--json")
     assert code == 0, err
     data = json.loads(out)
-    assert data["certified"] == 3 and all(p["proved"] for p in data["points"])
+    assert data["proved_points"] == 3 and all(p["proved"] for p in data["points"])
+    assert data["verdict"]["certified"] and all(p["verdict"]["certified"] for p in data["points"])
 
 
 def test_exit_code_reproduce_follows_the_expected_outcomes():

@@ -69,7 +69,7 @@ def grid_threshold(case: tuple, resolution: int, hi: float = 1.0) -> float | Non
 def certify(theorem, vertices: list, g: int, d: int) -> bool:
     inst = make_instance(theorem, data={"vertices": vertices, "degree": g, "polya": d})
     sol = solve_instance(inst, certify=False, diagnose=False, solver=SOLVER)
-    return bool(sol.verdict()[0])
+    return bool(sol.ok and sol.lmis_hold and sol.proved)     # every coefficient LMI proved
 
 
 def run(seeds: int, resolution: int = 16, first: int = 0) -> list:

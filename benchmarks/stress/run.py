@@ -40,7 +40,7 @@ def analysis_case(family: str, seed: int, time_domain: str) -> dict:
     true = hinf(ref["A"], ref["B"], ref["C"], ref["D"], time_domain)
     t0 = time.perf_counter()
     sol = lmidsl.solve(f"textbook.brl_{SUFFIX[time_domain]}", data=lists(data))
-    certified, reasons = sol.verdict()
+    certified, reasons = sol.verdict.certified, sol.verdict.reasons
     rel = None if sol.gamma is None else abs(sol.gamma - true) / true
     return {"kind": "brl", "family": family, "seed": seed, "time": time_domain, "true": true,
             "gamma": sol.gamma, "rel": rel, "status": sol.status, "certified": certified,
@@ -52,7 +52,7 @@ def synthesis_case(seed: int, time_domain: str, huge: bool) -> dict:
     data = plant(seed, time_domain, huge=huge)
     t0 = time.perf_counter()
     sol = lmidsl.solve(f"textbook.hinf_sf_{SUFFIX[time_domain]}", data=lists(data))
-    certified, reasons = sol.verdict()
+    certified, reasons = sol.verdict.certified, sol.verdict.reasons
     closed = None
     if sol.design is not None and "K" in sol.design:
         K = np.asarray(sol.design["K"])

@@ -3,7 +3,8 @@
 A theorem file declares dimensions, data, variables and parameters on a :class:`Theorem`,
 writes each LMI as a block triangle (``*`` implicit, ``0``/``I`` sized from their position),
 and names its objective, its change of variables (recovery) and its analysis counterpart.
-:func:`solve` binds an example or user data, compiles to a backend (cvxpy by default), solves,
+:func:`solve` binds an example or user data, compiles to a backend (by default ``direct``,
+lmidsl's own standard form for Clarabel; ``cvxpy`` or ``picos`` on request), solves,
 recovers the :class:`Design` and certifies it; :func:`verify` gathers independent evidence.
 
 The public face, by use:
@@ -32,6 +33,9 @@ from .errors import (InputError, LmidslError, LmidslWarning, NoResultError, Nonl
                      ShapeMismatchError, SolverUnavailableError, TheoremDefinitionError,
                      UnusedDataWarning)
 
+import importlib as _importlib
+import sys as _sys
+
 __version__ = "0.1.0"
 
 #: every public name, by the module that defines it: imported when first used (PEP 562), so
@@ -44,6 +48,9 @@ _LAZY = {
     "I": "symbolic.blocks", "He": "symbolic.blocks", "block_matrix": "symbolic.blocks",
     "congruence": "symbolic.blocks", "diag": "symbolic.blocks", "schur": "symbolic.blocks",
     "NormBounded": "symbolic.sprocedure", "sprocedure": "symbolic.sprocedure",
+    "second_moment": "certify.indexed_evidence", "fuzzy_grid": "certify.indexed_evidence",
+    "sum_over": "symbolic.indexed", "stack_over": "symbolic.indexed", "diag_over": "symbolic.indexed",
+    "kron": "symbolic.indexed",
     "CheckResult": "theorem.checks", "reported_agree": "theorem.checks",
     "Family": "theorem.family", "SubsystemFamily": "theorem.family", "TheoremFamily": "theorem.family",
     "member_label": "theorem.family", "RobustTheorem": "theorem.robust",
@@ -67,7 +74,8 @@ __all__ = ["Theorem", "Source", "Example", "I", "He", "diag", "schur", "congruen
            "mn_split", "state_feedback_gain", "output_feedback_blocks", "filter_blocks",
            "output_feedback", "loop_shift", "full_order_filter", "closed_loop_matrices",
            "state_feedback_closed_loop", "filter_error_matrices",
-           "reported_agree", "CheckResult", "SimulationTable",
+           "reported_agree", "CheckResult", "second_moment", "fuzzy_grid", "sum_over", "stack_over",
+           "diag_over", "kron", "SimulationTable",
            "solve", "verify", "closed_loop", "filtering_error", "generalized_plant", "get_theorem", "all_theorems", "make_instance", "solve_instance",
            "Solution", "Design", "AnalysisCertificate", "Verification", "theorem_latex", "lmi_latex",
            "LmidslError", "InputError", "ShapeMismatchError", "NonlinearityError",
@@ -75,8 +83,8 @@ __all__ = ["Theorem", "Source", "Example", "I", "He", "diag", "schur", "congruen
            "LmidslWarning", "UnusedDataWarning"]
 
 
-#: the modules whose names hand theorems to the user: with them comes the LaTeX printer, which
-#: registers itself for ``Theorem._repr_latex_`` (the theorem layer cannot import the render layer)
+#: the modules whose names hand theorems to the user: with them comes the notebook display, which
+#: registers the LaTeX printer for ``Theorem._repr_latex_`` and ``LMI._repr_latex_`` (the theorem layer cannot import the render layer)
 _WITH_LATEX = ("theorem.", "pipeline", "studies.")
 
 
@@ -85,10 +93,14 @@ def __getattr__(name):
         import importlib
         value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
         if _LAZY[name].startswith(_WITH_LATEX):
-            importlib.import_module(".render.latex", __name__)
+            importlib.import_module(".render.notebook", __name__)
         globals()[name] = value
         return value
     raise AttributeError(f"module 'lmidsl' has no attribute {name!r}")
+
+
+if "IPython" in _sys.modules:        # a notebook: results display as HTML (render.notebook)
+    _importlib.import_module(".render.notebook", __name__).register_ipython()
 
 
 def __dir__():

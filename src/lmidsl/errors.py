@@ -6,6 +6,7 @@ the command line prints it as ``error: <message>`` and exits with its ``exit_cod
 input, 1 for a computation that ran but has no result to give (e.g. an infeasible synthesis has
 no design to simulate).
 """
+import difflib
 
 
 class LmidslError(Exception):
@@ -57,3 +58,12 @@ class LmidslWarning(UserWarning):
 class UnusedDataWarning(LmidslWarning):
     """A data file has entries the theorem does not use (one plant file serving several
     theorems): they are ignored."""
+
+
+def did_you_mean(name: str, choices) -> str:
+    """`` (did you mean 'x'?)`` for the closest of ``choices`` to a mistyped ``name`` (difflib's
+    ratio ≥ 0.6, up to three), else ''."""
+    near = difflib.get_close_matches(str(name), [str(c) for c in choices], n=3)
+    if not near:
+        return ""
+    return " (did you mean " + " or ".join(repr(n) for n in near) + "?)"

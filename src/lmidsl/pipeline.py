@@ -8,18 +8,16 @@ from __future__ import annotations
 
 import time
 
-from .solver.backends import choose_backend, get_backend, second_opinion
-from .solver.fallback import riccati_point, with_fallbacks
-from .solver.status import INFEASIBLE, INFEASIBLE_INACCURATE, NOT_SOLVED
+from .solver.dual_bound import lower_bound
+from .solver.infeasibility import prove_infeasible
+from .solver.plan import Plan
 from .certify import certify_by_analysis
+from .certify.evidence import claim_evidence
 from .theorem.checks import run_checks
 from .errors import InputError, LmidslError
-from .solver.feasibility import diagnosis_needed, feasp
+from .solver.feasibility import diagnosis_needed
 from .numeric.instance import Instance, bind
 from .numeric.recovery import recover, recover_design
-from .solver.backends.base import DEFAULT_MARGIN
-from .solver.conditioning import equilibrate, solve_conditioned
-from .solver.margin import solve_model
 from .numeric.scaling import apply_scaling
 from .theorem.registry import get_example, get_theorem
 from .solver.solution import Solution, evaluate_reported, lmi_certificate
@@ -75,66 +73,78 @@ ILL_CONDITIONED = 1e6
 
 def solve_instance(instance: Instance, solver: str | None = None, backend: str | None = None,
                    margin: float | None = None, certify: bool = True, scaling="auto",
-                   backoff: float | None = None, diagnose: bool = True, **options) -> Solution:
-    """Compile, solve, recover the filter and (optionally) certify it by analysis.
+                   backoff: float | None = None, diagnose: bool = True, plan: Plan | None = None,
+                   bounds: bool = True, **options) -> Solution:
+    """Compile, solve (the plan's one road, :mod:`lmidsl.solver.plan`), recover the design and
+    (optionally) certify it by analysis.
 
-    An uncertified solve gets the feasp diagnosis (``diagnose``, see :func:`finish_solution`).
     ``scaling``: the theorem's declared signal scalings ('auto', 'none' or {signal: factor});
     the solver sees the scaled instance, recovered matrices are mapped back
     (:mod:`lmidsl.numeric.scaling`).  ``backoff`` = δ: re-solve at objective ≤ (1 + δ)·optimum for a
-    well-conditioned recovery (:mod:`lmidsl.solver.backoff`); ``"auto"``: only when the filter recovered
-    at the optimum fails its analysis certificate (or its recovery fails), with δ = 10⁻².
+    well-conditioned recovery (:mod:`lmidsl.solver.backoff`); ``"auto"``: only when the design
+    recovered at the optimum fails its analysis certificate, its recovery fails or inverts a matrix
+    of condition number above :data:`ILL_CONDITIONED` (δ = 10⁻², then 10⁻¹).
+    ``plan`` (default: from ``backend``, ``solver``, ``margin`` and ``options``) decides every solve.
+    ``bounds``: the other side of the answer — a proved lower bound on the optimum from the
+    solver's dual (:mod:`lmidsl.solver.dual_bound`), and for a solve without a point a proved
+    infeasibility certificate (:mod:`lmidsl.solver.infeasibility`); direct backend only.
     """
-    backend = choose_backend(backend, solver)
+    plan = plan or Plan(backend, solver, options, margin)
     applied = apply_scaling(instance, scaling)
-    solution, model = solve_conditioned(applied.scaled, get_backend(backend),
-                                        lambda m: solve_model(m, solver, **options), margin)
-    base_margin = margin if margin is not None else DEFAULT_MARGIN
-    if solver is None:     # no certified point, or a margin-set γ: the other routes
-        solution = with_fallbacks(
-            model, solution, lambda m, name: solve_model(m, name, **(options if m.backend == backend else {})),
-            base_margin)
+    solution, model = plan.solve(applied.scaled)
     solution.scaling = applied
-    reason, failed = None, False
-    finish = dict(solver=solver, backend=backend, certify=certify, diagnose=diagnose, margin=base_margin)
-    if backoff == "auto":
-        # back off only when the design recovered at the optimum is not certified, or when its
-        # recovery fails or inverts a matrix with condition number above ILL_CONDITIONED; the
-        # latter two are known before the analysis, which is then spent on the back-off point only
-        conditioned = solution.ok and bool(instance.theorem.conditioned)
-        finish_solution(solution, **{**finish, "certify": certify and not conditioned})
-        failed = solution.message.startswith("recovery failed")
-        cond = solution.design.worst_condition if solution.design is not None else None
-        if conditioned and failed:
-            reason = solution.message
-        elif conditioned and cond is not None and cond > ILL_CONDITIONED:
-            reason = f"the recovery at the optimum inverts a matrix of condition number {cond:.3g}"
-        elif conditioned:
-            finish_solution(solution, **finish)
-            if solution.analysis is not None and not solution.analysis.passed:
-                reason = (f"{solution.analysis.theorem} did not certify the design recovered at the optimum "
-                          f"({solution.analysis.status}, gamma {solution.analysis.gamma})")
-        if reason is None:
-            return solution
-    if backoff is not None and solution.ok:
-        if reason is None:
-            return backed_off(model, applied, solution, backoff, reason, finish, **options)
-        for delta in AUTO_DELTAS:   # a larger δ when the first back-off gives no certified design
-            kept = backed_off(model, applied, solution, delta, reason, finish, **options)
-            if kept is not solution:
-                return kept
-        if certify and solution.analysis is None and not failed:
-            finish_solution(solution, **finish)      # no back-off point: the optimum's certificate
+    solution.certify = certify
+    if bounds and certify and solution.ok and instance.theorem.objective is not None:
+        # before any back-off or level solve: they overwrite the model's last dual
+        t0 = time.perf_counter()
+        solution.bounds = lower_bound(model, solution)
+        solution.times["lower_bound"] = time.perf_counter() - t0
+    finish = dict(plan=plan, certify=certify, diagnose=diagnose)
+    if backoff is None or not solution.ok:
+        finish_solution(solution, **finish)
+        if bounds and not solution.ok:
+            t0 = time.perf_counter()
+            solution.infeasibility = prove_infeasible(model)
+            solution.times["infeasibility_proof"] = time.perf_counter() - t0
         return solution
-    finish_solution(solution, solver=solver, backend=backend, certify=certify, diagnose=diagnose,
-                    margin=base_margin)
+    if backoff != "auto":
+        return backed_off(model, applied, solution, backoff, None, finish)
+    reason = _backoff_reason(solution, instance, finish)
+    if reason is None:
+        return solution
+    failed = solution.message.startswith("recovery failed")
+    for delta in AUTO_DELTAS:   # a larger δ when the first back-off gives no certified design
+        kept = backed_off(model, applied, solution, delta, reason, finish)
+        if kept is not solution:
+            return kept
+    if certify and solution.analysis is None and not failed:
+        finish_solution(solution, **finish)      # no back-off point: the optimum's certificate
     return solution
 
 
-def backed_off(model, applied, optimum: Solution, delta: float, reason: str | None, finish: dict,
-               **options) -> Solution:
+def _backoff_reason(solution: Solution, instance: Instance, finish: dict) -> str | None:
+    """Why the automatic back-off is needed (None: it is not; the optimum is then finished and
+    certified).  Recovery failure and ill-conditioning are known before the analysis, which is
+    then spent on the back-off point only."""
+    conditioned = bool(instance.theorem.conditioned)
+    finish_solution(solution, **{**finish, "certify": finish["certify"] and not conditioned})
+    if not conditioned:
+        return None
+    if solution.message.startswith("recovery failed"):
+        return solution.message
+    cond = solution.design.worst_condition if solution.design is not None else None
+    if cond is not None and cond > ILL_CONDITIONED:
+        return f"the recovery at the optimum inverts a matrix of condition number {cond:.3g}"
+    finish_solution(solution, **finish)
+    if solution.analysis is not None and not solution.analysis.passed:
+        return (f"{solution.analysis.theorem} did not certify the design recovered at the optimum "
+                f"({solution.analysis.status}, gamma {solution.analysis.gamma})")
+    return None
+
+
+def backed_off(model, applied, optimum: Solution, delta: float, reason: str | None, finish: dict) -> Solution:
     """The design at objective ≤ (1 + δ)·optimum (:mod:`lmidsl.solver.backoff`) by two methods:
-    the *level problem* (the LMIs and that bound, no objective, along the fallback routes: one
+    the *level problem* (the LMIs and that bound, no objective, along the plan's routes: one
     solve, a central point of the slab) and the *condition-minimising search* (golden section on
     t in t I ⪯ E ⪯ κ I: about 15 solves).
 
@@ -142,18 +152,18 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
     certified; a point is kept only if certified — it must not cost a certificate, and an
     uncertified back-off point (a thin slab, an inaccurate solve) can be worse than the optimum
     (hinf_of_dt plant-2: an unstable controller where the optimum's is stable); otherwise the
-    optimum is returned with the notes (:func:`solve_instance` certifies it if it has not yet).  Seed 001 at δ = 1 %:
-    the level point has cond(Z), cond(X − Z) = 130, 675 and γ 0.38287 in 0.14 s; the search
-    136, 137 and γ 0.38290 in 3.4 s.  Without ``reason`` (the user's δ) the search first, the
-    level problem when it fails, and the answer is returned as it is."""
-    solver = finish["solver"]
+    optimum is returned with the notes.  Seed 001 at δ = 1 %: the level point has cond(Z),
+    cond(X − Z) = 130, 675 and γ 0.38287 in 0.14 s; the search 136, 137 and γ 0.38290 in 3.4 s.
+    Without ``reason`` (the user's δ) the search first, the level problem when it fails, and the
+    answer is returned as it is."""
+    plan = finish["plan"]
     instance = optimum.instance
     automatic = reason is not None
     t0 = time.perf_counter()
 
     def search():
         try:
-            found = backoff_solution(model, optimum, delta, solver, **options)
+            found = backoff_solution(model, optimum, delta, plan.solver, **plan.options)
         except LmidslError as exc:
             if not automatic:     # a back-off the user asked for: their δ is at fault
                 raise
@@ -162,7 +172,7 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
         return None if found is optimum else found
 
     def level():
-        found = level_solution(model, optimum, delta, solver, **options)
+        found = level_solution(model, optimum, delta, plan)
         if found is None:
             optimum.notes.append(f"the level problem at objective ≤ (1 + {delta:g}) × optimum gave no "
                                  "certified point on any route")
@@ -174,9 +184,10 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
         found = method()
         if found is None:
             continue
+        found.certify = optimum.certify
         finish_solution(found, **finish)
-        if automatic and not found.verdict()[0]:
-            optimum.notes.append(f"the {name}'s back-off point is not certified: {'; '.join(found.verdict()[1])}")
+        if automatic and not found.verdict.certified:
+            optimum.notes.append(f"the {name}'s back-off point is not certified: {'; '.join(found.verdict.reasons)}")
             continue
         found.backoff["method"] = name
         candidate = found
@@ -188,6 +199,7 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
             finish_solution(optimum, **finish)       # the user's back-off failed: the optimum
         return optimum
     candidate.times["backoff"] = time.perf_counter() - t0
+    candidate.bounds = optimum.bounds
     if reason:
         candidate.backoff["reason"] = reason
     if instance.theorem.recovery:
@@ -198,66 +210,17 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
     return candidate
 
 
-def finish_solution(solution: Solution, solver=None, backend=None, certify=True,
-                    diagnose=True, margin: float | None = None) -> Solution:
-    """Feasibility diagnosis, recovery (mapped back through any scaling) and analysis
-    certificate, in place.
-
-    When the solver returns no certified point, the feasp diagnosis (:mod:`lmidsl.solver.feasibility`)
-    is attached; if it finds no strictly feasible point, ``status`` becomes "infeasible" (or
-    "marginal": feasible by less than the margin); the solver's own word stays in
-    ``solver_status``.  An infeasible problem is a result, not an error.
-    """
-    backend = choose_backend(backend, solver)
+def finish_solution(solution: Solution, plan: Plan | None = None, certify: bool = True,
+                    diagnose: bool = True, solver=None, backend=None, margin: float | None = None) -> Solution:
+    """Feasibility diagnosis (:meth:`Plan.diagnose`), the LMIs proved at the point, recovery
+    (mapped back through any scaling), the analysis certificate and the theorem's checks, in place.
+    ``plan`` (default: from ``backend``, ``solver`` and ``margin``) is the road every solve takes."""
+    plan = plan or Plan(backend, solver, {}, margin)
     instance = solution.instance
-    original = solution.scaling.original if solution.scaling is not None else instance
     solution.analysis = None
     if diagnose and diagnosis_needed(solution):
         t0 = time.perf_counter()
-        feasp_margin = solution.margin if margin is None else margin
-        report = feasp(instance, backend=backend, solver=solver, margin=feasp_margin)
-        proposal = equilibrate(instance)
-        if report.verdict == "infeasible" and not proposal.trivial:
-            # an infeasibility verdict must survive the conditioning
-            conditioned = feasp(instance, backend=backend, solver=solver, detail=False,
-                                margin=feasp_margin, conditioning=proposal)
-            if conditioned.verdict != "infeasible":
-                solution.notes.append(f"feasp as written said infeasible (t* = {report.tmin:.3g}); on the "
-                                      f"conditioned LMIs: {conditioned.verdict} (t* = {conditioned.tmin})")
-                report = conditioned
-        other = second_opinion(backend, report.solver) if report.verdict == "infeasible" else None
-        if other is not None:
-            # ... and a second solver's, also when the user named one: one solver's t* ≥ 0 is not
-            # a proof (solver="CLARABEL" called a stable plant with a pole at radius 0.99982
-            # "infeasible"; CVXOPT finds it strictly feasible)
-            second = feasp(instance, backend=other.backend, solver=other.solver, detail=False,
-                           margin=feasp_margin)
-            if second.verdict != "infeasible":
-                solution.notes.append(f"feasp with {report.solver} said infeasible (t* = {report.tmin:.3g}); "
-                                      f"with {second.solver}: {second.verdict} (t* = {second.tmin}): "
-                                      "not a proof of infeasibility")
-                report = second
-        if report.verdict == "infeasible":
-            # a point from a Riccati equation that satisfies every LMI refutes any "infeasible"
-            # (stress plants, light family, discrete: feasp with CVXOPT and with Clarabel both said
-            # t* ≥ 0 on stable plants whose bounded-real LMI the Riccati point satisfies)
-            witness = riccati_point(instance, None, 0.0)
-            if witness is not None:
-                solution.notes.append(f"feasp said infeasible (t* = {report.tmin:.3g}), but a point from the "
-                                      f"Riccati equation satisfies every LMI (gamma {witness.gamma:.8g}): "
-                                      f"the problem is feasible; {solution.solver} did not solve it")
-                report.refuted_by = "Riccati"
-        solution.feasp = report
-        if report.verdict in ("infeasible", "marginal"):
-            solution.solver_status = solution.status
-            solution.status = report.verdict
-        elif solution.status in (INFEASIBLE, INFEASIBLE_INACCURATE):
-            # the solver's "infeasible" is a claim; the diagnosis did not confirm it
-            solution.solver_status = solution.status
-            solution.status = NOT_SOLVED
-            if not report.refuted_by:
-                solution.notes.append(f"{solution.solver} said {solution.solver_status}; feasp: {report.verdict}: "
-                                      "not a proof of infeasibility")
+        plan.diagnose(solution, plan.base_margin)
         solution.times["feasp"] = time.perf_counter() - t0
     if solution.ok:
         # THE certificate again, now proved in ball arithmetic (lmidsl.numeric.proof)
@@ -278,20 +241,27 @@ def finish_solution(solution: Solution, solver=None, backend=None, certify=True,
         solution.times["recover"] = time.perf_counter() - t0
         if certify and instance.theorem.analysis is not None:
             t0 = time.perf_counter()
-            solution.analysis = certify_by_analysis(original, solution.recovered, solution.gamma,
-                                                    solver=solver, backend=backend)
+            solution.analysis = certify_by_analysis(solution.original_instance, solution.recovered,
+                                                    solution.gamma, plan=plan)
             solution.times["analysis"] = time.perf_counter() - t0
     if certify and solution.ok and instance.theorem.checks:
         t0 = time.perf_counter()
         solution.checks = run_checks(solution)
         solution.times["checks"] = time.perf_counter() - t0
+    if certify and solution.ok:
+        t0 = time.perf_counter()
+        analysis = solution.analysis
+        level = analysis.gamma if analysis is not None and analysis.passed else solution.gamma
+        solution.evidence = claim_evidence(solution, level)
+        if solution.evidence:
+            solution.times["evidence"] = time.perf_counter() - t0
     return solution
 
 
 def solve(theorem, example: str | None = None, data: dict | None = None,
           overrides: dict | None = None, solver: str | None = None, backend: str | None = None,
           margin: float | None = None, certify: bool = True, scaling="auto",
-          backoff="auto", diagnose: bool = True, **options) -> Solution:
+          backoff="auto", diagnose: bool = True, bounds: bool = True, **options) -> Solution:
     """Solve a theorem on an example or data; returns a :class:`Solution`.  By default
     (``backoff="auto"``) a design that its analysis does not certify at the optimum, or whose
     recovery is ill-conditioned, is recovered at γ² ≤ (1 + 10⁻²) γ*² instead (both reported)."""
@@ -299,6 +269,6 @@ def solve(theorem, example: str | None = None, data: dict | None = None,
     instance = make_instance(theorem, example, data, overrides)
     bind_time = time.perf_counter() - t0
     solution = solve_instance(instance, solver, backend, margin, certify, scaling, backoff,
-                              diagnose=diagnose, **options)
+                              diagnose=diagnose, bounds=bounds, **options)
     solution.times = {"bind": bind_time, **solution.times}
     return solution

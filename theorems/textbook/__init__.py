@@ -11,8 +11,15 @@ from .h2 import THEOREMS as _H2
 from .kyp import THEOREMS as _KYP
 from .regions import THEOREMS as _REGIONS
 from .polytopic import THEOREMS as _POLYTOPIC
+from .markov import THEOREMS as _MARKOV
+from .fuzzy import THEOREMS as _FUZZY
+from .switched import THEOREMS as _SWITCHED
+from .delay import THEOREMS as _DELAY
+from .h2_of import THEOREMS as _H2_OF
+from .mixed import THEOREMS as _MIXED
 from .hpd import THEOREMS as _HPD
 
-THEOREMS = [*_BRL, *_HINF_SF, *_HINF_OF, *_HINF_FILTER, *_H2, *_KYP, *_REGIONS, *_POLYTOPIC, *_HPD]
+THEOREMS = [*_BRL, *_HINF_SF, *_HINF_OF, *_HINF_FILTER, *_H2, *_KYP, *_REGIONS, *_POLYTOPIC,
+            *_MARKOV, *_FUZZY, *_SWITCHED, *_DELAY, *_H2_OF, *_MIXED, *_HPD]
 
 __all__ = ["THEOREMS"]

@@ -212,6 +212,9 @@ cor1.example("two-vertex", {"E": [[1.0, 0.0], [0.0, 1.0]]}, params={"rbar": 0.8}
              vertices=[{**PLANT, "A": [[0.0, 0.3], [-0.25, 0.35]]},
                        {**PLANT, "A": [[0.0, 0.3], [-0.15, 0.45]]}],
              provenance="illustration", provenance_note="not from the paper: A's second row varied by ±0.05 around the paper's plant",
+             expect="not certified",
+             expect_note="vertex-wise: the analysis (Theorem 1, the filter fixed) is solved at each vertex with "
+                         "its own Lyapunov matrix, which does not prove the level inside the polytope",
              description="not from the paper: A's second row varied by ±0.05 around the paper's plant")
 
 

@@ -4,7 +4,9 @@ The synthesis theorem names an analysis theorem (``Theorem.certified_by``) in wh
 is data.  The analysis instance takes the synthesis instance's data and parameters (per vertex
 for polytopic theorems) and the recovered filter; minimising its γ² gives the level that the
 paper's own analysis certifies for this filter.  For a polytopic synthesis the analysis is run
-at every vertex and the worst γ is reported (a vertex-wise certificate).
+at every vertex and the worst γ is reported: a *vertex-wise* certificate (``coverage``), which does
+not prove the level inside the polytope; the verdict says so and does not call it certified
+(:mod:`lmidsl.solver.verdict`).
 
 The minimum sits on the boundary of the strict set, where a solver's point may miss the strict
 LMIs by its tolerance.  When it does, the analysis is solved again as a feasibility problem at a
@@ -24,14 +26,11 @@ import sympy as sp
 from ..errors import InputError, LmidslError
 from ..numeric.instance import Instance, bind
 from ..numeric.scaling import apply_scaling
-from ..solver.backends import choose_backend, Route, fallback_routes, get_backend, is_first_order
-from ..solver.fallback import better, riccati_point
-from ..solver.conditioning import equilibrate
 from ..solver.feasibility import feasp
-from ..solver.margin import solve_model
+from ..solver.plan import Plan
 from ..numeric.proof import PROVED
 from ..solver.solution import evaluate_reported, lmi_certificate
-from ..solver.status import solved
+from ..solver.status import INFEASIBLE, MARGINAL, solved
 from ..solver.status import worst as worst_status
 from ..theorem.registry import linked_analysis
 
@@ -53,16 +52,19 @@ class AnalysisCertificate:
     solvers: list = field(default_factory=list)
     scaling: dict | None = None   # the analysis instance's own exact signal scaling (lmidsl.numeric.scaling)
     reported: dict = field(default_factory=dict)
+    criterion: str = "level"      # "feasible": a stabilisation design, no level to certify
+    coverage: str = "system"      # "vertex-wise": one analysis per polytope vertex (its own Lyapunov matrix)
 
     @property
     def passed(self) -> bool:
         """The analysis certifies the design at the synthesis γ (within the relative tolerance):
-        solved, and every analysis LMI proved at its point (:mod:`lmidsl.numeric.proof`)."""
-        if self.gamma is None or not solved(self.status):
+        solved, and every analysis LMI proved at its point (:mod:`lmidsl.numeric.proof`); for the
+        criterion "feasible" (a stabilisation design) no level is asked."""
+        if not solved(self.status) or not self.lmis or (self.gamma is None and self.criterion != "feasible"):
             return False
         if any(r["max_eig"] >= 0 or r.get("proof") != PROVED for r in self.lmis):
             return False
-        if self.synthesis_gamma is None:
+        if self.synthesis_gamma is None or self.gamma is None:
             return True
         return self.gamma <= self.synthesis_gamma * (1 + self.tolerance)
 
@@ -73,7 +75,7 @@ class AnalysisCertificate:
                 "solvers": self.solvers,
                 "per_vertex": self.per_vertex, "lmis": self.lmis,
                 "feasp": [r.as_dict() for r in self.feasp], "scaling": self.scaling,
-                "reported": self.reported}
+                "reported": self.reported, "criterion": self.criterion, "coverage": self.coverage}
 
 
 def analysis_inputs(instance: Instance, analysis_theorem, filter_matrices: dict,
@@ -110,71 +112,6 @@ def objective_level(theorem, gamma: float) -> float | None:
     return float(roots[0]) if roots else None
 
 
-def _attempt(model, solver, synthesis_gamma, tolerance):
-    """min γ, then (when its point is not strictly feasible) the level problems."""
-    sol = solve_model(model, solver)
-    minimum = sol.gamma if sol.ok else None
-    if sol.ok and sol.certified:
-        return sol, "min", minimum
-    levels = []
-    if synthesis_gamma is not None:
-        levels.append(synthesis_gamma)
-    if minimum is not None:
-        levels.append(minimum * (1 + tolerance))
-    theorem = model.instance.theorem
-    for gamma in sorted(set(levels)):
-        bound = objective_level(theorem, gamma)
-        if bound is None or model.objective is None:
-            break
-        level_sol = model.solve(solver, problem=model.level_problem(bound))
-        if level_sol.ok and level_sol.certified:
-            return level_sol, "level", minimum
-        if sol.status == "solver_error" and level_sol.status != "solver_error":
-            sol = level_sol
-    return sol, "min", minimum
-
-
-def _solve_one(instance, solver, backend, synthesis_gamma, tolerance):
-    """(solution, method, min γ, route used): the requested solver, else the default and the
-    fallback routes (:mod:`lmidsl.solver.fallback`); each on the analysis as written and, where
-    :func:`equilibrate` proposes one, conditioned — the certified answer with the lower γ is kept
-    (each is a valid certificate)."""
-    routes = [Route(backend, solver)] if solver is not None else \
-        [Route(backend, None), *fallback_routes(backend)]
-    proposal = equilibrate(instance)
-    conditionings = [None] if proposal.trivial else [None, proposal]
-    def certified(sol):
-        return sol.ok and sol.certified
-
-    if solver is None:          # no SDP where the Riccati equation gives the point
-        riccati = riccati_point(instance, synthesis_gamma, tolerance)
-        if riccati is not None and (synthesis_gamma is None or riccati.gamma <= synthesis_gamma * (1 + tolerance)):
-            return riccati, "riccati", riccati.gamma, "riccati/scipy ARE"
-
-    def enough(sol):       # certified at the synthesis level: no other route can do better
-        return certified(sol) and (synthesis_gamma is None or sol.gamma is not None
-                                   and sol.gamma <= synthesis_gamma * (1 + tolerance))
-
-    result = None
-    for route in routes:
-        if solver is None and is_first_order(route.solver or ""):
-            # SCS's 1e-4-accurate points did not certify an analysis in the papers' reproduction
-            # (75 % of its time once went there), nor in the gallery: the route costs seconds
-            # (a solver the user names is used, first-order or not)
-            continue
-        for conditioning in conditionings:
-            try:
-                model = get_backend(route.backend)(instance, conditioning=conditioning)
-                sol, method, minimum = _attempt(model, route.solver, synthesis_gamma, tolerance)
-            except LmidslError:      # a fallback backend or solver that is not installed
-                break
-            if result is None or better(result[0], sol) is sol:
-                result = (sol, method, minimum, f"{sol.backend}/{sol.solver}")
-        if enough(result[0]):
-            break
-    return result
-
-
 def analysis_theorem_for(instance: Instance):
     """The analysis counterpart of ``instance.theorem``; for a family (:mod:`lmidsl.theorem.family`), the
     member matching the instance (its data names may depend on the family index)."""
@@ -185,10 +122,15 @@ def analysis_theorem_for(instance: Instance):
 
 
 def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gamma=None,
-                        solver: str | None = None, backend: str | None = None) -> AnalysisCertificate:
-    """Solve the analysis counterpart of ``instance.theorem`` with ``filter_matrices`` fixed."""
-    backend = choose_backend(backend, solver)
+                        solver: str | None = None, backend: str | None = None,
+                        plan: Plan | None = None) -> AnalysisCertificate:
+    """Solve the analysis counterpart of ``instance.theorem`` with ``filter_matrices`` fixed, along
+    the plan's road (:meth:`lmidsl.solver.plan.Plan.point_at_level`; default plan: from
+    ``backend`` and ``solver``)."""
+    plan = plan or Plan(backend, solver)
     link = instance.theorem.analysis
+    if link.criterion == "feasible":      # a stabilisation design: no level to meet
+        synthesis_gamma = None
     analysis = analysis_theorem_for(instance)
     vertices = range(instance.nvertices) if instance.nvertices > 1 else [None]
     gammas, statuses, lmis, methods, minima, reports, solvers, scalings, reported = [], [], [], [], [], [], [], [], []
@@ -197,13 +139,13 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
                    example=instance.example)
         scaled = apply_scaling(sub, "auto")
         scalings.append(scaled.as_dict())
-        sol, method, minimum, used = _solve_one(scaled.scaled, solver, backend, synthesis_gamma,
-                                                link.gamma_tolerance)
+        sol, method, minimum, used = plan.point_at_level(scaled.scaled, synthesis_gamma,
+                                                         link.gamma_tolerance, objective_level)
         solvers.append(used)
-        if not (sol.ok and sol.certified):
-            report = feasp(scaled.scaled, backend=backend, solver=solver)
+        if not (sol.ok and sol.lmis_hold):
+            report = feasp(scaled.scaled, backend=plan.backend, solver=plan.solver)
             reports.append(report)
-            if report.verdict in ("infeasible", "marginal"):
+            if report.verdict in (INFEASIBLE, MARGINAL):
                 sol.status = report.verdict
         statuses.append(sol.status)
         gammas.append(sol.gamma)
@@ -226,4 +168,6 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
                                method="level" if "level" in methods else "min",
                                minimum=minimum, feasp=reports,
                                solvers=sorted(set(solvers)),
-                               reported=reported[0] if len(reported) == 1 else {})
+                               reported=reported[0] if len(reported) == 1 else {},
+                               criterion=link.criterion,
+                               coverage="vertex-wise" if len(gammas) > 1 else "system")

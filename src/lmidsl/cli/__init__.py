@@ -17,9 +17,11 @@ import _thread
 import argparse
 import atexit
 import ast
+import errno
 import importlib
 import json
 import os
+import signal
 import sys
 import threading
 import warnings
@@ -153,37 +155,89 @@ def _warn_skipped_theorem_files() -> None:
 
 
 def _one_line_warning(message, category, filename, lineno, file=None, line=None):
-    """lmidsl's own warnings as ``warning: <message>`` (one line); others as Python prints them."""
+    """lmidsl's own warnings as ``warning: <message>`` (one line); a library's (cvxpy's "not
+    DPP", "Solution may be inaccurate", Dask's ports) only with ``LMIDSL_DEBUG`` set, as Python
+    prints them: what lmidsl reports -- statuses, certificates, its own warnings -- says what
+    they would, in the command's words."""
     if issubclass(category, LmidslWarning):
         print(f"warning: {message}", file=sys.stderr)
-    else:
-        _show_warning(message, category, filename, lineno, file, line)
-
-
-_show_warning = warnings.showwarning
+    elif os.environ.get("LMIDSL_DEBUG"):       # as Python prints it, on stderr as it is now
+        print(warnings.formatwarning(message, category, filename, lineno, line),
+              file=file or sys.stderr, end="")
 
 
 class Deadline:
-    """``--timeout``: after ``seconds`` of wall time the main thread is interrupted as by Ctrl-C
-    (so that long runs keep what they stored) and the command ends with exit code 1."""
+    """``--timeout``: a wall-clock guarantee.  After ``seconds`` the main thread gets SIGALRM,
+    whose handler raises KeyboardInterrupt there (so long runs keep what they stored, as after
+    Ctrl-C) -- SIGALRM, not SIGINT, whose disposition a caller may have set to "ignore" (a
+    command started with ``&`` from a script), which made Ctrl-C's route a no-op.  Should the
+    command still run :data:`GRACE` seconds later (the interrupt swallowed by a library, or a
+    solver inside C code), the watchdog thread of the ``lmidsl`` process itself ends it: stdout
+    flushed, one "timed out" line, exit code 1 (records of ``--out`` stores are on disk as soon
+    as they are appended).  A command that finishes after its deadline also exits 1."""
+
+    GRACE = 5.0
+    #: end the process from the watchdog (the ``lmidsl`` command; not ``main()`` inside a test)
+    hard_exit = False
 
     def __init__(self, seconds: float | None):
-        self.seconds, self.expired, self.timer = seconds, False, None
-        if seconds:
-            self.timer = threading.Timer(seconds, self._expire)
-            self.timer.daemon = True
+        self.seconds, self.expired, self.timer, self.watchdog = seconds, False, None, None
+        self._previous = None
+        if not seconds:
+            return
+        self._main = threading.main_thread().ident
+        if threading.current_thread() is threading.main_thread():
+            self._previous = signal.signal(signal.SIGALRM, self._alarm)
+        self.timer = threading.Timer(seconds, self._expire)
+        self.timer.daemon = True
+
+    def start(self):
+        """Start the clock (inside the ``try`` that handles its interrupt); once."""
+        if self.timer is not None and not self.timer.is_alive() and not self.expired:
             self.timer.start()
+
+    @staticmethod
+    def _alarm(signum, frame):
+        raise KeyboardInterrupt
 
     def _expire(self):
         self.expired = True
-        _thread.interrupt_main()
+        if self.hard_exit:
+            self.watchdog = threading.Timer(self.GRACE, self._end_process)
+            self.watchdog.daemon = True
+            self.watchdog.start()
+        if self._previous is not None:
+            signal.pthread_kill(self._main, signal.SIGALRM)
+        else:
+            _thread.interrupt_main()
+
+    def _end_process(self):
+        flusher = threading.Thread(target=_flush_quietly, daemon=True)
+        flusher.start()
+        flusher.join(1.0)           # the main thread may hold stdout's lock: do not wait for ever
+        os.write(2, (self.message(f"timed out; still running {self.GRACE:g} s after the deadline, "
+                                  "ended") + "\n").encode())
+        os._exit(1)
 
     def cancel(self):
-        if self.timer is not None:
-            self.timer.cancel()
+        for timer in (self.timer, self.watchdog):
+            if timer is not None:
+                timer.cancel()
+        if self._previous is not None:
+            signal.signal(signal.SIGALRM, self._previous)
+            self._previous = None
 
     def message(self, detail: str = "") -> str:
-        return f"error: --timeout {self.seconds:g}: stopped after {self.seconds:g} s" + (f" ({detail})" if detail else "")
+        return (f"error: --timeout {self.seconds:g}: stopped after {self.seconds:g} s (timed out"
+                + (f"; {detail})" if detail else ")"))
+
+
+def _flush_quietly():
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
 
 
 def main(argv=None) -> int:
@@ -206,6 +260,7 @@ def console_main() -> None:
     waits for it) is kept, and so it is under a profiler or a tracer (``python -m cProfile``,
     coverage), which write their results at the normal exit.  ``main(argv)`` itself returns, for
     tests and embedding."""
+    Deadline.hard_exit = True
     code = main()
     if threading.active_count() > 1 or sys.getprofile() is not None or sys.gettrace() is not None:
         sys.exit(code)
@@ -218,22 +273,63 @@ def console_main() -> None:
     os._exit(code)
 
 
+def _early_timeout(argv) -> float | None:
+    """``--timeout SECONDS`` read from the raw arguments, before the parser (and the command's
+    imports: cvxpy, Dask) run, so that the clock covers start-up too; None when absent or not a
+    positive finite number (the parser then says so)."""
+    words = list(sys.argv[1:] if argv is None else argv)
+    for i, word in enumerate(words):
+        text = word.partition("=")[2] if word.startswith("--timeout=") else \
+            (words[i + 1] if word == "--timeout" and i + 1 < len(words) else None)
+        if text is not None:
+            try:
+                value = float(text)
+            except ValueError:
+                return None
+            return value if 0 < value < float("inf") else None
+    return None
+
+
 def _main(argv=None) -> int:
-    parser = build_parser(argv)
-    args = parser.parse_args(argv)
+    deadline = Deadline(_early_timeout(argv))
+    try:
+        deadline.start()
+        parser = build_parser(argv)
+        args = parser.parse_args(argv)
+    except KeyboardInterrupt:              # the deadline during start-up (or Ctrl-C)
+        deadline.cancel()
+        print(deadline.message("during start-up") if deadline.expired else "error: interrupted", file=sys.stderr)
+        return 1 if deadline.expired else 130
+    except BaseException:                  # argparse's exit: no clock left running
+        deadline.cancel()
+        raise
     configure(wide=getattr(args, "wide", False))
     with warnings.catch_warnings():
         warnings.showwarning = _one_line_warning
-        return _run(args)
+        return _run(args, deadline)
 
 
-def _run(args) -> int:
-    deadline = Deadline(getattr(args, "timeout", None))
+def _run(args, deadline=None) -> int:
+    if deadline is None or deadline.seconds != getattr(args, "timeout", None):
+        if deadline is not None:
+            deadline.cancel()
+        deadline = Deadline(getattr(args, "timeout", None))
     try:
+        return _run_command(args, deadline)
+    finally:                          # whatever ended the command, no clock is left running
+        deadline.cancel()
+
+
+def _run_command(args, deadline) -> int:
+    try:
+        deadline.start()
         code = args.run(args)
         deadline.cancel()
         sys.stdout.flush()            # a closed pipe shows here, not at the interpreter's exit
         _warn_skipped_theorem_files()
+        if deadline.expired:          # finished, but after its deadline (the interrupt came too late)
+            print(deadline.message("finished after the deadline"), file=sys.stderr)
+            return 1
     except BrokenPipeError:
         raise
     except Interrupted as exc:
@@ -245,17 +341,35 @@ def _run(args) -> int:
         _warn_skipped_theorem_files()
         print(f"error: {exc}", file=sys.stderr)
         return exc.exit_code
+    except OSError as exc:
+        if exc.errno not in UNWRITABLE:
+            return _internal_error(exc)
+        deadline.cancel()
+        where = f" {exc.filename}" if exc.filename else ""
+        print(f"error: cannot write{where}: {exc.strerror} (the command could not finish; files "
+              f"already written are kept)", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         deadline.cancel()
         print(deadline.message() if deadline.expired else "error: interrupted", file=sys.stderr)
         return 1 if deadline.expired else 130
     except Exception as exc:  # a bug, not bad input: say so in one line unless debugging
-        if os.environ.get("LMIDSL_DEBUG"):
-            raise
-        print(f"internal error: {type(exc).__name__}: {exc} (set LMIDSL_DEBUG=1 for the traceback)",
-              file=sys.stderr)
-        return 3
+        return _internal_error(exc)
     return code or 0
+
+
+#: errors of writing an output that are the machine's, not lmidsl's: a full disk or quota, a
+#: read-only file system, no permission, an I/O error (exit 1: the command could not finish)
+UNWRITABLE = frozenset({errno.ENOSPC, errno.EROFS, errno.EACCES, errno.EPERM, errno.EDQUOT, errno.EIO,
+                        errno.EFBIG})
+
+
+def _internal_error(exc) -> int:
+    if os.environ.get("LMIDSL_DEBUG"):
+        raise exc
+    print(f"internal error: {type(exc).__name__}: {exc} (set LMIDSL_DEBUG=1 for the traceback)",
+          file=sys.stderr)
+    return 3
 
 
 if __name__ == "__main__":

@@ -5,11 +5,11 @@ input.  See :mod:`lmidsl.studies.cross_check` for what "certified" and "trusted"
 """
 from __future__ import annotations
 
-from ..studies.cross_check import DEFAULT_TOLERANCE, check
+from ..studies.cross_check import DEFAULT_TOLERANCE, check, plan_rows
 from ..render.progress import Progress
 from ..render.table import format_table
 from ..render.terminal import Settings, wrap
-from .common import (add_output_arguments, add_parallel_arguments, add_solve_arguments, instance_spec,
+from .common import (add_output_arguments, add_parallel_arguments, add_solve_arguments, check_options_for_rows, instance_spec,
                      parallel_spec, parse_solver_options, positive_float, print_json, show_progress)
 
 ORDER = 25
@@ -43,7 +43,7 @@ def format_check(result) -> str:
                 labels.append(label)
     # the objective only at full width (--wide) when it is not the compared value itself
     objective = Settings.wide and result.compared != "objective"
-    headers = ["backend", "solver", "status"] + (["objective"] if objective else []) + [
+    headers = ["backend:solver", "status"] + (["objective"] if objective else []) + [
         result.compared, "max eig", "analysis", "time s", "cert", "trust", "rel diff"]
     rows = []
     for r in result.rows:
@@ -52,7 +52,7 @@ def format_check(result) -> str:
             ("infeasible" if r.analysis_gamma is None else _fmt(r.analysis_gamma, ".6g"))
             + ("" if r.analysis_passed else " (fails)"))
         rel = "" if r.rel_diff is None else f"{r.rel_diff:+.1e}" + (" !" if r.disagrees else "")
-        rows.append([r.backend, r.solver, r.status] + ([_fmt(r.objective, ".8g")] if objective else [])
+        rows.append([f"{r.backend}:{r.solver}", r.status] + ([_fmt(r.objective, ".8g")] if objective else [])
                     + [_fmt(r.value, ".8g"), _fmt(max(eigs) if eigs else None, ".2e"), analysis,
                        f"{r.wall_time:.2f}", "yes" if r.certified else "no", "yes" if r.trusted else "no", rel])
     # the largest eigenvalue of each LMI: one row per LMI, one column per solver row (a table of
@@ -60,7 +60,7 @@ def format_check(result) -> str:
     solved = [r for r in result.rows if r.max_eig_by_label()]
     eig_rows = [[label] + [_fmt(r.max_eig_by_label().get(label), ".2e") for r in solved] for label in labels]
     title = f"{result.theorem}" + (f" [{result.example}]" if result.example else "")
-    status, analysis_column = 2, len(headers) - 5           # these two wrap; ids and numbers never
+    status, analysis_column = 1, len(headers) - 5           # these two wrap; ids and numbers never
     lines = [title, format_table(headers, rows, nowrap=tuple(i for i in range(len(headers))
                                                              if i not in (status, analysis_column))), ""]
     if eig_rows:
@@ -75,7 +75,7 @@ def format_check(result) -> str:
              for r in result.rows if not r.trusted]
     if notes:
         lines += ["not trusted:"] + notes + [""]
-    lines.append(result.verdict())
+    lines.append("verdict: " + result.verdict.line())
     lines.append("(cert: every LMI's largest eigenvalue < 0 and the analysis certifies the recovered filter; "
                  "trust: cert + status optimal from a non-first-order solver; rel diff against the best "
                  f"trusted {result.compared}; '!' marks a disagreement)")
@@ -95,8 +95,10 @@ def run(args):
     def progress(plan):
         return Progress(plan, "check", lambda row: f"{row[0]}:{row[1]}", enabled=show_progress(args))
 
+    options = parse_solver_options(args.solver_options)
+    check_options_for_rows(plan_rows(requested_rows(args)), options)    # bad options: exit 2 first
     result = check(args.theorem, solvers=requested_rows(args),
-                   options=parse_solver_options(args.solver_options), tolerance=args.tolerance,
+                   options=options, tolerance=args.tolerance,
                    margin=args.margin, certify=not args.no_certify, progress=progress,
                    **parallel_spec(args), **instance_spec(args))
     if args.json:

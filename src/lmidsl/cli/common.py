@@ -17,9 +17,11 @@ import argparse
 import os
 import json
 import math
+import re
 
 from ..errors import InputError
 from ..solver.backends import BACKENDS, DEFAULT_BACKEND, choose_backend, options_for, resolve_solver
+from ..solver.backends.options import check_solver_options, finite_value, solver_settings
 from ..studies.store import strict_json
 
 #: the flags every solving command accepts (tests/test_cli_output.py checks each command)
@@ -143,12 +145,33 @@ def parse_solver_options(items: list[str]) -> dict:
         target, _, key = left.rpartition(":")
         if not sep or not key.strip():
             raise InputError(f"--solver-option {item!r}: expected [[BACKEND:]SOLVER:]KEY=VALUE")
-        try:
-            value = json.loads(text)
-        except json.JSONDecodeError:
-            value = text
-        out.setdefault(target.strip().lower(), {})[key.strip()] = value
+        out.setdefault(target.strip().lower(), {})[key.strip()] = option_value(key.strip(), text)
     return out
+
+
+def option_value(key: str, text: str):
+    """An option's VALUE: JSON (finite numbers only), or a bare word (``kktsolver=ldl``) as a string."""
+    where = f"--solver-option {key}={text}"
+    if BARE_WORD.fullmatch(text) and text not in ("true", "false", "null") and not _is_number(text):
+        return text
+    try:
+        return finite_value(strict_loads(text, where), where)
+    except json.JSONDecodeError:
+        raise InputError(f"{where}: not JSON (a number, true/false, a quoted string, a list)") from None
+
+
+def _is_number(text: str) -> bool:
+    """Whether Python reads ``text`` as a number (nan, inf, Infinity: never a bare word)."""
+    try:
+        float(text)
+    except ValueError:
+        return text.lower() in ("nan", "infinity", "-infinity")
+    return True
+
+
+#: an option value taken as a string without quotes: a word such as ldl or qdldl
+BARE_WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_.\-]*")
+
 
 
 def solver_options(args) -> dict:
@@ -163,7 +186,26 @@ def solver_options(args) -> dict:
     for target in parsed:
         if target and not options_for(backend, solver, {target: {"hit": True}}):
             raise InputError(f"--solver-option {target}:...: this command solves with {backend}:{solver} only")
+    check_solver_options(backend, solver, options)
     return options
+
+
+def check_options_for_rows(rows, parsed: dict) -> None:
+    """``check``'s options against its rows (backend, solver, error): a target that names no row,
+    an option that a row's solver states it does not know, or a value of the wrong type is one
+    line (exit 2) before any solve; an option for one solver only is written ``SOLVER:KEY=VALUE``."""
+    runnable = [(backend, solver) for backend, solver, error in rows if not error]
+    for target, options in parsed.items():
+        aimed = [(b, s) for b, s in runnable if options_for(b, s, {target: {"hit": True}})]
+        if target and not aimed:
+            raise InputError(f"--solver-option {target}:...: no row of this check runs {target} (rows: "
+                             + ", ".join(f"{b}:{s}" for b, s in runnable) + ")")
+        for backend, solver in aimed:
+            try:
+                check_solver_options(backend, solver, options)
+            except InputError as exc:
+                hint = "; aim it at one solver with SOLVER:KEY=VALUE" if not target else ""
+                raise InputError(f"{exc}{hint}") from None
 
 
 def solve_arguments(args) -> dict:
@@ -244,6 +286,9 @@ def add_parallel_arguments(parser, default_workers: int | None = None) -> None:
     group.add_argument("--workers", type=positive_int, metavar="N",
                        help=f"solve independent points on a local Dask cluster of N processes ({default})")
     parser.set_defaults(default_workers=default_workers)
+    group.add_argument("--dashboard", nargs="?", const=":8787", metavar="ADDRESS",
+                       help="show the local cluster's Dask dashboard (default address :8787; none "
+                            "without this flag)")
     group.add_argument("--scheduler", metavar="ADDRESS",
                        help="solve them on an existing Dask cluster, e.g. tcp://host:8786 "
                             "(started with `dask scheduler` and `dask worker`)")
@@ -252,6 +297,8 @@ def add_parallel_arguments(parser, default_workers: int | None = None) -> None:
 def parallel_spec(args) -> dict:
     """Keyword arguments ``workers`` and ``scheduler`` from :func:`add_parallel_arguments`."""
     workers = args.workers
+    if getattr(args, "dashboard", None):
+        os.environ["LMIDSL_DASK_DASHBOARD"] = args.dashboard      # read by the local cluster
     if workers is None and not args.scheduler:          # the command's default N
         workers = getattr(args, "default_workers", None)
     return {"workers": workers, "scheduler": args.scheduler}

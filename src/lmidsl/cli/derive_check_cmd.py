@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from ..errors import InputError
 from ..studies.derivation import check_theorem
+from ..render.terminal import echo
 from .common import print_json
 
 ORDER = 80
@@ -45,21 +46,21 @@ def run(args):
         head = f"{r.theorem} {r.label} from {r.source} {r.source_label}"
         if r.verdict == "exact":
             dims = "; ".join(",".join(f"{k}={v}" for k, v in d.items()) for d in r.dims)
-            print(f"{head}: exact ({r.points} random rational points; dims {dims})")
+            echo(f"{head}: exact ({r.points} random rational points; dims {dims})")
         elif r.block is not None:
             e = r.entry or {}
-            print(f"{head}: DIFFERS at block ({r.block[0]},{r.block[1]})")
-            print(f"    {r.label}:      {r.target_expr}")
-            print(f"    derivation: {r.derived_expr}")
-            print(f"    entry ({e.get('row')},{e.get('col')}): {e.get('target')} vs {e.get('derived')}")
+            echo(f"{head}: DIFFERS at block ({r.block[0]},{r.block[1]})")
+            echo(f"    {r.label}:      {r.target_expr}")
+            echo(f"    derivation: {r.derived_expr}")
+            echo(f"    entry ({e.get('row')},{e.get('col')}): {e.get('target')} vs {e.get('derived')}")
         else:
-            print(f"{head}: {r.verdict.upper()}: {r.message}")
+            echo(f"{head}: {r.verdict.upper()}: {r.message}")
         for rec in r.recovery:
-            print(f"    recovery {rec['name']}: {rec['verdict']}" +
+            echo(f"    recovery {rec['name']}: {rec['verdict']}" +
                   (f" ({rec.get('formula', '')} = {rec['expected']})" if rec["expected"] else ""))
         if r.free:
-            print(f"    ({', '.join(r.free)}: irrational definitions, drawn as free scalars — "
+            echo(f"    ({', '.join(r.free)}: irrational definitions, drawn as free scalars — "
                   f"an identity for all their values)")
         if r.note:
-            print(f"    ({r.note})")
+            echo(f"    ({r.note})")
     return code

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from ..errors import InputError, LmidslError
 from ..pipeline import solve
-from ..render.latex_document import theorem_latex
+from ..render.latex_document import lmi_snippet, theorem_latex
 from ..studies.store import atomic_write_text, check_output_file
 from ..theorem.registry import get_example, get_theorem
 from .common import add_solve_arguments, instance_spec, print_json, refuse, solve_arguments
@@ -27,6 +27,8 @@ def register(sub):
     p.add_argument("-o", "--output", metavar="FILE.tex",
                    help="write the document here (default: stdout; with --pdf: THEOREM.tex)")
     p.add_argument("--pdf", action="store_true", help="also run pdflatex on the document")
+    p.add_argument("--lmi", metavar="LABEL",
+                   help="print only this LMI's LaTeX, ready to paste (no preamble), e.g. --lmi 30")
     p.add_argument("--star", choices=["star", "asterisk"], default="star",
                    help="symbol for the implicit triangle: \\star (default) or *")
     p.add_argument("--he", choices=["expand", "collapse"], default="expand",
@@ -63,6 +65,15 @@ def run(args):
         get_example(theorem, args.example)
     settings = {"star": r"\star" if args.star == "star" else "*", "he": args.he,
                 "relation": args.relation}
+    if args.lmi is not None:
+        refuse(args, "--lmi prints one LMI's LaTeX as the theorem states it", "--example", "--data",
+               "--set", "--backend", "--solver", "--solver-option", "--margin", "--pdf", "--output")
+        text = lmi_snippet(theorem, args.lmi, **settings)
+        if args.json:
+            print_json({"theorem": theorem.id, "lmi": args.lmi, "latex": text})
+        else:
+            sys.stdout.write(text)
+        return 0
     if args.output is not None:      # an unwritable -o is found before any solve
         if Path(args.output).suffix != ".tex":
             raise InputError(f"-o {args.output}: the output file must end in .tex")

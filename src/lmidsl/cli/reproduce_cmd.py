@@ -56,4 +56,4 @@ def run(args):
     # a row that ends as its example expects (a documented finding, e.g. a paper's own example
     # proved infeasible) is not a failure of the job; a row worse than that, or one that could
     # not be run at all, is
-    return 0 if all(r.as_expected and r.verdict != "error" for r in rows) else 1
+    return 0 if all(r.as_expected and r.comparison != "error" for r in rows) else 1

@@ -9,6 +9,7 @@ from __future__ import annotations
 from ..errors import InputError, NoResultError
 from ..pipeline import make_instance, solve_instance
 from ..render.table import format_table
+from ..render.terminal import echo
 from .common import (add_output_arguments, add_solve_arguments, instance_spec, nonnegative_int, positive_int,
                      print_json, refuse, solve_arguments)
 
@@ -52,10 +53,10 @@ def run(args):
         print_json({"theorem": theorem.id, "example": instance.example, "horizon": args.horizon,
                     "disturbance": args.disturbance, "rows": table.rows, "notes": table.notes})
         return 0
-    print(f"{theorem.id}" + (f" [{instance.example}]" if instance.example else "")
+    echo(f"{theorem.id}" + (f" [{instance.example}]" if instance.example else "")
           + f": horizon {args.horizon}, test disturbance {args.disturbance}")
     rows = [["" if r.get(k) is None else r[k] for k in table.columns] for r in table.rows]
     print(format_table(list(table.columns.values()), rows))
     for note in table.notes:
-        print("\n" + note)
+        echo("\n" + note)
     return 0

@@ -5,6 +5,7 @@ import argparse
 
 from ..pipeline import make_instance, solve
 from ..render.report import format_solution
+from ..render.terminal import wrap
 from ..render.bisection import format_bisection
 from ..studies.bisection import bisect
 from ..theorem.registry import get_theorem
@@ -19,13 +20,21 @@ def register(sub):
     p.add_argument("--scaling", default="auto", choices=("auto", "none"),
                    help="exact signal rescaling declared by the theorem, applied and undone by lmidsl "
                         "(default auto)")
+    add_backoff_argument(p)
+    p.add_argument("--no-bounds", action="store_true",
+                   help="skip the proved lower bound on the optimum (the dual bound) and the "
+                        "infeasibility proof; the verdict then never says 'optimal'")
+    p.add_argument("--no-certify", action="store_true", help="skip the analysis certificate")
+    p.set_defaults(run=run)
+
+
+def add_backoff_argument(p):
+    """``--backoff``: one meaning and one default wherever a design is delivered (solve, verify)."""
     p.add_argument("--backoff", type=backoff_argument, metavar="DELTA|auto|none", default="auto",
                    help="re-solve at objective <= (1+DELTA)*optimum, minimising the condition number "
                         "of what the recovery inverts (e.g. 1e-2); 'auto' (default): only when the "
                         "design recovered at the optimum is not certified or is ill-conditioned; "
                         "'none': never")
-    p.add_argument("--no-certify", action="store_true", help="skip the analysis certificate")
-    p.set_defaults(run=run)
 
 
 def backoff_argument(text):
@@ -47,15 +56,13 @@ def run(args):
     if spec is not None and spec.parameter not in parse_overrides(args.overrides):
         return run_bisection(args)     # a GEVP: bisect on the declared parameter (--set it to solve at one value)
     sol = solve(args.theorem, certify=not args.no_certify, scaling=args.scaling, backoff=args.backoff,
+                bounds=not args.no_bounds,
                 **solve_arguments(args), **instance_spec(args))
     if args.json:
-        out = sol.as_dict()
-        analysis = getattr(sol, "analysis", None)
-        out["analysis"] = analysis.as_dict() if analysis is not None else None
-        print_json(out)
+        print_json(sol.as_dict())
     else:
-        print(format_solution(sol))
-    return 0 if sol.verdict()[0] else 1
+        print(wrap(format_solution(sol)))
+    return 0 if sol.verdict.certified else 1
 
 
 def run_bisection(args):
@@ -63,5 +70,5 @@ def run_bisection(args):
     if args.json:
         print_json(result.as_dict())
     else:
-        print(format_bisection(result))
+        print(wrap(format_bisection(result)))
     return 0 if result.holds else 1

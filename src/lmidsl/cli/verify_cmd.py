@@ -1,4 +1,4 @@
-"""``lmidsl verify``: certify a designed, printed or given filter by independent evidence."""
+"""``lmidsl verify``: certify a designed, printed or given design by independent evidence."""
 from __future__ import annotations
 
 import json
@@ -7,8 +7,9 @@ from ..errors import InputError
 from ..symbolic.numbers import finite_matrix
 from .common import (add_output_arguments, add_solve_arguments, instance_spec, nonnegative_int, positive_float,
                      positive_int, print_json, probability, show_progress, solve_arguments, strict_loads)
-from .solve_cmd import backoff_argument
+from .solve_cmd import add_backoff_argument
 from ..render.progress import Stages
+from ..render.report import format_verification
 from ..render.terminal import wrap
 from ..studies.verify import verify
 
@@ -16,7 +17,7 @@ ORDER = 25
 
 
 def register(sub):
-    p = sub.add_parser("verify", help="certify a filter: synthesis LMIs, analysis, exact figure, Monte Carlo")
+    p = sub.add_parser("verify", help="certify a design: synthesis LMIs, analysis, exact figure, Monte Carlo")
     add_solve_arguments(p)
     add_output_arguments(p, progress=True)
     p.add_argument("--design", "--filter", dest="design", metavar="FILE.json|printed",
@@ -30,10 +31,7 @@ def register(sub):
                    help="simulated disturbance: the exact worst case (default), a unit impulse, or a "
                         "JSON list of w(k) rows")
     p.add_argument("--horizon", type=positive_int, default=50, help="steps simulated with an impulse (default 50)")
-    p.add_argument("--backoff", type=backoff_argument, metavar="DELTA|auto",
-                   help="design only: recover the filter at objective <= (1+DELTA)*optimum with the best "
-                        "conditioning (see `solve --backoff`); 'auto': only when the optimum's filter "
-                        "is not certified by the analysis")
+    add_backoff_argument(p)
     p.set_defaults(run=run)
 
 
@@ -93,5 +91,5 @@ def run(args):
     if args.json:
         print_json(result.as_dict())
     else:
-        print(wrap(result.format()))
+        print(wrap(format_verification(result)))
     return 0 if result.certified else 1

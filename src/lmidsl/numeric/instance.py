@@ -20,6 +20,7 @@ from ..symbolic.numbers import finite_matrix, finite_number, positive_integer
 from ..symbolic.shapes import fmt_shape
 from ..symbolic.parameter_values import NotRealError, parameter_value
 from ..symbolic.symbols import Dim, ScalarVariable
+from ..theorem.assumptions import check_assumptions
 from ..theorem.theorem import Theorem
 from ..symbolic.uncertainty import bind_points
 from ..symbolic.uncertainty import scenarios
@@ -124,7 +125,8 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None, *,
     """
     if hasattr(theorem, "specialise"):
         theorem = theorem.specialise(inputs)
-    inputs = dict(inputs)
+    inputs = dict(theorem.inputs_for(inputs) if hasattr(theorem, "inputs_for") else inputs)
+    check_assumptions(theorem, inputs, inputs.get("vertices") if isinstance(inputs.get("vertices"), list) else None)
     uncertain = bind_points(theorem, inputs)
     vertices = inputs.pop("vertices", None)
     per_vertex = theorem.per_vertex_names
@@ -190,12 +192,29 @@ def bind(theorem: Theorem, inputs: dict, example: str | None = None, *,
                 if arr.shape[0] == arr.shape[1] and asymmetry(arr) > 1e-12:
                     raise InputError(f"{theorem.id}: data {name} must be symmetric")
     dims = _infer_dims(theorem, matrices, given_dims)
+    _refuse_empty_dimensions(theorem, dims, data)
     for alias, (name, v) in getattr(theorem, "vertex_data", {}).items():   # A_i of A(α): theorem/robust.py
         data[alias] = data[name][v]
     params = _evaluate_params(theorem, {k: inputs[k] for k in theorem.param_decl if k in inputs})
     instance = Instance(theorem, dims, data, params, nvertices, example, uncertain=uncertain)
     check_symmetric_blocks(instance)
     return instance
+
+
+def _refuse_empty_dimensions(theorem: Theorem, dims: dict, data: dict) -> None:
+    """A dimension 0 (a 2×0 matrix in the data) is bad input, in one line naming the datum: an
+    empty variable or block has no meaning in an LMI, and solvers and modelling layers fail on it
+    each in their own way."""
+    zero = sorted(str(d) for d, v in dims.items() if int(v) == 0)
+    if not zero:
+        return
+    for name, value in data.items():
+        for array in (value if isinstance(value, list) else [value]):
+            if 0 in np.shape(array):
+                shape = "×".join(str(n) for n in np.shape(array))
+                raise InputError(f"{theorem.id}: data {name} is {shape}, so dimension {zero[0]} = 0; "
+                                 f"dimensions must be at least 1")
+    raise InputError(f"{theorem.id}: dimension {zero[0]} = 0; dimensions must be at least 1")
 
 
 def random_point(instance: Instance, rng: np.random.Generator) -> dict:

@@ -17,7 +17,8 @@ unspecified) in discrete time.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
@@ -91,7 +92,8 @@ def closed_loop(data: dict, design) -> control.StateSpace:
     lower LFT."""
     K = design_statespace(design)
     P, nu, ny = generalized_plant(data, design.time, design.sample_time,
-                                  state_feedback="K" in design and "AK" not in design)
+                                  state_feedback=design.kind == "gain" or (design.kind == "unspecified"
+                                                                        and "K" in design and "AK" not in design))
     return P.lft(K, nu, ny)
 
 
@@ -115,18 +117,52 @@ PLANT = ("A", "B1", "B2", "C1")
 FILTER_PLANT = ("A", "B1", "C1", "C2")
 
 
+@dataclass(frozen=True)
+class DesignKind:
+    """What a kind of design is called, which matrices it has, and the loop it closes.
+
+    ``loop(data, design)`` forms the loop from the plant ``data`` (gallery names, ``needs``) by
+    python-control's LFT; ``signal`` names its input and output; ``loop_words`` what it is."""
+
+    name: str
+    noun: str
+    matrices: tuple
+    needs: tuple = ()
+    loop: Callable | None = None
+    signal: str = "w -> z"
+    loop_words: str = "closed loop"
+
+
+DESIGN_KIND_TABLE = {k.name: k for k in (
+    DesignKind("filter", "filter", ("Af", "Bf", "Cf", "Df"), FILTER_PLANT, filtering_error,
+               "w -> e", "filtering-error system"),
+    DesignKind("controller", "output-feedback controller", ("AK", "BK", "CK", "DK"), PLANT + ("C2",),
+               closed_loop, "w -> z", "closed loop"),
+    DesignKind("gain", "state-feedback gain", ("K",), PLANT, closed_loop, "w -> z", "closed loop"),
+    DesignKind("observer", "observer", ("L",), (), None, "w -> e", "estimation-error system"),
+    DesignKind("unspecified", "design", (), (), None, "", ""),
+)}
+"""One entry per kind (``Theorem(..., designs=KIND)``): its words and its loop."""
+
+
+def design_kind(name: str | None) -> DesignKind:
+    """The table entry of a design kind ('unspecified' for None or an unknown name)."""
+    return DESIGN_KIND_TABLE.get(name or "unspecified", DESIGN_KIND_TABLE["unspecified"])
+
+
 def design_loop(data: dict, design):
-    """The loop ``design`` closes with the plant in ``data`` (gallery names), or None when the data
-    are not such a plant (other names, or a polytope: per-vertex lists): the closed loop w → z of a
-    controller (needs ``C2`` too) or a state-feedback gain, the filtering error w → e of a filter."""
+    """The loop ``design`` closes with the plant in ``data`` (gallery names), as its kind says
+    (:data:`DESIGN_KIND_TABLE`), or None when the kind has no loop or the data are not such a
+    plant (other names, or a polytope: per-vertex lists)."""
     if design is None or any(isinstance(v, list) and v and isinstance(v[0], np.ndarray)
                              for v in data.values()):
         return None
-    is_filter = "Af" in design
-    needed = FILTER_PLANT if is_filter else PLANT + (("C2",) if "AK" in design else ())
-    if not all(k in data for k in needed) or not ("AK" in design or "K" in design or is_filter):
+    kind = design_kind(design.kind)
+    if kind.loop is None or not all(k in data for k in kind.needs):
         return None
-    return filtering_error(data, design) if is_filter else closed_loop(data, design)
+    if not all(k in design for k in kind.matrices if k not in ("Df", "DK")):
+        return None
+    return kind.loop(data, design)
 
 
 def loop_summary(system, signal: str = "w -> z") -> dict:
@@ -148,4 +184,5 @@ def loop_summary(system, signal: str = "w -> z") -> dict:
 
 
 __all__ = ["timebase", "statespace", "design_statespace", "generalized_plant", "closed_loop",
-           "filtering_error", "design_loop", "loop_summary"]
+           "filtering_error", "design_loop", "loop_summary", "DesignKind", "DESIGN_KIND_TABLE",
+           "design_kind"]

@@ -18,4 +18,5 @@ def format_bisection(result) -> str:
     if result.solution is not None:
         lines.append(f"  certificate at the feasible end {result.parameter} = {result.feasible_end:.10g}:")
         lines += ["  " + line for line in format_solution(result.solution).splitlines()]
+    lines.append("  verdict: " + result.verdict.line())
     return "\n".join(lines)

@@ -37,14 +37,15 @@ from sympy.matrices.expressions.matexpr import MatrixExpr
 from sympy.printing.latex import LatexPrinter
 
 from ..symbolic.blocks import BlockMatrixSpec
+from ..symbolic.indexed import INDEXED_TYPES
 from ..errors import InputError
 from .latex_text import _GREEK, latex_matrix, latex_number, tex_text
 from ..symbolic.symbols import (DerivedParam, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
                       _Described)
-from ..theorem.theorem import LATEX_RENDERER, Theorem
+from ..theorem.theorem import Theorem
 from ..theorem.values import LMI
 
-__all__ = ["LMILatexPrinter", "lmi_latex", "lmi_where", "name_to_latex",
+__all__ = ["LMILatexPrinter", "lmi_latex", "lmi_where", "name_to_latex", "bisection_latex",
            "with_vertex_index", "tex_text", "latex_number", "latex_matrix"]
 
 _RELATIONS = {
@@ -170,6 +171,7 @@ class LMILatexPrinter(LatexPrinter):
         "notation": {},
         "matrix_env": "bmatrix",
         "dim_order": (),
+        "index_sets": {},
     }
 
     def __init__(self, settings=None):
@@ -209,9 +211,50 @@ class LMILatexPrinter(LatexPrinter):
         return super()._print_Symbol(expr, style=style)
 
     def _print_MatrixSymbol(self, expr):
+        if isinstance(expr, INDEXED_TYPES):          # A[i] -> A_{i}, Q[i, j] -> Q_{ij}
+            return with_vertex_index(latex_of(expr), self._indices(expr.indices))
         if isinstance(expr, _Described):
             return self._symbol_latex(expr)
         return super()._print_MatrixSymbol(expr)
+
+    # -- index sets ---------------------------------------------------------------------
+    def _indices(self, indices) -> str:
+        parts = [self._print(k) for k in indices]
+        return ("," if any(len(p) > 1 for p in parts) else "").join(parts)
+
+    def _print_Coefficient(self, expr):          # π_ij
+        return with_vertex_index(latex_of(expr), self._indices(expr.indices))
+
+    def _range(self, op) -> str:
+        r"""The range under Σ, col, diag: j \in \mathcal{N}, j \neq i."""
+        sets = self._settings["index_sets"]
+        text = rf"{self._print(op.index)} \in {sets.get(op.index.set_name, op.index.set_name)}"
+        if op.condition is not None:
+            text += f", {self._print(op.condition)}"
+        return text
+
+    def _print_IndexSum(self, expr):
+        return rf"\sum_{{{self._range(expr)}}} {self._matrix_factor(expr.body)}"
+
+    def _print_IndexStack(self, expr):
+        return rf"\operatorname{{col}}_{{{self._range(expr)}}}\left({self._print(expr.body)}\right)"
+
+    def _print_IndexDiag(self, expr):
+        return rf"\operatorname{{diag}}_{{{self._range(expr)}}}\left({self._print(expr.body)}\right)"
+
+    def quantifier(self, lmi) -> str:
+        """', ∀ i ∈ 𝓘' (', ∀ i, j ∈ 𝓡, i < j') of a quantified LMI; '' otherwise."""
+        q = getattr(lmi, "quantifier", None)
+        if q is None:
+            return ""
+        sets = self._settings["index_sets"]
+        groups: dict = {}
+        for k in q.indices:
+            groups.setdefault(k.set_name, []).append(self._print(k))
+        text = ", ".join(rf"{', '.join(names)} \in {sets.get(name, name)}" for name, names in groups.items())
+        if q.where is not None:
+            text += rf",\ {self._print(q.where)}"
+        return rf",\quad \forall\, {text}"
 
     def _print_Add(self, expr, order=None):
         dims = list(self._settings["dim_order"])
@@ -398,7 +441,7 @@ class LMILatexPrinter(LatexPrinter):
         return _RELATIONS[(sense, self._settings["relation"] == "prec")]
 
     def _print_LMI(self, lmi: LMI):
-        return f"{self._print(lmi.spec)} {self.relation(lmi.sense)} 0"
+        return f"{self._print(lmi.spec)} {self.relation(lmi.sense)} 0{self.quantifier(lmi)}"
 
 
 # -- helpers for one theorem ----------------------------------------------------------
@@ -406,7 +449,15 @@ def printer_for(theorem: Theorem, lmi: LMI | None = None, **settings) -> LMILate
     """The printer for ``theorem`` (its notation, its dimension order; the vertex index for a
     polytopic LMI)."""
     settings.setdefault("dim_order", tuple(theorem.dims.values()))
+    settings.setdefault("index_sets", {n: s.latex for n, s in getattr(theorem, "index_sets", {}).items()})
     notation = {d.symbol: d.latex for d in theorem.notation.values()}
+    # a named matrix keeps its name under a transpose: sympy distributes Gᵀ over G's definition
+    # (a block matrix, a sum), so the distributed form is recognised and printed as G^{T}
+    for d in theorem.notation.values():
+        if isinstance(d.symbol, sp.MatrixExpr):
+            transposed = d.symbol.T
+            if transposed != d.symbol and transposed not in notation:
+                notation[transposed] = f"{{{d.latex}}}^{{T}}" if "^" in d.latex else f"{d.latex}^{{T}}"
     notation.update(settings.pop("notation", {}))
     if lmi is not None and lmi.per_vertex:
         settings.setdefault("vertex_index", "i")
@@ -501,13 +552,15 @@ def grouped_display(items: list[str], end: str = "") -> str:
     return "\\begin{lmiitems}\n" + body + "\n\\end{lmiitems}"
 
 
-def theorem_display_latex(theorem: Theorem) -> str:
-    """The title and every LMI of ``theorem`` as display maths a notebook (MathJax, KaTeX) can
-    typeset: plain LaTeX, none of the document's own macros (:meth:`Theorem._repr_latex_`)."""
-    lines = [f"\\text{{{theorem.id}: {tex_text(theorem.title)}}}"]
-    for lmi in theorem.lmis:
-        lines.append(f"{lmi_latex(theorem, lmi)} \\qquad \\text{{{tex_text(lmi.label)}}}")
-    return "$$\\begin{gathered}\n" + " \\\\\n".join(lines) + "\n\\end{gathered}$$"
-
-
-LATEX_RENDERER["theorem"] = theorem_display_latex
+def bisection_latex(theorem: Theorem) -> str | None:
+    """The goal of a theorem solved by bisection, in words and maths: 'maximise h ∈ [0, 10] such
+    that the conditions are feasible (bisection to 10⁻⁴)'; None without a bisection."""
+    b = getattr(theorem, "bisection", None)
+    if b is None:
+        return None
+    decl = theorem.param_decl.get(b.parameter)
+    name = LMILatexPrinter().doprint(decl.symbol) if decl is not None else b.parameter
+    goal = "Maximise" if b.goal == "max" else "Minimise"
+    text = (f"{goal} ${name} \\in [{latex_number(b.lower)}, {latex_number(b.upper)}]$ such that the "
+            f"conditions are feasible (bisection on ${name}$ to ${latex_number(b.tol)}$)")
+    return text + (f": {tex_text(b.performance)}." if b.performance else ".")

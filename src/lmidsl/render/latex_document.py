@@ -5,23 +5,28 @@ amssymb, graphicx, geometry; all in Debian's ``texlive-latex-base``): title and 
 dimensions, data, scalar parameters and decision variables with their sets, every LMI with the
 paper's equation label and its "where" definitions, the objective, the recovery formulas and
 the analysis theorem that certifies them; with an example, the data, γ (computed, printed,
-certified) as a table, the recovered filter and the decision variables.  Wide LMIs are shrunk
-to the line, and an LMI wider than 1.3 lines gets a landscape page of its own.
+certified) as a table, the recovered filter and the decision variables.  Every page is
+portrait: an LMI too wide for the line is printed with named blocks and a "where" list
+(:mod:`lmidsl.render.latex_layout`), as papers print them.
 """
 from __future__ import annotations
+
+import re
 
 import numpy as np
 import sympy as sp
 
-from .latex import (display_lmi, equation_tag, grouped_display, latex_of,
+from .latex import (equation_tag, grouped_display, latex_of,
                     printer_for, lmi_where, name_to_latex, with_vertex_index)
+from .latex_layout import choose_letter, definition, lmi_layout
 from .latex_text import latex_matrix, latex_number, tex_text
 from .robust_latex import robust_conditions_latex
 from ..symbolic.symbols import DiagonalVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable
-from ..errors import LmidslError
+from ..errors import InputError, LmidslError, did_you_mean
 from ..theorem.registry import get_theorem, linked_analysis
 from ..theorem.theorem import Theorem
 from ..theorem.values import FactorStep
+from ..solver.verdict import LEVEL_NAMES
 
 PREAMBLE = r"""\documentclass[10pt]{article}
 \usepackage{amsmath,amssymb,graphicx}
@@ -36,18 +41,10 @@ PREAMBLE = r"""\documentclass[10pt]{article}
     \typeout{lmidsl-shrink: \the\wd\lmibox\space to \the\dimexpr\linewidth-5em\relax}%%
     \resizebox{\dimexpr\linewidth-5em\relax}{!}{\usebox{\lmibox}}%%
   \else\usebox{\lmibox}\fi}
-%% \lmidisplay{math}{tag}: a displayed LMI; one wider than 1.3 lines gets a page of its own,
-%% turned by 90 degrees (landscape) and shrunk to the page's height if still too wide
+%% \lmidisplay{math}{tag}: a displayed LMI (a large one arrives with its blocks named, so that
+%% it fits; \fitlmi is the last resort)
 \newcommand{\lmitag}[1]{\if\relax\detokenize{#1}\relax\else\tag*{#1}\fi}
-\newcommand{\lmidisplay}[2]{\sbox{\lmibox}{$\displaystyle #1$}%%
-  \ifdim\wd\lmibox>1.3\linewidth
-    \clearpage\null\vfill
-    \noindent\rotatebox{90}{\begin{minipage}{\dimexpr\textheight-3\baselineskip\relax}
-      \begin{equation*}\fitlmi{#1}\lmitag{#2}\end{equation*}\end{minipage}}
-    \vfill\clearpage
-  \else
-    \begin{equation*}\fitlmi{#1}\lmitag{#2}\end{equation*}
-  \fi}
+\newcommand{\lmidisplay}[2]{\begin{equation*}\fitlmi{#1}\lmitag{#2}\end{equation*}}
 %% \lmiitem{math}: one display-style item of a list, shrunk to the line only if wider;
 %% lmiitems: a centred paragraph of items, broken between items
 \newcommand{\lmiitem}[1]{\sbox{\lmibox}{$\displaystyle #1$}%%
@@ -116,20 +113,83 @@ def _recovery_name(theorem: Theorem, name: str) -> str:
     return name_to_latex(name)
 
 
+def _theorem_latex_names(theorem: Theorem, settings: dict) -> str:
+    """Every LaTeX name the theorem's symbols print as (to pick block names none of them uses)."""
+    printer = printer_for(theorem, None, **{k: v for k, v in settings.items() if k != "notation"})
+    decls = [*theorem.data_decl.values(), *theorem.var_decl.values(), *theorem.param_decl.values(),
+             *theorem.derived_decl.values()]
+    return " ".join([printer.doprint(d.symbol) for d in decls] + [d.latex for d in theorem.notation.values()])
+
+
+def lmi_parts(theorem: Theorem, lmi, settings: dict, taken: set | None = None):
+    """(body, where pairs) of one LMI as the document prints it: in full when it fits the line,
+    else with named blocks (:mod:`lmidsl.render.latex_layout`) defined first in its "where"."""
+    taken = set() if taken is None else taken
+    printer = printer_for(theorem, lmi, **settings)
+    letter = choose_letter(_theorem_latex_names(theorem, settings), taken)
+    body, named, is_named = lmi_layout(printer, lmi, letter)
+    if is_named:
+        taken.add(letter)
+    return body, named + list(lmi_where(theorem, lmi, **settings))
+
+
+def _display(lmi, body: str, where: list[tuple[str, str]]) -> str:
+    """The LMI displayed with its tag, then "where" and its definitions (each broken between
+    the terms of its sum when longer than the line)."""
+    text = f"\\lmidisplay{{{body}}}{{{equation_tag(lmi.label) or ''}}}"
+    vertex = r"for every vertex $i = 1, \dots, N$"
+    if where:
+        items = [definition(name, value) for name, value in where]
+        text += "\n" + (vertex + ", " if lmi.per_vertex else "") + "where\n" + grouped_display(items, end=".")
+    elif lmi.per_vertex:
+        text += "\n" + vertex + "."
+    return text
+
+
+def lmi_snippet(theorem, label: str, **settings) -> str:
+    r"""One LMI's LaTeX, ready to paste into a paper (amsmath only, no preamble, none of the
+    document's macros): an ``equation`` with a ``\label`` and, below it, "where" and the
+    definitions it uses (a large LMI's named blocks first, :mod:`lmidsl.render.latex_layout`)."""
+    if isinstance(theorem, str):
+        theorem = get_theorem(theorem)
+    lmi = _find_lmi(theorem, label)
+    body, where = lmi_parts(theorem, lmi, settings)
+    key = re.sub(r"[^A-Za-z0-9]+", "-", f"{theorem.id}-{lmi.label}").strip("-")
+    out = [f"% {theorem.id} {lmi.label} (lmidsl latex {theorem.id} --lmi \"{lmi.label}\"; needs amsmath)",
+           "\\begin{equation}", body, f"\\label{{{key}}}", "\\end{equation}"]
+    vertex = r"for every vertex $i = 1, \dots, N$" if lmi.per_vertex else ""
+    if where:
+        out.append((vertex + ", " if vertex else "") + "where")
+        items = [definition(name, value) for name, value in where]
+        out += ["\\begin{gather*}", ",\\\\\n".join(items) + ".", "\\end{gather*}"]
+    elif vertex:
+        out.append(vertex + ".")
+    return "\n".join(out) + "\n"
+
+
+def _find_lmi(theorem: Theorem, label: str):
+    for lmi in theorem.lmis:
+        if lmi.label == label or equation_tag(lmi.label) == f"({label.strip('()')})":
+            return lmi
+    labels = [l.label for l in theorem.lmis]
+    raise InputError(f"{theorem.id}: no LMI labelled {label!r}{did_you_mean(label, labels)}; "
+                     f"LMIs: {', '.join(labels)}")
+
+
 def _condition_latex(theorem: Theorem, settings: dict, defined: set) -> list[str]:
     out = []
     positives = []
+    taken: set = set()
     for lmi in theorem.lmis:
         if lmi.spec.nblocks == 1 and equation_tag(lmi.label) is None:
             positives.append(lmi)
             continue
-        printer = printer_for(theorem, lmi, **settings)
-        body = printer.doprint(lmi)
-        where = [(n, d) for n, d in lmi_where(theorem, lmi, **settings) if n not in defined]
+        body, where = lmi_parts(theorem, lmi, settings, taken)
+        where = [(n, d) for n, d in where if n not in defined]
         defined |= {n for n, _ in where}
-        if lmi.description:
-            out.append(tex_text(lmi.description))
-        out.append(display_lmi(theorem, lmi, body, where))
+        if lmi.description:        # kept on the page of its LMI (no heading and line left alone)
+            out.append(tex_text(lmi.description) + "\\par\\nopagebreak")
+        out.append(_display(lmi, body, where))
     if positives:
         parts = []
         for lmi in positives:
@@ -156,7 +216,7 @@ def theorem_latex(theorem, solution=None, **settings) -> str:
     out = [PREAMBLE % {"maxcols": _maxcols(theorem)}, "\\begin{document}"]
     out.append(f"\\section*{{{tex_text(theorem.title)}}}")
     src = theorem.source
-    source = f"{tex_text(src.citation or src.paper)}, {tex_text(src.equations)}"
+    source = ", ".join(tex_text(x) for x in (src.citation or src.paper, src.equations) if x)
     out.append(f"\\textbf{{Source.}} {source}.\\\\\n\\textbf{{Theorem id.}} "
                f"\\texttt{{{tex_text(theorem.id)}}} ({tex_text(theorem.time)} time).")
     if theorem.description:
@@ -220,6 +280,8 @@ def theorem_latex(theorem, solution=None, **settings) -> str:
             level, value = name_to_latex(name), printer.doprint(expr)
             if value == level or value == obj:     # no "γ = γ": say which quantity it is
                 text += f" The performance level ${level}$ is the optimal value."
+            elif value == rf"\sqrt{{{obj}}}" and obj.replace(" ", "") in (f"{level}^{{2}}", f"{level}^2"):
+                text += f" The performance level ${level}$ is the square root of the optimal value."
             else:
                 text += f" The performance level is ${level} = {value}$."
         out.append(text)
@@ -303,6 +365,16 @@ def _label_latex(theorem: Theorem, label: str, settings: dict) -> str:
     return f"${printer_for(theorem, None, **settings).doprint(lmi)}$"
 
 
+def _inverted_latex(theorem: Theorem, name: str, printer) -> str:
+    """A matrix the recovery inverted, named by sympy's string form (``S.T``, ``I - X*Z**(-1)``),
+    as mathematics: a declared symbol by its LaTeX, an expression through :func:`tex_text`."""
+    decl = theorem.var_decl.get(name) or getattr(theorem, "intermediate_decl", {}).get(name)
+    if decl is not None:
+        return f"${printer.doprint(decl.symbol)}$"
+    text = re.sub(r"\*\*\(?-1\)?", "⁻¹", name).replace(".T", "ᵀ").replace("*", " ")
+    return tex_text(text)
+
+
 def _solution_latex(theorem: Theorem, sol, printer, settings: dict) -> str:
     ex = theorem.examples.get(sol.example) if sol.example else None
     title = f"Example \\texttt{{{tex_text(sol.example)}}}" if sol.example else "Solution"
@@ -334,8 +406,13 @@ def _solution_latex(theorem: Theorem, sol, printer, settings: dict) -> str:
     rows = [["status", tex_text(f"{sol.status} ({sol.backend}, {sol.solver})")]]
     perf = theorem.performance[0] if theorem.performance else "gamma"
     perf_tex = name_to_latex(perf)
-    if sol.gamma is not None:
-        rows.append([f"${perf_tex}$ computed", f"${latex_number(sol.gamma, 6)}$"])
+    verdict = sol.verdict
+    if verdict.gamma is not None:
+        rows.append([f"${perf_tex}$ ({tex_text(verdict.word)})", f"${latex_number(verdict.gamma, 6)}$"])
+    for name, level in verdict.levels.items():
+        if level is not None and level != verdict.gamma:
+            rows.append([f"${perf_tex}$ at the {tex_text(LEVEL_NAMES.get(name, name))}",
+                         f"${latex_number(level, 6)}$"])
     printed = ex.printed if ex is not None else {}
     if "gamma" in printed:
         rows.append([f"${perf_tex}$ printed in the paper", f"${latex_number(printed['gamma'], 6)}$"])
@@ -345,9 +422,9 @@ def _solution_latex(theorem: Theorem, sol, printer, settings: dict) -> str:
     analysis = getattr(sol, "analysis", None)
     if analysis is not None:
         g = "infeasible" if analysis.gamma is None else f"${latex_number(analysis.gamma, 6)}$"
-        verdict = "certified" if analysis.passed else "not certified"
+        passed = "certified" if analysis.passed else "not certified"
         rows.append([f"${perf_tex}$ by analysis \\texttt{{{tex_text(analysis.theorem)}}}",
-                     f"{g} ({verdict})"])
+                     f"{g} ({passed})"])
     for r in sol.lmis:
         where = f" (vertex {r.vertex})" if r.vertex is not None else ""
         rows.append([f"$\\lambda_{{\\max}}$ of {_label_latex(theorem, r.label, settings)}{where}",
@@ -357,11 +434,10 @@ def _solution_latex(theorem: Theorem, sol, printer, settings: dict) -> str:
         items = [f"{_recovery_name(theorem, n)} = {latex_matrix(v, 5)}" for n, v in sol.recovered.items()]
         out.append(f"Recovered {_design_word(theorem)} (in the coordinates of the data as given):\n"
                    + grouped_display(items))
-        for inv in sol.inverted:
-            decl = theorem.var_decl.get(str(inv["matrix"]))
-            name = (f"${printer.doprint(decl.symbol)}$" if decl is not None
-                    else f"\\texttt{{{tex_text(str(inv['matrix']))}}}")
-            out.append(f"Inverted {name}: condition number ${latex_number(inv['cond'], 3)}$.")
+        if sol.inverted:
+            out.append("Matrices inverted by the recovery (condition number): "
+                       + ", ".join(f"{_inverted_latex(theorem, str(inv['matrix']), printer)} "
+                                   f"(${latex_number(inv['cond'], 3)}$)" for inv in sol.inverted) + ".")
     variables = []
     for name, value in sol.values.items():
         decl = theorem.var_decl.get(name)

@@ -190,6 +190,10 @@ def _math_chars(text: str) -> str:
     return "".join(out).strip()
 
 
+#: one factor of a product written without spaces: a capital (accented), an index of small
+#: letters or digits, scripts (Âf, Z⁻¹, G22⁻¹, Mᵀ, S⁻ᵀ)
+_FACTOR = re.compile("[A-Z][\u0300-\u036F]*(?:[a-z]{1,2}(?![a-z])|[0-9]+)?[" + _SUPS + "]*")
+
 _SUB_WORDS = {"min": r"\min", "max": r"\max", "inf": r"\inf", "sup": r"\sup"}
 
 
@@ -198,6 +202,10 @@ def _math_word(word: str) -> str:
     A_1_1 → A_{1,1}, A_iᵀP → A_i^{T}P, Âf → \\hat{A}_{f}."""
     if all(c in _SUPS for c in word):                        # ⁻¹ alone
         return _math_chars(word)
+    factors = _FACTOR.findall(word)
+    if len(factors) > 1 and "".join(factors) == word and re.search(
+            "[a-z\u0300-\u036F" + _SUPS + "]", word):            # R⁻¹ÂfZ⁻¹S⁻ᵀ: a product
+        return " ".join(_math_word(f) for f in factors)
     tail = ""
     while word[-1] in _SUPS:                                 # P̌3⁻¹, T_cᵀ: trailing scripts
         tail = word[-1] + tail
@@ -359,13 +367,42 @@ def _span_tex(span) -> str:
     return re.sub(r"\s+", " ", "".join(parts)).strip()
 
 
+#: a path inside the repository (docs/..., theorems/...), with what follows it up to the bracket
+_REPO_PATH = r"(?:docs|src|theorems|tests|scripts|benchmarks)/[\w./-]+(?:,[^()]*)?"
+
+
+#: a path that is part of a sentence, and the words a printed document says instead
+_BARE_PATH = r"\b(docs/reproductions|docs|src|theorems|tests|scripts|benchmarks)/[\w./-]*\w"
+_PATH_WORDS = {"docs/reproductions": "lmidsl's reproduction report", "theorems": "lmidsl's theorem files",
+               "src": "lmidsl's source", "tests": "lmidsl's tests", "scripts": "lmidsl's scripts",
+               "benchmarks": "lmidsl's benchmarks"}
+
+
+def without_repository_paths(text: str) -> str:
+    """``text`` without references to files of the repository, which a reader of the printed
+    document cannot open: "(… ; docs/x.md)" keeps "(…)", "(docs/x.md, section 4)" goes, and a
+    path that is part of a sentence becomes words ("lmidsl's reproduction report")."""
+    text = re.sub(r";\s*" + _REPO_PATH + r"(?=\))", "", text)
+    text = re.sub(r"\s*\(" + _REPO_PATH + r"\)", "", text)
+    return re.sub(_BARE_PATH, lambda m: _PATH_WORDS.get(m.group(1), "lmidsl's documentation"), text)
+
+
+def _plain_notation(text: str) -> str:
+    """Code habits to mathematics: ``A_<i>`` → ``A_i``; ``k_i x k_i``, ``3 x 3`` → ``×``."""
+    text = re.sub(r"_<(\w+)>", r"_\1", text)
+    return re.sub(r"(?<![\w])([A-Za-z0-9]{1,3}(?:_\w{1,3})?) x ([A-Za-z0-9]{1,3}(?:_\w{1,3})?)(?![\w])",
+                  r"\1 × \2", text)
+
+
 def tex_text(text: str) -> str:
     r"""Plain text (with Unicode mathematics: γ², r̄, Âf, ≤, ⁻¹) as LaTeX text for pdflatex.
 
     Code-like spans (``x_j(t - tau_ij)``, ``I - X Z^-1``, ``P1 > 0``) and Unicode mathematics
-    are set as maths in ``$...$``; the rest is escaped text."""
+    are set as maths in ``$...$``; the rest is escaped text.  References to the repository's
+    files are left out (:func:`without_repository_paths`)."""
     out = []
-    text = _nfd(text).replace("->", "→").replace("<=", "≤").replace(">=", "≥")
+    text = _plain_notation(without_repository_paths(_nfd(text)))
+    text = text.replace("->", "→").replace("<=", "≤").replace(">=", "≥")
     for kind, piece in _math_spans(text):
         out.append("$" + _span_tex(piece) + "$" if kind == "m" else _char_text(piece))
     joined = "".join(out)

@@ -1,31 +1,55 @@
 """Human-readable text for solutions and tables (the JSON forms are ``as_dict`` methods)."""
 from __future__ import annotations
 
-import numpy as np
+from ..numeric.interconnection import design_kind
+from .table import format_matrix
+from ..solver.verdict import LEVEL_NAMES
 
 
-def format_matrix(name: str, M, indent: str = "  ") -> str:
-    M = np.atleast_2d(np.asarray(M, dtype=float))
-    rows = [" ".join(f"{x:11.5g}" for x in row) for row in M]
-    pad = " " * (len(name) + 3)
-    lines = [f"{indent}{name} = [{rows[0]}"] + [f"{indent}{pad}{r}" for r in rows[1:]]
-    lines[-1] += "]"
-    return "\n".join(lines)
+def headline_words(sol, verdict) -> str:
+    """What the headline level is: of the delivered design (its analysis level), or of the
+    proved point."""
+    what = verdict.quantity_words or "the level"
+    analysis = sol.analysis
+    if sol.design is not None and analysis is not None and analysis.passed and analysis.gamma is not None:
+        return f"{what} of the delivered {design_kind(sol.design.kind).noun}, by its analysis"
+    if not verdict.certified:
+        return f"{what} at the returned point, not certified"
+    return f"{what} at the proved point"
+
+
+def level_words(verdict) -> str:
+    """The levels besides the headline, each named (empty when there is only one)."""
+    named = [(k, v) for k, v in verdict.levels.items() if v is not None]
+    if len(named) < 2 and not (named and named[0][1] != verdict.gamma):
+        return ""
+    return ", ".join(f"{LEVEL_NAMES.get(k, k)} {v:.8g}" for k, v in named)
 
 
 def format_solution(sol) -> str:
     head = f"{sol.theorem}" + (f" [{sol.example}]" if sol.example else "")
     lines = [head, f"  backend {sol.backend}, solver {sol.solver}: {sol.status}"
              + (f" ({sol.message})" if sol.message else "")]
-    if sol.objective is not None:
+    verdict = sol.verdict
+    theorem = sol.instance.theorem if sol.instance is not None else None
+    if sol.objective is not None and (theorem is None or theorem.objective is not None):
         lines.append(f"  objective = {sol.objective:.8g}")
-    if sol.gamma is not None:
-        lines.append(f"  gamma     = {sol.gamma:.8g}")
+    if verdict.gamma is not None:
+        lines.append(f"  {verdict.quantity or 'level':<9} = {verdict.gamma:.8g}   ({headline_words(sol, verdict)})")
+    levels = level_words(verdict)
+    if levels:
+        lines.append(f"  levels: {levels}")
+    if verdict.bracket_line():
+        lines.append(f"  {verdict.bracket_line()}")
+    if sol.infeasibility is not None:
+        proof = sol.infeasibility
+        lines.append("  infeasibility: " + (f"proved ({proof.route}, {proof.source} certificate)" if proof.proved
+                                            else f"not proved ({proof.why})"))
     scaling = getattr(sol, "scaling", None)
     if scaling is not None and scaling.records:
         for rec in scaling.records:
             lines.append(f"  scaling: {rec.signal} = diag({', '.join(f'{f:g}' for f in rec.factors)}) "
-                         f"{rec.signal}' ({rec.how}); solved on the scaled data, filter mapped back")
+                         f"{rec.signal}' ({rec.how}); solved on the scaled data, design mapped back")
     backoff = getattr(sol, "backoff", None)
     if backoff and backoff.get("failed"):
         lines.append(f"  back-off δ = {backoff['delta']:g} FAILED: {backoff['failed']}; this is the optimum")
@@ -70,21 +94,66 @@ def format_solution(sol) -> str:
         lines.append(f"  inverted {inv['matrix']}: condition number {inv['cond']:.3g}{note}")
     analysis = getattr(sol, "analysis", None)
     if analysis is not None:
-        verdict = "certified" if analysis.passed else "NOT certified"
+        passed = "certified" if analysis.passed else "NOT certified"
         g = analysis.status if analysis.gamma is None else f"gamma = {analysis.gamma:.8g}"
+        if analysis.criterion == "feasible":
+            g = "feasible with the design fixed" if analysis.passed else f"{analysis.status}, not proved feasible"
         if getattr(analysis, "method", "min") == "level" and analysis.gamma is not None:
             low = "" if analysis.minimum is None else f", solver minimum {analysis.minimum:.6g} not strictly feasible"
             g += f" (point inside the strict set at level {analysis.synthesis_gamma or analysis.minimum:.6g}{low})"
         via = f" [{', '.join(analysis.solvers)}]" if getattr(analysis, "solvers", None) else ""
-        lines.append(f"  analysis {analysis.theorem}{via} with the recovered filter: {g} ({verdict})")
+        noun = design_kind(sol.design.kind).noun if sol.design is not None else "design"
+        lines.append(f"  analysis {analysis.theorem}{via} of the recovered {noun}: {g} ({passed})")
         for rep in getattr(analysis, "feasp", []):
             lines.append(rep.format("    "))
     for note in sol.notes:
         lines.append(f"  note: {note}")
     for check in getattr(sol, "checks", []):
         lines.append(f"  check {check.name}: {'passed' if check.passed else 'FAILED'}: {check.summary}")
-    certified, reasons = sol.verdict()
-    lines.append("  verdict: " + ("CERTIFIED" if certified else "NOT CERTIFIED: " + "; ".join(reasons)))
+    lines.append("  verdict: " + verdict.line())
     if sol.times:
         lines.append("  times: " + ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in sol.times.items()))
+    return "\n".join(lines)
+
+
+def format_verification(result) -> str:
+    """The text of ``lmidsl verify``: the design, each piece of evidence, the checks, the verdict."""
+    def g(x):
+        return "—" if x is None else f"{x:.6g}"
+    lines = [f"{result.theorem}" + (f" [{result.example}]" if result.example else "") + f"  ({result.mode} {design_kind(result.kind).noun})"]
+    lines += [format_matrix(name, M) for name, M in result.design.items()]
+    if result.claimed_gamma is not None:
+        lines.append(f"  claimed γ            {g(result.claimed_gamma)}")
+    if result.synthesis_status is not None:
+        lines.append(f"  synthesis            {result.synthesis_status}, γ = {g(result.synthesis_gamma)}")
+        for r in result.lmis:
+            where = (f" @ vertex {r['vertex']}" if "vertex" in r else "") + \
+                    (f" @ {r['point']}" if r.get("point") else "")
+            lines.append(f"    {r['label'] + where:<20} λmax = {r['max_eig']: .3e}"
+                         f"  ({'holds' if r['max_eig'] < 0 else 'VIOLATED'})")
+        for inv in result.inverted:
+            lines.append(f"    inverted {inv['matrix']}: condition number {inv['cond']:.3g}")
+    if result.analysis_theorem is not None:
+        certified = (f"γ = {g(result.analysis_gamma)}" if result.analysis_gamma is not None
+                     else "no γ certified")
+        lines.append(f"  analysis {result.analysis_theorem}: {result.analysis_status}, {certified}")
+    if result.exact is not None:
+        e = result.exact
+        extra = ""
+        if e.details.get("feedback_value") is not None:
+            extra = f"; state-feedback disturbances {g(e.details['feedback_value'])}"
+        lines.append(f"  exact {e.kind}: γ = {g(e.value) if e.value is not None else '∞'}"
+                     f" (squared {g(e.squared)}){extra}")
+        measure = "max Re λ(A)" if e.time == "continuous" else "ρ(𝓛)"
+        lines.append(f"  mean-square stability: {measure} = {e.spectral_radius:.6g}"
+                     f" ({'stable' if e.mean_square_stable else 'UNSTABLE'})")
+    mc = result.monte_carlo
+    if mc is not None:
+        lines.append(f"  Monte Carlo ({mc.runs} runs, {mc.disturbance} disturbance, seed {mc.seed}): "
+                     f"ratio {g(mc.ratio)}, {100 * mc.confidence:.0f}% CI [{g(mc.ci_low)}, {g(mc.ci_high)}]"
+                     f"; exact for this w {g(mc.expected)} (squared units)")
+    lines.append("  checks: " + ", ".join(f"{k} {'ok' if v else ('—' if v is None else 'FAILED')}"
+                                         for k, v in result.checks.items()))
+    lines += [f"  note: {n}" for n in result.notes]
+    lines.append("  verdict: " + result.verdict.line())
     return "\n".join(lines)

@@ -36,7 +36,8 @@ def defined_words() -> list[tuple[str, str]]:
         ("certified", "every LMI proved at the returned point, the analysis counterpart certifies "
                       "the recovered design, and its exact figure does not exceed γ"),
         ("NOT certified", "one of these fails (the row says which)"),
-        ("infeasible", "no strictly feasible point exists (feasp); other words are solver statuses"),
+        ("infeasible", "no strictly feasible point exists, proved (a theorem-of-alternatives "
+                       "certificate); other words are solver statuses"),
     ]
 
 
@@ -44,7 +45,7 @@ def shown_verdict(row) -> tuple[str, str | None]:
     """(the verdict cell, a note or None): the study's verdict with its first words replaced by
     the table's word (:data:`WORDS`); what it says in parentheses (e.g. the back-off) and a
     worse outcome than the example expects go to the note."""
-    text, note = row.verdict, []
+    text, note = row.comparison, []
     for study, word in WORDS.items():
         if text.startswith(study):
             text = word + text[len(study):]
@@ -63,7 +64,7 @@ def diff_cell(row) -> str | None:
     negative difference is the bound holding with room)."""
     if row.printed_gamma is None or row.computed_gamma is None or not row.printed_gamma:
         return None
-    return f"{100 * (row.computed_gamma - row.printed_gamma) / abs(row.printed_gamma):+.2f} %"
+    return f"{100 * (row.computed_gamma - row.printed_gamma) / abs(row.printed_gamma):+.2f}%"
 
 
 def _number(x, spec=".5g") -> str | None:
@@ -104,17 +105,16 @@ def summary_rows(rows) -> list[list]:
         c["computed"] += r.computed_gamma is not None
         c["certified"] += bool(r.certified)
         c["expected"] += bool(r.as_expected)
-    return [[paper, c["rows"], c["printed"], c["matched"], c["differs"], c["computed"], c["certified"],
+    return [[paper, c["rows"], c["printed"], c["matched"], c["differs"], c["certified"],
              f"{c['expected']}/{c['rows']}"] for paper, c in papers.items()]
 
 
-SUMMARY_HEADERS = ["paper", "examples", "printed γ", "matched", "differs", "computed", "certified",
-                   "as expected"]
+SUMMARY_HEADERS = ["paper", "rows", "printed", "matched", "differs", "certified", "expected"]
 
 
 def row_headers(wide: bool) -> list[str]:
-    return (["theorem\n  example", "printed\nγ", "computed\nγ", "diff"] + (["max\neig"] if wide else [])
-            + ["certified\nγ", "exact\nγ", "verdict"])
+    return (["theorem\n  example", "printed\nγ", "γ", "diff"] + (["max\neig"] if wide else [])
+            + ["cert.\nγ", "exact\nγ", "verdict"])
 
 
 def format_reproduction(rows) -> str:
@@ -122,14 +122,15 @@ def format_reproduction(rows) -> str:
     out = [wrap(f"Reproduction of the printed values: {len(rows)} examples. The conclusions, paper "
                 f"by paper, are in {REPORT}."), "",
            format_table(SUMMARY_HEADERS, summary_rows(rows), nowrap=(0,)), "",
-           wrap("matched: reproduced, or the printed bound holds; as expected: ends no worse than "
-                "the example declares (a paper's example known to fail counts as expected)."), "",
+           wrap("rows: examples; printed: examples whose paper prints γ; matched: reproduced, or the "
+                "printed bound holds; certified: the computed γ is certified; expected: ends no worse "
+                "than the example declares (a paper's example known to fail counts as expected)."), "",
            "Verdicts:"]
     width = max(len(word) for word, _ in defined_words())
     out += [wrap(f"  {word:<{width}}  {meaning}") for word, meaning in defined_words()]
     wide = Settings.wide
     headers = row_headers(wide)
-    numbers = tuple(range(len(headers) - 1))     # ids and numbers are never folded: the verdict wraps
+    numbers = tuple(range(len(headers) - 2))     # the exact γ and the verdict wrap between words
     for provenance, meaning in PROVENANCE.items():
         group = [r for r in rows if r.provenance == provenance]
         if not group:
@@ -138,7 +139,7 @@ def format_reproduction(rows) -> str:
         out += ["", wrap(f"{provenance.upper()}: {meaning} ({len(group)} rows)"),
                 format_table(headers, [row_cells(r, wide) for r in group], nowrap=numbers)]
         out += [wrap(f"  {r.theorem} [{r.example}]: {note}") for r, note in notes if note]
-    out += ["", wrap("diff: (computed − printed) / printed; 'certified γ' is the analysis "
+    out += ["", wrap("γ: the computed γ; diff: (computed − printed) / printed; 'cert. γ' is the analysis "
                      "counterpart's γ for the recovered filter; 'exact γ' is the filter's exact "
                      "mean-square figure without any LMI (ep: energy-to-peak, H∞: energy-to-energy; "
                      "∞: not mean-square stable)" + ("; 'max eig': the largest eigenvalue of any LMI "

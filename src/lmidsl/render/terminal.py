@@ -57,9 +57,10 @@ def output_width(stream=None) -> int | None:
     return int(columns) if columns.isdigit() and int(columns) > 0 else DEFAULT_WIDTH
 
 
-def wrap(text: str, width: int | None = None) -> str:
-    """Each line of ``text`` wrapped to ``width`` (default :func:`output_width`), continued at
-    its own indentation (plus two spaces); unchanged with ``--wide``."""
+def wrap(text: str, width: int | None = None, indent: str | None = None) -> str:
+    """Each line of ``text`` wrapped to ``width`` (default :func:`output_width`) between words
+    (a word longer than the width stays whole: numbers and ids are never split), continued at
+    ``indent`` (default: the line's own indentation plus two spaces); unchanged with ``--wide``."""
     width = output_width() if width is None else width
     if width is None:
         return text
@@ -68,9 +69,10 @@ def wrap(text: str, width: int | None = None) -> str:
         if cell_len(line) <= width:
             out.append(line)
             continue
-        indent = line[:len(line) - len(line.lstrip())]
-        out += textwrap.wrap(line.strip(), width=width, initial_indent=indent,
-                             subsequent_indent=indent + "  ", break_on_hyphens=False) or [""]
+        own = line[:len(line) - len(line.lstrip())]
+        out += textwrap.wrap(line.strip(), width=width, initial_indent=own,
+                             subsequent_indent=own + "  " if indent is None else indent,
+                             break_long_words=False, break_on_hyphens=False) or [""]
     return "\n".join(out)
 
 

@@ -43,9 +43,7 @@ import sympy as sp
 
 from ..errors import InputError, LmidslError
 from ..numeric.evaluate import NumericEvaluator, eigenvalues
-from .backends import Route, fallback_routes, is_first_order
-from .fallback import route_model
-from .status import solved
+from .status import SOLVER_ERROR, solved
 
 GOLDEN = (math.sqrt(5) - 1) / 2
 
@@ -96,7 +94,7 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
     # max t s.t. E ⪰ t I: t I − E ⪯ 0; the backend's own call: a solver's crash is a status
     status, _, message, _ = model.run_solver(name, problem=model.make_problem(
         -t_var, base + [model.lmi_constraint(t_var * Id - E, n, None) for E, Id, n in blocks]), **options)
-    if status == "solver_error":
+    if status == SOLVER_ERROR:
         solution.backoff = {"delta": delta, "failed": f"{name} failed on the first conditioning solve "
                             f"({message}); try another solver or a larger δ", "solves": 1}
         return solution
@@ -129,7 +127,7 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
         nonlocal solves
         t = math.exp(u)
         status, *_ = model.run_solver(name, problem=problem_at(t), **options)
-        if status == "solver_error":
+        if status == SOLVER_ERROR:
             return math.inf
         solves += 1
         value = model.value_of(kappa) if solved(status) else None
@@ -178,36 +176,25 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
     return new
 
 
-def level_solution(model, optimum, delta: float, solver=None, **options):
-    """The first certified point of the level problem at objective ≤ β* + δ|β*| along the default
-    route (``solver``) and, when no solver is named, the fallback routes (first-order ones
-    skipped); None when no route certifies one.  See the module docstring."""
+def level_solution(model, optimum, delta: float, plan):
+    """The first certified point of the level problem at objective ≤ β* + δ|β*| along the plan's
+    routes (:meth:`lmidsl.solver.plan.Plan.level`); None when no route certifies one.  See the
+    module docstring."""
     if optimum.objective is None or model.objective is None:
         return None
     beta_opt = float(optimum.objective)
     bound = beta_opt + delta * abs(beta_opt)
-    routes = [Route(model.backend, solver)] + ([] if solver else list(fallback_routes(model.backend)))
-    tried = []
-    for route in routes:
-        if route.solver is not None and is_first_order(route.solver):
-            continue
-        try:
-            level_model = route_model(model, route)
-            new = level_model.solve(route.solver, problem=level_model.level_problem(bound),
-                                    **(options if route.backend == model.backend else {}))
-        except LmidslError:
-            continue
-        tried.append(f"{new.backend}/{new.solver}: {new.status}" + ("" if new.certified else ", not certified"))
-        if new.ok and new.certified:
-            value = level_model.expression_value(level_model.objective)
-            new.objective = None if value is None else float(np.asarray(value).reshape(-1)[0])
-            new.backoff = {
-                "delta": delta, "method": "level problem", "objective_opt": beta_opt,
-                "objective_bound": bound, "objective": new.objective, "gamma_opt": optimum.gamma,
-                "status_opt": optimum.status,
-                "gamma": new.gamma, "cond_before": condition_numbers(model.instance, optimum.values),
-                "cond_after": condition_numbers(model.instance, new.values), "solves": len(tried),
-                "tried": tried, "optimum_lmis": [r.as_dict() for r in optimum.lmis]}
-            new.scaling = optimum.scaling
-            return new
-    return None
+    new, level_model, tried = plan.level(model, bound)
+    if new is None:
+        return None
+    value = level_model.expression_value(level_model.objective)
+    new.objective = None if value is None else float(np.asarray(value).reshape(-1)[0])
+    new.backoff = {
+        "delta": delta, "method": "level problem", "objective_opt": beta_opt,
+        "objective_bound": bound, "objective": new.objective, "gamma_opt": optimum.gamma,
+        "status_opt": optimum.status,
+        "gamma": new.gamma, "cond_before": condition_numbers(model.instance, optimum.values),
+        "cond_after": condition_numbers(model.instance, new.values), "solves": len(tried),
+        "tried": tried, "optimum_lmis": [r.as_dict() for r in optimum.lmis]}
+    new.scaling = optimum.scaling
+    return new

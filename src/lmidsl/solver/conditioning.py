@@ -212,7 +212,7 @@ def solve_conditioned(instance: Instance, model_class, solve, margin: float | No
     before, after = proposal.spread
     def said(s):
         return f"{s.status}" + (f", objective {s.objective:.8g}" if s.objective is not None else "") + \
-            ("" if s.ok and s.certified else ", not certified")
+            ("" if s.ok and s.lmis_hold else ", not certified")
     kept.notes.append(f"conditioning (coefficient spread 2^{before:.0f} -> 2^{after:.0f}): as written "
                       f"{said(solution)}; conditioned {said(other)}; kept "
                       + ("the conditioned" if kept is other else "as written"))

@@ -40,14 +40,14 @@ from .status import OPTIMAL
 def good(solution: Solution) -> bool:
     """Certified, solved to the solver's full accuracy, and the strictness margin does not set
     the objective (an inaccurate or margin-set optimum is a valid bound but maybe not the optimum)."""
-    return bool(solution.ok and solution.certified and solution.status == OPTIMAL
+    return bool(solution.ok and solution.lmis_hold and solution.status == OPTIMAL
                 and not solution.margin_limited)
 
 
 def better(first: Solution, second: Solution) -> Solution:
     """The answer to keep of two: a certified one over an uncertified one; of two certified ones,
     the lower objective (each is a valid bound); otherwise the first."""
-    ok1, ok2 = first.ok and first.certified, second.ok and second.certified
+    ok1, ok2 = first.ok and first.lmis_hold, second.ok and second.lmis_hold
     if ok2 and not ok1:
         return second
     if ok1 and ok2 and first.objective is not None and second.objective is not None \
@@ -69,7 +69,7 @@ def route_model(model, route: Route, margin: float | None = None):
 
 def said(solution: Solution) -> str:
     """One route's outcome in a note."""
-    verdict = "" if not solution.ok else (", not certified" if not solution.certified
+    verdict = "" if not solution.ok else (", not certified" if not solution.lmis_hold
                                           else (", gamma set by the margin" if solution.margin_limited else ""))
     objective = f" ({solution.objective:.8g})" if solution.ok and solution.objective is not None else ""
     return f"{solution.backend}/{solution.solver}: {solution.status}{objective}{verdict}"
@@ -126,8 +126,9 @@ def riccati_point(instance: Instance, synthesis_gamma, tolerance):
     if instance.theorem.state_feedback is not None:
         return state_feedback_point(instance)
     form = instance.theorem.bounded_real
-    if form is None:
-        return None
+    if form is None or instance.nvertices > 1 or \
+            set(instance.theorem.var_decl) != {form.storage.name, form.level.name}:
+        return None          # the Riccati point is the storage of one system's bounded real lemma
     ev = NumericEvaluator(instance.dims, dict(instance.data), instance.params)
     A, B, C, D = (np.atleast_2d(np.asarray(ev.visit(e), dtype=float)) for e in form.system)
     time = instance.theorem.time

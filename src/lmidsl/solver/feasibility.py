@@ -350,5 +350,5 @@ def feasp(instance: Instance, backend: str | None = None, solver: str | None = N
 
 def diagnosis_needed(solution) -> bool:
     """A solve calls for the diagnosis when the solver did not return a certified point."""
-    return not (solution.ok and solution.certified)
+    return not (solution.ok and solution.lmis_hold)
 

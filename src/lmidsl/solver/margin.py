@@ -10,10 +10,14 @@ the optimum of the compiled problem is set by ε.  By LP/SDP sensitivity the opt
 by about ε·Σ_k tr Z_k (Z_k the dual matrix of the k-th strict LMI) when ε does; when that exceeds
 :data:`MARGIN_INFLUENCE` of the objective, ε is divided by 100 (while the certificate holds, down
 to :data:`MIN_MARGIN`), and a γ still set by the margin is flagged (``margin_limited``): a valid
-bound, not the optimum.
+bound, not the optimum.  Only lmidsl's default ε (:data:`~lmidsl.solver.backends.base.DEFAULT_MARGIN`)
+is reduced: a margin the caller chose (``--margin``) is honoured — kept, or raised by the
+escalation when the certificate needs it, never lowered — and flagged ``margin_limited`` when it
+sets the optimum.
 """
 from __future__ import annotations
 
+from .backends.base import DEFAULT_MARGIN
 from .solution import Solution
 
 
@@ -50,21 +54,23 @@ def solve_model(model, solver: str | None = None, escalate: bool = True,
     tried = [base]
     calls = _solver_call_time(solution)
     for factor in (MARGIN_ESCALATION if escalate else ()):
-        if not solution.ok or solution.certified:
+        if not solution.ok or solution.lmis_hold:
             break
         model.set_margin(base * factor)
         tried.append(model.margin)
         solution = model.solve(solver, **options)
         calls += _solver_call_time(solution)
-    if len(tried) == 1 and solution.ok and solution.certified:
+    if len(tried) == 1 and solution.ok and solution.lmis_hold and base == DEFAULT_MARGIN:
         solution, calls = _reduce_margin(model, solver, solution, calls, restore_margin, **options)
-    elif solution.ok and solution.certified:
+    elif len(tried) == 1 and solution.ok and solution.lmis_hold:
+        _flag_margin_limited(model, solution)   # a margin the caller chose is honoured, never lowered
+    elif solution.ok and solution.lmis_hold:
         _flag_margin_limited(model, solution)   # an escalated margin can set the optimum
     solution.times["solver_calls"] = calls
     if len(tried) > 1:
         solution.notes.append(
             "margin escalated " + " -> ".join(f"{m:g}" for m in tried)
-            + (" (certificate holds)" if solution.certified else " (certificate still fails)"))
+            + (" (certificate holds)" if solution.lmis_hold else " (certificate still fails)"))
         if restore_margin:
             model.set_margin(base)
     return solution
@@ -80,7 +86,7 @@ def _reduce_margin(model, solver, solution: Solution, calls: float, restore: boo
         tried.append(model.margin)
         smaller = model.solve(solver, **options)
         calls += _solver_call_time(smaller)
-        if not (smaller.ok and smaller.certified):
+        if not (smaller.ok and smaller.lmis_hold):
             break
         solution, influence = smaller, margin_influence(model, smaller)
     if len(tried) > 1:
@@ -95,10 +101,30 @@ def _reduce_margin(model, solver, solution: Solution, calls: float, restore: boo
 def _flag_margin_limited(model, solution: Solution, influence: float | None = None) -> None:
     """Set ``margin_limited`` (with a note) when ε·Σ tr Z_k exceeds MARGIN_INFLUENCE of the objective."""
     influence = margin_influence(model, solution) if influence is None else influence
+    if influence is None:
+        influence = _influence_by_difference(model, solution)
     if influence is not None and influence > MARGIN_INFLUENCE:
         solution.margin_limited = True
         solution.notes.append(f"the strictness margin still moves the optimum by {influence:.1e} "
                               "(relative): gamma is a certified bound, not the optimum")
+
+
+def _influence_by_difference(model, solution: Solution) -> float | None:
+    """The margin's influence without duals (a backend that gives none, e.g. PICOS): the
+    objective's drop when ε is divided by 100, over |objective|, times 100/99 (the slope of a
+    linear dependence on ε); None for a feasibility problem or when the second solve returns no
+    point whose LMIs hold (its objective would mean nothing)."""
+    if solution.objective is None or model.instance.theorem.objective is None:
+        return None
+    margin = model.margin
+    model.set_margin(margin / 100)
+    try:
+        smaller = model.solve(solution.solver)
+    finally:
+        model.set_margin(margin)
+    if not (smaller.ok and smaller.lmis_hold) or smaller.objective is None:   # only a point that holds
+        return None
+    return max(0.0, solution.objective - smaller.objective) / max(abs(solution.objective), 1e-300) * 100 / 99
 
 
 def _solver_call_time(solution: Solution) -> float:

@@ -13,11 +13,12 @@ import numpy as np
 
 from ..numeric.design import Design
 from ..numeric.instance import Instance
-from ..numeric.interconnection import design_loop, loop_summary
+from ..numeric.interconnection import design_kind, design_loop, loop_summary
 from ..numeric.proof import PROVED, prove_block_matrix
 from ..numeric.evaluate import NumericEvaluator, eigenvalues, evaluate_block_matrix
 from ..symbolic.uncertainty import scenarios, spec_at
 from .status import solved
+from .verdict import Verdict, decide
 
 
 def with_location(d: dict, vertex: int | None, point: str) -> dict:
@@ -82,6 +83,11 @@ class Solution:
     margin_limited: bool = False    # the strictness margin, not the problem, sets the optimum
     congruence: dict = field(default_factory=dict, repr=False)  # of the conditioning, per LMI key
     conditioning: dict | None = None  # the exact congruence/variable scaling (solver/conditioning)
+    analysis: object = None         # lmidsl.certify.AnalysisCertificate of the recovered design
+    certify: bool = True            # certification asked for (False: --no-certify)
+    evidence: list = field(default_factory=list)   # lmidsl.certify.evidence.Evidence: claims tested independently
+    bounds: object = None           # lmidsl.solver.dual_bound.DualBound: proved lower bound on the optimum
+    infeasibility: object = None    # lmidsl.solver.infeasibility.InfeasibilityCertificate
 
     @property
     def recovered(self):
@@ -98,8 +104,9 @@ class Solution:
         return solved(self.status)
 
     @property
-    def certified(self) -> bool:
-        """True when the returned point satisfies every strict LMI (all max_eig < 0)."""
+    def lmis_hold(self) -> bool:
+        """Every strict LMI holds numerically at the returned point (all max_eig < 0): the
+        point-level test the plan uses to compare routes (the proof is in ``lmis[i].proof``)."""
         return bool(self.lmis) and all(r.max_eig < 0 for r in self.lmis)
 
     @property
@@ -107,37 +114,20 @@ class Solution:
         """Every LMI was proved to hold at the returned point (:mod:`lmidsl.numeric.proof`)."""
         return bool(self.lmis) and all(r.proof == PROVED for r in self.lmis)
 
-    def verdict(self) -> tuple[bool, list]:
-        """(certified, reasons it is not): solved; every LMI proved at the returned point; the
-        design recovered; the analysis counterpart certifies it; the theorem's checks pass.
+    @property
+    def verdict(self) -> Verdict:
+        """The one verdict (:func:`lmidsl.solver.verdict.decide`)."""
+        return decide(self)
 
-        The claim of a design theorem is "the recovered design meets γ".  When the analysis
-        counterpart proves exactly that (its LMIs proved, its γ ≤ the synthesis γ, no tolerance),
-        the claim stands even if the synthesis LMIs hold only numerically at the returned point
-        (e.g. a back-off point that misses the strictness margin by 1e-8): those LMIs are then
-        evidence, not the proof, and the LMI table still shows them as they are."""
-        if not self.ok:
-            return False, [f"status {self.status}"]
-        reasons = []
-        analysis = getattr(self, "analysis", None)
-        design_proved = (analysis is not None and analysis.passed and analysis.gamma is not None
-                         and self.gamma is not None and analysis.gamma <= self.gamma)
-        unproved = [] if design_proved else [r for r in self.lmis if r.proof != PROVED]
-        for r in unproved[:3]:
-            where = f" @ vertex {r.vertex}" if r.vertex is not None else ""
-            reasons.append(f"LMI {r.label}{where} {r.proof or 'not proved'}"
-                           + (f" ({r.proof_note})" if r.proof_note else ""))
-        if len(unproved) > 3:
-            reasons.append(f"{len(unproved) - 3} more LMIs not proved")
-        if not self.lmis:
-            reasons.append("no LMI certificate")
-        if self.message.startswith("recovery failed"):
-            reasons.append(self.message)
-        if analysis is not None and not analysis.passed:
-            reasons.append(f"the analysis {analysis.theorem} does not certify the design "
-                           f"({analysis.status}, gamma {analysis.gamma})")
-        reasons += [f"check {c.name} failed" for c in self.checks if not c.passed]
-        return not reasons, reasons
+    @property
+    def certified(self) -> bool:
+        """Every claim proved (``verdict.certified``)."""
+        return self.verdict.certified
+
+    @property
+    def original_instance(self) -> Instance | None:
+        """The instance in the data's own coordinates (the solver may have seen a signal-scaled one)."""
+        return self.scaling.original if self.scaling is not None else self.instance
 
     def closed_loop(self):
         """The loop the design closes with the plant of the data, as a python-control
@@ -146,18 +136,20 @@ class Solution:
         there is no design or the data are not a plant in the gallery's names."""
         if self.design is None or self.instance is None:
             return None
-        original = self.scaling.original if self.scaling is not None else self.instance
-        return design_loop(original.data, self.design)
+        return design_loop(self.original_instance.data, self.design)
 
     @property
     def worst_eig(self) -> float | None:
         return max((r.max_eig for r in self.lmis), default=None)
 
     def _loop_dict(self) -> dict | None:
-        system = self.closed_loop()
-        if system is None:
-            return None
-        return loop_summary(system, "w -> e" if "Af" in self.design else "w -> z")
+        """The closed loop's summary; a loop python-control cannot form or measure is reported as
+        such (writing a result never fails on it)."""
+        try:
+            system = self.closed_loop()
+            return None if system is None else loop_summary(system, design_kind(self.design.kind).signal)
+        except Exception as exc:     # python-control/SLICOT refusing an ill-posed loop is a finding
+            return {"error": f"the closed loop could not be formed or measured: {type(exc).__name__}: {exc}"}
 
     def __repr__(self) -> str:
         """One line: theorem [example], status, γ or objective, verdict, backend/solver (the
@@ -165,8 +157,8 @@ class Solution:
         where = f" [{self.example}]" if self.example else ""
         value = (f", gamma={self.gamma:.6g}" if self.gamma is not None else "") + (
             f", objective={self.objective:.6g}" if self.objective is not None and self.objective != self.gamma else "")
-        certified, reasons = self.verdict()
-        verdict = "CERTIFIED" if certified else "NOT CERTIFIED" + (f" ({reasons[0]})" if reasons else "")
+        v = self.verdict
+        verdict = v.word.upper() + ("" if v.certified or not v.reasons else f" ({v.reasons[0]})")
         design = f", design {', '.join(self.design)}" if self.design is not None and len(self.design) else ""
         return (f"<Solution {self.theorem}{where}: {self.status}{value}, {verdict}{design}; "
                 f"{self.backend}/{self.solver}>")
@@ -177,6 +169,7 @@ class Solution:
                 return [listify(x) for x in v]
             return np.asarray(v).tolist()
 
+        verdict = self.verdict
         return {
             "theorem": self.theorem,
             "example": self.example,
@@ -186,14 +179,17 @@ class Solution:
             "solver_status": self.solver_status or self.status,
             "message": self.message,
             "objective": self.objective,
-            "gamma": self.gamma,
+            "gamma": verdict.gamma,
+            "point_gamma": self.gamma,
             "params": self.params,
             "margin": self.margin,
-            "certified": self.certified,
+            "certified": verdict.certified,
+            "lmis_hold": self.lmis_hold,
             "proved": self.proved,
             "margin_limited": self.margin_limited,
             "conditioning": self.conditioning,
-            "verdict": {"certified": self.verdict()[0], "reasons": self.verdict()[1]},
+            "verdict": verdict.as_dict(),
+            "analysis": self.analysis.as_dict() if self.analysis is not None else None,
             "lmis": [r.as_dict() for r in self.lmis],
             "recovered": {k: listify(v) for k, v in self.recovered.items()},
             "inverted": self.inverted,
@@ -207,6 +203,10 @@ class Solution:
             "backoff": self.backoff,
             "reported": self.reported,
             "checks": [c.as_dict() for c in self.checks],
+            "evidence": [e.as_dict() for e in self.evidence],
+            "bounds": verdict.bracket,
+            "lower_bound": self.bounds.as_dict() if self.bounds is not None else None,
+            "infeasibility": self.infeasibility.as_dict() if self.infeasibility is not None else None,
         }
 
 

@@ -17,6 +17,7 @@ UNBOUNDED_INACCURATE = "unbounded_inaccurate"
 MARGINAL = "marginal"          # feasible, but by less than the strictness margin
 SOLVER_ERROR = "solver_error"
 NOT_SOLVED = "not_solved"      # the solver said infeasible, and the diagnosis does not confirm it
+USER_LIMIT = "user_limit"      # the solver stopped at an iteration or time limit
 
 SOLVED = frozenset({OPTIMAL, OPTIMAL_INACCURATE})
 
@@ -37,4 +38,4 @@ def worst(statuses) -> str:
 
 
 __all__ = ["OPTIMAL", "OPTIMAL_INACCURATE", "INFEASIBLE", "INFEASIBLE_INACCURATE", "UNBOUNDED",
-           "UNBOUNDED_INACCURATE", "MARGINAL", "SOLVER_ERROR", "NOT_SOLVED", "SOLVED", "solved", "worst"]
+           "UNBOUNDED_INACCURATE", "MARGINAL", "SOLVER_ERROR", "NOT_SOLVED", "USER_LIMIT", "SOLVED", "solved", "worst"]

@@ -22,10 +22,11 @@ from dataclasses import dataclass, field, replace
 from ..errors import InputError, LmidslError
 from ..numeric.instance import Instance
 from ..pipeline import finish_solution
-from ..solver.backends import choose_backend, Route, fallback_routes, get_backend
-from ..solver.backends.base import DEFAULT_MARGIN
-from ..solver.margin import solve_model
+from ..solver.backends import get_backend
+from ..solver.infeasibility import prove_infeasible
+from ..solver.plan import Plan
 from ..solver.solution import Solution
+from ..solver.verdict import CERTIFIED, NOT_CERTIFIED, NOT_SOLVED, Verdict, quantity_words
 from ..theorem.values import Bisection
 
 
@@ -43,6 +44,7 @@ class BisectionResult:
     steps: list = field(default_factory=list)   # {value, feasible, status, worst_eig}
     solution: Solution | None = None        # certified (and proved) point at the feasible end
     message: str = ""
+    infeasible_end_proof: object = None      # lmidsl.solver.infeasibility.InfeasibilityCertificate
     compile_time: float = 0.0
     total_time: float = 0.0
 
@@ -54,66 +56,75 @@ class BisectionResult:
     @property
     def holds(self) -> bool:
         """A certified, proved point at the feasible end."""
-        return self.solution is not None and self.solution.verdict()[0]
+        return self.solution is not None and self.solution.verdict.certified
+
+    @property
+    def feasible_end_proved(self) -> bool:
+        return self.holds
+
+    @property
+    def infeasible_end_proved(self) -> bool:
+        return bool(self.infeasible_end_proof is not None and self.infeasible_end_proof.proved)
+
+    @property
+    def verdict(self) -> Verdict:
+        """The headline is the feasible end (proved by the point there); the bracket's other end
+        is where no route returned a certified point (not a proof of infeasibility)."""
+        levels = {"feasible_end": self.feasible_end, "infeasible_end": self.infeasible_end}
+        words = quantity_words(self.parameter, False) + f" ({self.goal}imised by bisection)"
+        if self.holds:
+            why = f"a proved point at {self.parameter} = {self.feasible_end:.10g}"
+            if self.infeasible_end is not None:
+                why += (f"; infeasible at {self.infeasible_end:.10g}, proved" if self.infeasible_end_proved
+                        else f"; none found at {self.infeasible_end:.10g} (not proved infeasible)")
+            return Verdict(True, CERTIFIED, self.feasible_end, why, self.parameter, words, levels)
+        if self.solution is None:
+            return Verdict(False, NOT_SOLVED, None, self.message or "no certified point on the interval",
+                           self.parameter, words, levels, (self.message or "no certified point",))
+        return Verdict(False, NOT_CERTIFIED, self.feasible_end, "; ".join(self.solution.verdict.reasons),
+                       self.parameter, words, levels, tuple(self.solution.verdict.reasons))
 
     def as_dict(self) -> dict:
         return {"theorem": self.theorem, "example": self.example, "parameter": self.parameter,
                 "goal": self.goal, "lower": self.lower, "upper": self.upper, "tol": self.tol,
                 "feasible_end": self.feasible_end, "infeasible_end": self.infeasible_end,
                 "interval": list(self.interval), "steps": self.steps, "message": self.message,
-                "holds": self.holds, "compile_time": self.compile_time, "total_time": self.total_time,
+                "holds": self.holds, "feasible_end_proved": self.feasible_end_proved,
+                "infeasible_end_proved": self.infeasible_end_proved,
+                "infeasible_end_proof": None if self.infeasible_end_proof is None else self.infeasible_end_proof.as_dict(),
+                "verdict": self.verdict.as_dict(), "gamma": self.verdict.gamma,
+                "compile_time": self.compile_time, "total_time": self.total_time,
                 "solution": None if self.solution is None else self.solution.as_dict()}
 
 
 class _Stepper:
-    """One compiled model, re-solved at parameter values; the certificate decides."""
+    """One compiled model, re-solved at parameter values along the plan's road; the certificate
+    decides."""
 
-    def __init__(self, instance: Instance, parameter: str, backend: str, solver, margin, options):
+    def __init__(self, instance: Instance, parameter: str, plan: Plan):
         t0 = time.perf_counter()
         self.instance = instance
         self.parameter = parameter
-        self.model = get_backend(backend)(instance, margin=margin, reuse=True)
+        self.plan = plan
+        self.model = get_backend(plan.backend)(instance, margin=plan.margin, reuse=True)
         self.compile_time = time.perf_counter() - t0
-        self.backend, self.solver, self.margin, self.options = backend, solver, margin, options
         self.steps: list = []
-        self.decided_by: Route | None = None   # the route of the last certified step
 
-    def solve_at(self, value: float, route: Route | None = None) -> Solution:
-        """Solve at ``value`` with the compiled model, or along another ``route`` (compiled anew
-        when it uses another backend)."""
+    def solve_at(self, value: float) -> Solution:
+        """The plan's answer at ``value`` (:meth:`lmidsl.solver.plan.Plan.solve`; the compiled
+        model is updated for the first route).  A solver's failure is not a verdict: without a
+        named solver the fallback routes are tried before "no" (a bisection that takes a failure
+        for infeasibility brackets the wrong value)."""
         instance = self.instance.with_params(**{self.parameter: float(value)})
-        margin = DEFAULT_MARGIN if self.margin is None else self.margin
-        if route is not None and route.backend != self.backend:
-            return solve_model(get_backend(route.backend)(instance, margin=margin), route.solver)
-        self.model.update(instance)
-        self.model.set_margin(margin)  # undo escalations
-        return solve_model(self.model, route.solver if route else self.solver, **self.options)
+        solution, _ = self.plan.solve(instance, model=self.model)
+        return solution
 
     def feasible(self, value: float) -> bool:
-        """A certified point at ``value``?  Without a solver named, when the solver fails (any
-        status but a certified point or "infeasible") the backend's other solvers are tried
-        before "no": a solver's failure is not a verdict (and a bisection that takes one for
-        infeasibility brackets the wrong value)."""
+        """A certified point at ``value``?"""
         solution = self.solve_at(value)
-        tried = [f"{solution.solver}: {solution.status}"]
-        failed = not (solution.ok and solution.certified) and solution.status != "infeasible"
-        if self.solver is None and failed:     # an infeasibility claim stands; a failure does not
-            for route in fallback_routes(self.backend):
-                if route.backend == self.backend and route.solver.lower() == (solution.solver or "").lower():
-                    continue
-                try:
-                    other = self.solve_at(value, route)
-                except LmidslError:            # not installed here
-                    continue
-                tried.append(f"{other.backend}/{other.solver}: {other.status}")
-                if other.ok and other.certified:
-                    solution = other
-                    break
-        ok = bool(solution.ok and solution.certified)
+        ok = bool(solution.ok and solution.lmis_hold)
         self.steps.append({"value": float(value), "feasible": ok, "status": solution.status,
-                           "solver": solution.solver, "tried": tried, "worst_eig": solution.worst_eig})
-        if ok:
-            self.decided_by = Route(solution.backend, solution.solver)
+                           "solver": solution.solver, "worst_eig": solution.worst_eig})
         return ok
 
 
@@ -141,11 +152,11 @@ def bisect(instance: Instance, *, lower: float | None = None, upper: float | Non
            **options) -> BisectionResult:
     """Bisect the theorem's declared parameter (or ``parameter``) on ``instance`` (see the
     module docstring); ``lower``, ``upper``, ``tol``, ``goal`` override the declaration."""
-    backend = choose_backend(backend, solver)
+    plan = Plan(backend, solver, options, margin, infeasible_ends=True)
     t0 = time.perf_counter()
     theorem = instance.theorem
     spec = _spec(theorem, lower, upper, tol, goal, parameter)
-    stepper = _Stepper(instance, spec.parameter, backend, solver, margin, options)
+    stepper = _Stepper(instance, spec.parameter, plan)
     result = BisectionResult(theorem.id, instance.example, spec.parameter, spec.goal, spec.lower,
                              spec.upper, spec.tol, compile_time=stepper.compile_time)
     # feasible side: small values for "max", large values for "min"
@@ -172,11 +183,13 @@ def bisect(instance: Instance, *, lower: float | None = None, upper: float | Non
         result.message += (f" feasibility is not monotone in the steps (certified at {contradictions} beyond "
                            f"the infeasible end): the bracket is not trustworthy")
     if result.feasible_end is not None:
-        solution = stepper.solve_at(result.feasible_end, Route(backend, solver) if solver else stepper.decided_by)
+        solution = stepper.solve_at(result.feasible_end)
         solution.notes.append(f"bisection on {spec.parameter}: {len(stepper.steps)} solves of one compiled "
                               f"model; certificate at the feasible end {result.feasible_end:.10g}")
-        result.solution = finish_solution(solution, solver=solver, backend=backend, certify=True,
-                                          diagnose=False, margin=margin)
+        result.solution = finish_solution(solution, plan=plan, certify=True, diagnose=False)
+    if result.infeasible_end is not None:       # the other end of the bracket, proved where possible
+        stepper.solve_at(result.infeasible_end)
+        result.infeasible_end_proof = prove_infeasible(stepper.model)
     result.total_time = time.perf_counter() - t0
     return result
 
@@ -185,11 +198,11 @@ def grid(instance: Instance, values, *, parameter: str | None = None, solver: st
          backend: str | None = None, margin: float | None = None, **options) -> list[dict]:
     """The certificate at each value of the declared bisection parameter (or ``parameter``),
     compiled once."""
-    backend = choose_backend(backend, solver)
     spec = instance.theorem.bisection
     if parameter is None and spec is None:
         raise InputError(f"{instance.theorem.id} declares no bisection parameter (Theorem.bisect)")
-    stepper = _Stepper(instance, parameter or spec.parameter, backend, solver, margin, options)
+    plan = Plan(backend, solver, options, margin, infeasible_ends=True)
+    stepper = _Stepper(instance, parameter or spec.parameter, plan)
     for v in values:
         stepper.feasible(float(v))
     return stepper.steps

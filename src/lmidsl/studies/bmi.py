@@ -28,9 +28,7 @@ from ..errors import InputError
 from ..numeric.instance import Instance
 from ..numeric.evaluate import NumericEvaluator
 from ..pipeline import finish_solution
-from ..solver.backends import choose_backend, get_backend
-from ..solver.conditioning import solve_conditioned
-from ..solver.margin import solve_model
+from ..solver.plan import Plan
 
 
 @dataclass
@@ -103,7 +101,7 @@ def successive_lmi(instance: Instance, *, starts: list[dict] | None = None, max_
     ``starts``: initial points (dicts of the linearisation data); default: the instance's data.
     The best solution gets the theorem's recovery and analysis certificate (``certify``).
     """
-    backend = choose_backend(backend, solver)
+    plan = Plan(backend, solver, {}, margin)
 
     theorem = instance.theorem
     if not theorem.linearisation:
@@ -123,9 +121,8 @@ def successive_lmi(instance: Instance, *, starts: list[dict] | None = None, max_
             for k in range(max_iter):
                 t0 = time.perf_counter()
                 # each step solved as `solve` solves: as written and conditioned, margin escalation
-                sol, _ = solve_conditioned(current, get_backend(backend),
-                                           lambda model: solve_model(model, solver), margin)
-                result.history.append(Step(k, sol.status if sol.certified or not sol.ok else "not certified",
+                sol, _ = plan.solve(current)
+                result.history.append(Step(k, sol.status if sol.lmis_hold or not sol.ok else "not certified",
                                            sol.gamma, sol.worst_eig, time.perf_counter() - t0, s))
                 if bar is not None:
                     bar.update(1)
@@ -135,7 +132,7 @@ def successive_lmi(instance: Instance, *, starts: list[dict] | None = None, max_
                     break
                 # only a point that satisfies every LMI (numpy eigenvalues) may become the best;
                 # an uncertified point still gives a valid next linearisation point
-                if sol.certified and sol.gamma < best_gamma:
+                if sol.lmis_hold and sol.gamma < best_gamma:
                     best_gamma = sol.gamma
                     result.best, result.best_start = sol, s
                     result.point = {n: np.asarray(current.data[n]) for n in theorem.linearisation}
@@ -157,5 +154,5 @@ def successive_lmi(instance: Instance, *, starts: list[dict] | None = None, max_
         if bar is not None:
             bar.close()
     if result.best is not None:
-        finish_solution(result.best, solver=solver, backend=backend, certify=certify)
+        finish_solution(result.best, plan=plan, certify=certify)
     return result

@@ -30,6 +30,9 @@ import warnings
 from dataclasses import dataclass, field
 
 from ..pipeline import make_instance, solve_instance
+from ..solver.plan import Plan
+from ..solver.verdict import CERTIFIED, DISAGREEMENT, NOT_CERTIFIED, Verdict
+from ..solver.status import OPTIMAL
 from ..solver.backends import (BACKENDS, options_for, SOLVER_INFO, backend_sdp_solvers, is_first_order,
                                resolve_solver)
 from ..errors import InputError, LmidslError
@@ -67,6 +70,7 @@ class CheckRow:
     value: float | None = None                         # the compared number (γ or objective)
     rel_diff: float | None = None                      # (value − reference) / |reference|
     disagrees: bool = False
+    verdict: dict | None = None                        # the row's solve's verdict record
 
     @property
     def name(self) -> str:
@@ -91,6 +95,7 @@ class CheckRow:
             "backoff_gamma": self.backoff_gamma,
             "certified": self.certified, "trusted": self.trusted, "reason": self.reason,
             "value": self.value, "rel_diff": self.rel_diff, "disagrees": self.disagrees,
+            "verdict": self.verdict,
         }
 
 
@@ -131,7 +136,19 @@ class CheckResult:
         """0 when the trusted answers agree, 1 when they disagree or no answer is trusted."""
         return 0 if self.agree else 1
 
-    def verdict(self) -> str:
+    @property
+    def verdict(self) -> Verdict:
+        """Certified when trusted rows agree; the headline is the reference row's certified level."""
+        ref = self.reference
+        gamma = None if ref is None or ref.verdict is None else ref.verdict["gamma"]
+        quantity = "" if ref is None or ref.verdict is None else ref.verdict["quantity"]
+        word = CERTIFIED if self.agree else (DISAGREEMENT if self.disagreeing else NOT_CERTIFIED)
+        reasons = () if self.agree else (self.summary(),)
+        return Verdict(self.agree, word, gamma, self.summary(), quantity, "",
+                       {"reference": None if ref is None else ref.value}, reasons)
+
+    def summary(self) -> str:
+        """The agreement in one sentence."""
         if not self.trusted:
             counts: dict = {}
             for r in self.rows:
@@ -163,7 +180,7 @@ class CheckResult:
             "agree": self.agree, "spread": self.spread, "exit_code": self.exit_code,
             "trusted": [r.name for r in self.trusted],
             "disagreeing": [r.name for r in self.disagreeing],
-            "verdict": self.verdict(),
+            "verdict": self.verdict.as_dict(), "gamma": self.verdict.gamma,
             "rows": [r.as_dict() for r in self.rows],
         }
 
@@ -266,8 +283,8 @@ def run_row(instance, backend: str, solver: str, options: dict, margin=None, cer
             # the automatic back-off of `lmidsl solve`, except for a first-order solver (its
             # point is not accurate enough for the back-off's level problem and search)
             automatic = certify and not is_first_order(solver)
-            sol = solve_instance(instance, solver, backend, margin, certify,
-                                 backoff="auto" if automatic else None, **options)
+            plan = Plan(backend, solver, options, margin, fallbacks=False, closed_forms=False)
+            sol = solve_instance(instance, certify=certify, backoff="auto" if automatic else None, plan=plan)
     except LmidslError as exc:
         row.status, row.error = "error", str(exc)
     except Exception as exc:  # a solver crash is an answer too: a row with its error
@@ -292,6 +309,7 @@ def run_row(instance, backend: str, solver: str, options: dict, margin=None, cer
             row.optimum_lmis = list(backoff.get("optimum_lmis") or [])
             row.message = "; ".join([*notes, f"design from the automatic back-off at {_gamma_text(sol)}"])
         row.lmis = [r.as_dict() for r in sol.lmis]
+        row.verdict = sol.verdict.as_dict()
         row.solver_time = sol.times.get("solver")
         analysis = getattr(sol, "analysis", None)
         if analysis is not None:
@@ -324,10 +342,10 @@ def _judge(row: CheckRow, sol, instance) -> None:
     needs_analysis = theorem.analysis is not None and bool(theorem.recovery)
     if needs_analysis and row.analysis_passed is False:
         g = "infeasible" if row.analysis_gamma is None else f"gamma {row.analysis_gamma:.6g}"
-        row.reason = f"analysis does not certify the recovered filter ({g})"
+        row.reason = f"analysis does not certify the recovered design ({g})"
         return
     row.certified = True
-    if row.status != "optimal":
+    if row.status != OPTIMAL:
         row.reason = f"certified bound only: solver status {row.status}"
     elif is_first_order(row.solver):
         row.reason = "certified bound only: first-order solver (low accuracy)"

@@ -48,6 +48,8 @@ TARGET_TASK_SECONDS = 1.0
 MAX_BATCH = 256
 #: connecting to ``--scheduler`` and waiting for its first worker
 CONNECT_TIMEOUT = 10
+#: the wall time a scheduler has to answer who it is (:func:`_probe_scheduler`)
+PROBE_TIMEOUT = 5
 WORKER_TIMEOUT = 60
 
 _CACHE: collections.OrderedDict = collections.OrderedDict()
@@ -102,16 +104,35 @@ class Results:
         return self._generator
 
 
+def usable_cores() -> int:
+    """The cores this process may run on (its CPU affinity where the system tells it)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
+def max_local_workers() -> int:
+    """The most local worker processes a run may start: one per usable core (each worker solves
+    with one thread), and never fewer than 2 (a pool of two on one core is harmless)."""
+    return max(2, usable_cores())
+
+
 def check_workers(workers, scheduler) -> None:
-    if workers is not None and (not isinstance(workers, int) or workers < 1):
+    """``--workers`` an integer from 1 to :func:`max_local_workers` (each local worker is a
+    process of ~150 MB: 1000 of them on 2 cores would only exhaust the machine)."""
+    if workers is not None and (not isinstance(workers, int) or isinstance(workers, bool) or workers < 1):
         raise InputError(f"--workers must be an integer >= 1, got {workers!r}")
+    if workers is not None and not scheduler and workers > max_local_workers():
+        raise InputError(f"--workers {workers}: this machine runs at most {max_local_workers()} worker "
+                         f"processes ({usable_cores()} usable cores); give --workers {max_local_workers()} "
+                         f"or fewer, or --scheduler ADDRESS for a larger cluster")
     if workers is not None and scheduler:
         raise InputError("give --workers N (a local Dask cluster) or --scheduler ADDRESS (an existing "
                          "one), not both")
 
 
-#: one solver thread in each local worker (one worker per core): lmidsl.solver.backends.direct_backend
-WORKER_ENV = {"LMIDSL_SOLVER_THREADS": "1"}
+#: the environment of local workers: Clarabel's threads by problem size, as in a serial run
+#: (lmidsl.solver.backends.direct_backend.solver_threads: one thread below 3,000 PSD rows, two
+#: above), so that a parallel sweep gives the serial sweep's numbers bit for bit
+WORKER_ENV: dict = {}
 WORKER_CONFIG = {"distributed.worker.profile.enabled": False, "distributed.admin.tick.interval": "1s",
                  "distributed.worker.memory.monitor-interval": "1s",
                  "distributed.admin.system-monitor.interval": "2s",
@@ -198,6 +219,17 @@ def _workers_ignore_ctrl_c():
         signal.signal(signal.SIGINT, previous)
 
 
+def dashboard_options() -> dict:
+    """A local cluster's dashboard: none unless ``LMIDSL_DASK_DASHBOARD`` (``--dashboard``) names
+    an address.  Without it the scheduler's HTTP server (health and metrics routes, which Dask
+    starts even with no dashboard, on port 8787 by default) listens on a free port of the
+    loopback interface: no "Port 8787 is already in use" warning when another cluster runs."""
+    address = os.environ.get("LMIDSL_DASK_DASHBOARD")
+    if address:
+        return {"dashboard_address": address}
+    return {"dashboard_address": None, "scheduler_kwargs": {"dashboard": False, "dashboard_address": "127.0.0.1:0"}}
+
+
 def _check_address(address: str) -> None:
     """A scheduler address Dask can parse (a malformed one is bad input, before any connection)."""
     from distributed.comm import parse_address
@@ -212,6 +244,40 @@ def _check_address(address: str) -> None:
     if scheme not in schemes or not (host and port.isdigit()):
         raise InputError(f"--scheduler {address!r}: expected an address such as tcp://HOST:8786 "
                          f"(schemes: {', '.join(schemes)})")
+
+
+def _probe_scheduler(address: str, seconds: float | None = None) -> None:
+    """Ask ``address`` who it is (Dask's ``identity`` message) within ``seconds`` of wall time
+    (default :data:`PROBE_TIMEOUT`), before a Client is made: a Client's own timeout does not
+    cover the handshake, so a port that accepts and never answers held it forever, and an HTTP
+    server's reply read as a Dask frame header asked for 3 EiB.  One line when it is not a Dask
+    scheduler."""
+    from distributed.comm import connect
+    from distributed.compatibility import asyncio_run
+    from distributed.utils import wait_for
+
+    seconds = PROBE_TIMEOUT if seconds is None else seconds
+
+    async def identity():
+        comm = await connect(address, timeout=seconds / 2)     # its retries end first: "cannot connect"
+        try:
+            await comm.write({"op": "identity"})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    try:
+        reply = asyncio_run(wait_for(identity(), seconds))
+    except TimeoutError:
+        raise InputError(f"--scheduler {address}: no Dask scheduler answered within {seconds:g} s") from None
+    except OSError as exc:            # refused, unreachable
+        reason = " ".join(str(exc).split())[:160] or type(exc).__name__
+        raise InputError(f"--scheduler {address}: cannot connect ({reason})") from None
+    except Exception as exc:          # MemoryError, ValueError...: not Dask's protocol
+        reason = " ".join(str(exc).split())[:120] or type(exc).__name__
+        raise InputError(f"--scheduler {address}: not a Dask scheduler ({type(exc).__name__}: {reason})") from None
+    if not isinstance(reply, dict) or reply.get("type") != "Scheduler":
+        raise InputError(f"--scheduler {address}: not a Dask scheduler (it answered {str(reply)[:80]!r})")
 
 
 class Runner:
@@ -249,11 +315,12 @@ class Runner:
                                   **WORKER_CONFIG}), \
                     _workers_ignore_ctrl_c():
                 self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
-                                             dashboard_address=None, silence_logs=logging.CRITICAL,
-                                             env=WORKER_ENV)
+                                             silence_logs=logging.CRITICAL, env=WORKER_ENV,
+                                             **dashboard_options())
             self._client = Client(self._cluster, set_as_default=False)
             return self
         _check_address(self.scheduler)
+        _probe_scheduler(self.scheduler)
         try:
             self._client = Client(self.scheduler, timeout=CONNECT_TIMEOUT, set_as_default=False)
         except Exception as exc:   # OSError, TimeoutError, ValueError for a malformed address

@@ -10,14 +10,15 @@ which must not exceed the computed γ; otherwise the row is not certified.
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, fields
+from dataclasses import asdict, dataclass, replace, fields
 
 from ..pipeline import solve
 from ..errors import Interrupted, LmidslError
 from ..solver.backends import DEFAULT_BACKEND
-from ..solver.status import solved
+from ..solver.status import INFEASIBLE, MARGINAL, solved
 from ..theorem.registry import all_theorems, get_theorem
 from ..theorem.values import OUTCOMES, PROVENANCE
+from ..solver.verdict import NOT_SOLVED, REFUTED, Verdict
 from .parallel import Runner, Task, check_workers, items_as_finished, start_local_workers_early
 from .store import JsonLinesStore
 from .verify import figures_for_solution, worst_index
@@ -38,7 +39,7 @@ class ReproductionRow:
     worst_eig: float | None
     certified_gamma: float | None
     certified: bool
-    verdict: str
+    comparison: str                 # printed vs computed, in words
     exact_kind: str | None = None
     exact_gamma: float | None = None
     mean_square_stable: bool | None = None
@@ -46,14 +47,19 @@ class ReproductionRow:
     exact_ok: bool | None = None
     provenance: str = "paper"
     expect: str = "certified"
+    verdict: dict | None = None     # the solve's verdict record (lmidsl.solver.verdict), refuted by
+                                    # an exact figure above the certified level
+    bounds: dict | None = None      # the optimum's bracket: proved lower bound, proved optimum level
 
     @property
     def outcome(self) -> str:
         """One of :data:`~lmidsl.theorem.values.OUTCOMES`."""
         if self.certified:
             return "certified"
-        if self.status in ("infeasible", "marginal"):
-            return "infeasible"
+        if (self.verdict or {}).get("word") == "infeasible":
+            return "infeasible"                # proved (lmidsl.solver.infeasibility)
+        if self.status in (INFEASIBLE, MARGINAL):
+            return "not solved"                # feasp's word, not a proof
         if self.computed_gamma is not None or solved(self.status):
             return "not certified"
         return "not solved"
@@ -62,8 +68,10 @@ class ReproductionRow:
     def as_expected(self) -> bool:
         """Ends no worse than its example expects (OUTCOMES is ordered best first)."""
         return OUTCOMES.index(self.outcome) <= OUTCOMES.index(self.expect)
+
     def as_dict(self) -> dict:
-        return {**asdict(self), "outcome": self.outcome, "as_expected": self.as_expected}
+        return {**asdict(self), "gamma": (self.verdict or {}).get("gamma"), "outcome": self.outcome,
+                "as_expected": self.as_expected}
 
 
 def _verdict(kind, printed, computed, rel, certified, status):
@@ -100,14 +108,15 @@ def reproduce_one(theorem_id: str, example: str, solver: str | None = None, **so
         sol = solve(theorem, example=example, solver=solver, backoff="auto", **solve_options)
     except LmidslError as exc:
         return ReproductionRow(theorem_id, example, kind, printed, None, None, f"error: {exc}", None,
-                               None, False, "error", provenance=provenance, expect=expect)
+                               None, False, "error", provenance=provenance, expect=expect,
+                               verdict=Verdict(False, NOT_SOLVED, None, str(exc), reasons=(str(exc),)).as_dict())
     # after an automatic back-off the optimum is what compares with the printed value
     computed = (sol.backoff or {}).get("gamma_opt", sol.gamma) if sol.backoff else sol.gamma
     rel = None
     if printed is not None and computed is not None:
         rel = abs(computed - printed) / abs(printed)
     analysis = getattr(sol, "analysis", None)
-    certified = sol.verdict()[0]      # every LMI proved, the analysis and the checks pass
+    certified = sol.verdict.certified      # every LMI proved, the analysis and the checks pass
     figure = _exact(sol)
     exact_ok = None
     if figure is not None and sol.gamma is not None:
@@ -118,10 +127,16 @@ def reproduce_one(theorem_id: str, example: str, solver: str | None = None, **so
         verdict += (", NOT mean-square stable" if figure.value is None
                     else ", exact figure EXCEEDS γ")
     if sol.backoff and "gamma" in sol.backoff:
-        verdict += f" (filter from the back-off at γ {sol.backoff['gamma']:.6g})"
+        verdict += f" (design from the back-off at γ {sol.backoff['gamma']:.6g})"
+    record = sol.verdict
+    if exact_ok is False:
+        why = "not mean-square stable" if figure.value is None else \
+            f"the exact figure {figure.value:.6g} exceeds the certified level"
+        record = replace(record, certified=False, word=REFUTED, why=why, reasons=(why,))
     row = ReproductionRow(theorem_id, example, kind, printed, computed, rel, sol.status,
                           sol.worst_eig, analysis.gamma if analysis is not None else None, certified,
-                          verdict, provenance=provenance, expect=expect)
+                          verdict, provenance=provenance, expect=expect, verdict=record.as_dict(),
+                          bounds=record.bracket)
     if figure is not None:
         row.exact_kind, row.exact_gamma = figure.kind, figure.value
         row.mean_square_stable, row.spectral_radius = figure.mean_square_stable, figure.spectral_radius

@@ -115,7 +115,7 @@ class Evaluator:
                                    certified=t is not None and t < 0)
             sol = self.model.solve(self.solver, **self.options)
         value = sol.gamma if sol.ok and sol.gamma is not None else math.inf
-        return SearchPoint(dict(params), value, sol.gamma, sol.status, sol.certified, sol.worst_eig)
+        return SearchPoint(dict(params), value, sol.gamma, sol.status, sol.lmis_hold, sol.worst_eig)
 
 
 class SearchTask(Task):

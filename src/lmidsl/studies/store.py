@@ -4,9 +4,11 @@ A long run (a sweep, ``reproduce``) appends each finished point or row to ``<out
 as soon as it is done (one JSON object a line, flushed and fsynced), so an interrupt or a crash
 loses at most the point being solved; ``--resume`` reads the store back and skips what is done.
 The first line of a store is a header that says what run it belongs to (e.g. the theorem, the
-example, the grid): a store is resumed only by the same run.  Final files (CSV, JSON, PNG) are
+example, the grid, the lmidsl version): a store is resumed only by the same run, and is
+locked while a run uses it.  Final files (CSV, JSON, PNG) are
 written to a temporary file beside the target and renamed over it (``os.replace``), so a reader
-never sees half a file, and the output folder is checked writable before the first solve.
+never sees half a file, and the output folder is checked writable before the first solve;
+files are created with the mode the umask gives (not the temporary file's 0600).
 
 JSON written is strict (``allow_nan=False``): a non-finite number becomes ``null`` and the
 object says so under ``"notes"``.
@@ -14,6 +16,7 @@ object says so under ``"notes"``.
 from __future__ import annotations
 
 import contextlib
+import fcntl
 import json
 import math
 import os
@@ -93,7 +96,10 @@ def atomic_path(path):
     """A temporary path beside ``path``, renamed over it when the block succeeds."""
     target = Path(path)
     fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.stem}-", suffix=target.suffix)
-    os.close(fd)
+    try:
+        os.fchmod(fd, 0o666 & ~current_umask())   # mkstemp's 0600 would survive the rename
+    finally:
+        os.close(fd)
     try:
         yield Path(tmp)
         os.replace(tmp, target)
@@ -101,6 +107,13 @@ def atomic_path(path):
         with contextlib.suppress(OSError):
             os.unlink(tmp)
         raise
+
+
+def current_umask() -> int:
+    """The process's umask (read by setting it and putting it back)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
 
 
 def atomic_write_text(path, text: str) -> None:
@@ -116,36 +129,69 @@ class JsonLinesStore:
     """An append-only JSON Lines file: a header line, then one record a line.
 
     ``open(header, resume)``: without ``resume`` a previous store is replaced; with ``resume`` its
-    header must equal ``header`` (same run) and its records are returned.  A last line cut short
-    by an interrupt is dropped.
+    header must equal ``header`` (same run) and its records are returned.  A line that is not a
+    record (cut short by an interrupt, edited, not JSON, not an object) is dropped and counted
+    in ``dropped`` (its point is solved again).  While open, the store is locked
+    (``.<store>.lock`` beside it, an advisory ``flock``): a second run on the same ``--out`` is refused.
     """
 
     def __init__(self, path):
         self.path = Path(path)
         self._fh = None
+        self._lock = None
+        self.dropped = 0
+
+    def _acquire(self) -> None:
+        lock = open(self.path.with_name(f".{self.path.name}.lock"), "a+")
+        try:
+            fcntl.flock(lock.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            lock.close()
+            raise InputError(f"{self.path}: in use by another lmidsl run (one run per --out at a time; "
+                             f"wait for it or give another --out)") from None
+        self._lock = lock
 
     def open(self, header: dict, resume: bool = False) -> list[dict]:
         header = json.loads(strict_json(header, indent=None, note=False))
+        self._acquire()
+        try:
+            return self._open(header, resume)
+        except OSError as exc:            # the store a folder, a read-only file, a full disk
+            self.close()
+            raise InputError(f"{self.path}: cannot write the store ({_describe(exc)})") from None
+        except BaseException:
+            self.close()
+            raise
+
+    def _open(self, header: dict, resume: bool) -> list[dict]:
         records: list[dict] = []
         if resume and self.path.exists():
-            lines = self.path.read_text().splitlines()
-            parsed = []
-            for line in lines:
-                try:
-                    parsed.append(json.loads(line))
-                except json.JSONDecodeError:
-                    break                      # a line cut short by an interrupt: drop it and the rest
-            if not parsed or parsed[0].get("header") != header:
+            lines = self._read_lines()
+            first = _parse_line(lines[0]) if lines else None
+            if not isinstance(first, dict) or first.get("header") != header:
                 raise InputError(f"--resume: {self.path} belongs to another run (different theorem, "
-                                 f"example, data or grid); remove it or drop --resume")
-            records = [r["record"] for r in parsed[1:] if "record" in r]
-            # rewrite without a torn last line, then append
+                                 f"example, data, grid or lmidsl version) or is not a store; remove it "
+                                 f"or drop --resume")
+            for line in lines[1:]:
+                entry = _parse_line(line)
+                if isinstance(entry, dict) and set(entry) == {"record"} and isinstance(entry["record"], dict):
+                    records.append(entry["record"])
+                else:
+                    self.dropped += 1
+            # rewrite with the records kept only, then append
             atomic_write_text(self.path, "".join(strict_json(r, indent=None, note=False) + "\n"
-                                                 for r in parsed[:1 + len(records)]))
+                                                 for r in [first] + [{"record": r} for r in records]))
         else:
             atomic_write_text(self.path, strict_json({"header": header}, indent=None, note=False) + "\n")
         self._fh = open(self.path, "a")
         return records
+
+    def _read_lines(self) -> list[str]:
+        try:
+            data = self.path.read_bytes()
+        except OSError as exc:
+            raise InputError(f"--resume: {self.path}: cannot read the store ({_describe(exc)})") from None
+        return data.decode("utf-8", errors="replace").splitlines()
 
     def append(self, record: dict) -> None:
         self._fh.write(strict_json({"record": record}, indent=None, note=False) + "\n")
@@ -154,8 +200,24 @@ class JsonLinesStore:
 
     def close(self) -> None:
         if self._fh is not None:
-            self._fh.close()
+            try:
+                self._fh.close()
+            except OSError:           # a full disk: what was fsynced before is kept
+                pass
             self._fh = None
+        if self._lock is not None:
+            self._lock.close()          # releases the flock
+            self._lock = None
+
+
+def _parse_line(line: str):
+    """One line's JSON value (finite numbers only), or None when it is not JSON."""
+    def refuse(constant):
+        raise ValueError(constant)
+    try:
+        return json.loads(line, parse_constant=refuse)
+    except ValueError:
+        return None
 
     def __enter__(self):
         return self

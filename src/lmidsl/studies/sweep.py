@@ -12,9 +12,11 @@ reading values and the certificate.
 from __future__ import annotations
 
 import csv
+import hashlib
 import itertools
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -23,9 +25,12 @@ import numpy as np
 from ..pipeline import make_instance
 from ..numeric.proof import PROVED
 from ..solver.margin import solve_model
-from ..solver.solution import lmi_certificate
+from ..solver.status import solved
+from ..solver.verdict import CERTIFIED, NOT_CERTIFIED, NOT_SOLVED, Verdict
+from ..solver.solution import evaluate_performance, lmi_certificate
 from ..solver.backends import choose_backend, get_backend
-from ..errors import InputError, Interrupted
+from .. import __version__
+from ..errors import InputError, Interrupted, LmidslWarning, NoResultError
 from .parallel import (Runner, Task, check_workers, items_as_finished, start_local_workers_early,
                        worker_state)
 from .store import JsonLinesStore, atomic_path, atomic_write_text, strict_json
@@ -86,9 +91,29 @@ class SweepPoint:
     total: float
     proved: bool = False          # every LMI proved at the point (lmidsl.numeric.proof)
     prove_time: float = 0.0
+    values: dict | None = field(default=None, repr=False, compare=False)   # the solver's point (stores)
+
+    @property
+    def verdict(self) -> Verdict:
+        """A sweep point proves the level at its point (every LMI in ball arithmetic); a sweep
+        recovers no design, so nothing more is claimed."""
+        if not solved(self.status):
+            return Verdict(False, NOT_SOLVED, None, f"no point was returned ({self.status})",
+                           reasons=(f"status {self.status}",))
+        if not self.proved:
+            return Verdict(False, NOT_CERTIFIED, self.gamma, "not every LMI is proved at the point",
+                           reasons=("LMIs not proved at the point",))
+        return Verdict(True, CERTIFIED, self.gamma, "every LMI proved at the point (a sweep recovers no design)")
 
     def as_dict(self) -> dict:
-        return dict(self.__dict__)
+        out = dict(self.__dict__)
+        out.pop("values")
+        out["verdict"] = self.verdict.as_dict()
+        return out
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "SweepPoint":
+        return cls(**{k: v for k, v in d.items() if k != "verdict"})
 
 
 @dataclass
@@ -110,11 +135,11 @@ class SweepResult:
         """Read back what :meth:`as_dict` wrote (e.g. to redraw a figure without re-solving)."""
         t = d.get("timing", {})
         return cls(d["theorem"], d.get("example"), d["solver"], d["grid"],
-                   [SweepPoint(**p) for p in d["points"]], t.get("compile", 0.0),
+                   [SweepPoint.from_dict(p) for p in d["points"]], t.get("compile", 0.0),
                    t.get("first_point", 0.0), d.get("scaling"), d.get("labels", {}))
 
     def timing(self) -> dict:
-        """Mean per-point times, excluding the first point (cvxpy builds its parametrised form then)."""
+        """Mean per-point times, excluding the first point (it sets up the backend model)."""
         pts = self.points[1:] if len(self.points) > 1 else self.points
         calls = [p.solver_call for p in pts if p.solver_call is not None]
         internal = [p.solver_internal for p in pts if p.solver_internal is not None]
@@ -131,9 +156,19 @@ class SweepResult:
     def as_dict(self) -> dict:
         return {"theorem": self.theorem, "example": self.example, "solver": self.solver,
                 "grid": self.grid, "labels": self.labels, "scaling": self.scaling,
-                "timing": self.timing(), "certified": self.certified_count(),
+                "timing": self.timing(), "proved_points": self.certified_count(),
+                "verdict": self.verdict.as_dict(),
                 "resumed": self.resumed, "solved": self.solved,
                 "points": [p.as_dict() for p in self.points]}
+
+    @property
+    def verdict(self) -> Verdict:
+        """Certified when every point's LMIs are proved; no single headline level."""
+        bad = [p for p in self.points if not p.proved]
+        if self.points and not bad:
+            return Verdict(True, CERTIFIED, None, f"every LMI proved at all {len(self.points)} points")
+        why = f"{len(bad)} of {len(self.points)} points not proved" if self.points else "no point"
+        return Verdict(False, NOT_CERTIFIED, None, why, reasons=(why,))
 
     def certified_count(self) -> int:
         """Points whose every LMI is proved at the returned point (ball arithmetic)."""
@@ -197,17 +232,17 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
             instance.with_params(**{name: v})
     names = [n for n, _ in grids]
     done: dict = {}
-    jsonl = None
+    jsonl = records = run = None
     if store is not None:
         jsonl = JsonLinesStore(store)
-        header = {"kind": "sweep", "theorem": thm.id, "example": instance.example, "data": data,
-                  "overrides": overrides, "grid": {n: list(v) for n, v in grids}, "backend": backend,
-                  "solver": solver, "margin": margin, "scaling": scaling}
-        for record in jsonl.open(header, resume=resume):
-            point = SweepPoint(**record)
-            done[tuple(point.params[n] for n in names)] = point
+        header = store_header(instance, grids, data=data, overrides=overrides, backend=backend,
+                              solver=solver, margin=margin, scaling=scaling, options=options)
+        run = header["run"]
+        records = jsonl.open(header, resume=resume)
     try:
         applied = apply_scaling(instance, scaling)
+        if records:
+            done = resumed_points(records, run, grids, applied.scaled, dropped=jsonl.dropped, path=jsonl.path)
         task = SweepTask(applied.scaled, backend, margin, solver, options)
         # compiled here too: errors surface before any dispatch, and a serial sweep uses this model
         local = worker_state(task)
@@ -230,7 +265,13 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
                     result.solved += 1
                     done[combo] = point
                     if jsonl is not None:
-                        jsonl.append(point.as_dict())
+                        try:
+                            jsonl.append(store_record(point, run))
+                        except OSError as exc:   # a full disk, a store made read-only
+                            raise NoResultError(
+                                f"sweep stopped after {len(done) - 1} of {len(combos)} points: cannot write "
+                                f"{jsonl.path} ({exc.strerror or exc}); the points stored before are kept "
+                                f"(make room, then run again with --resume)") from None
         except KeyboardInterrupt:
             where = (f"; they are in {jsonl.path} (run again with --resume to go on)" if jsonl is not None
                      else " and lost (give --out DIR to keep them)")
@@ -277,16 +318,128 @@ def _solve_point(model, base, params: dict, solver, options) -> SweepPoint:
     internal = sol.times.get("solver")
     call = sol.times["solver_calls"]
     t2 = time.perf_counter()
-    proved = sol.ok and sol.certified and all(
+    proved = sol.ok and sol.lmis_hold and all(
         r.proof == PROVED for r in lmi_certificate(sol.instance, {**sol.instance.data, **sol.values},
                                                    prove=True))
     return SweepPoint(params, sol.status, sol.gamma, sol.objective, sol.worst_eig, call,
-                      internal if internal != call else None, total, proved, time.perf_counter() - t2)
+                      internal if internal != call else None, total, proved, time.perf_counter() - t2,
+                      values=sol.values if proved else None)
+
+
+# -- the store of a sweep: identity, records, resume --------------------------------------
+def store_header(instance, grids: list, **run) -> dict:
+    """What identifies a sweep: theorem, example, a hash of the bound data and parameters, the
+    grid, the solve settings and the lmidsl version; ``run``: a hash of all of it, which every
+    record carries."""
+    bound = strict_json({"data": instance.data, "params": instance.params}, indent=None, note=False)
+    header = {"kind": "sweep", "theorem": instance.theorem.id, "example": instance.example,
+              "data_sha256": hashlib.sha256(bound.encode()).hexdigest(),
+              "grid": {n: list(v) for n, v in grids}, "lmidsl": __version__,
+              **{k: v for k, v in run.items() if k not in ("data",)}}
+    header["run"] = hashlib.sha256(strict_json(header, indent=None, note=False).encode()).hexdigest()[:16]
+    return header
+
+
+def store_record(point: SweepPoint, run: str) -> dict:
+    """A store line: the point's numbers, the solver's point (``values``, for a proved point:
+    its certificate is proved again on resume) and the run it belongs to."""
+    return {**{k: v for k, v in point.as_dict().items() if k != "verdict"}, "values": point.values, "run": run}
+
+
+_NUMBERS = ("gamma", "objective", "worst_eig", "solver_call", "solver_internal", "total", "prove_time")
+
+
+def record_problem(record, run: str, grid_sets: dict) -> str | None:
+    """Why a stored record cannot be taken as it is (None: its shape and numbers are sound)."""
+    if not isinstance(record, dict):
+        return "not an object"
+    keys = set(SweepPoint.__dataclass_fields__) | {"run"}
+    if set(record) != keys:
+        return "keys " + ", ".join(sorted(set(record) ^ keys)) + " missing or extra"
+    if record["run"] != run:
+        return "from another run"
+    params = record["params"]
+    if not isinstance(params, dict) or set(params) != set(grid_sets):
+        return "parameters are not the grid's"
+    for name, value in params.items():
+        if not isinstance(value, (int, float)) or isinstance(value, bool) or value not in grid_sets[name]:
+            return f"{name} = {value!r} is not a point of the grid"
+    for name in _NUMBERS:
+        value = record[name]
+        if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))
+                                  or not math.isfinite(value)):
+            return f"{name} = {value!r} is not a finite number"
+    if not isinstance(record["status"], str) or not isinstance(record["proved"], bool):
+        return "status or proved of the wrong type"
+    if record["proved"] and not isinstance(record["values"], dict):
+        return "a proved point without its values"
+    return None
+
+
+def resumed_points(records: list, run: str, grids: list, scaled, dropped: int = 0, path=None) -> dict:
+    """The stored points that stand: sound records (:func:`record_problem`), each once, whose
+    certificate is proved again at the stored solver point (every LMI in ball arithmetic, and
+    the performance figure recomputed there equal to the stored one).  A record that is not
+    proved (an infeasible or uncertified point) cannot be checked and is solved again, as is
+    every record that fails; one warning line says how many and why."""
+    names = [n for n, _ in grids]
+    grid_sets = {n: set(v) for n, v in grids}
+    done: dict = {}
+    problems: dict = {}
+    if dropped:
+        problems["not a record"] = dropped
+    for record in records:
+        reason = record_problem(record, run, grid_sets)
+        key = tuple(record["params"][n] for n in names) if reason is None else None
+        if reason is None and key in done:
+            reason = "a point stored twice"
+        if reason is None and not record["proved"]:
+            reason = "not proved (solved again)"
+        if reason is None:
+            reason = _certificate_problem(record, scaled)
+        if reason is not None:
+            problems[reason] = problems.get(reason, 0) + 1
+            if reason == "a point stored twice":
+                done.pop(key, None)
+            continue
+        record = {k: v for k, v in record.items() if k not in ("run", "values")}
+        done[key] = SweepPoint(**record)
+    bad = {k: v for k, v in problems.items() if k != "not proved (solved again)"}
+    if bad:
+        warnings.warn(f"--resume: {sum(bad.values())} stored record(s) of {path} are solved again ("
+                      + "; ".join(f"{n}: {k}" for k, n in bad.items()) + ")", LmidslWarning, stacklevel=2)
+    return done
+
+
+def _certificate_problem(record: dict, scaled) -> str | None:
+    """None when every LMI is proved at the record's stored point and γ recomputed there is the
+    stored γ; else what failed."""
+    try:
+        instance = scaled.with_params(**record["params"])
+        values = {}
+        for name, value in record["values"].items():
+            decl = instance.theorem.var_decl.get(name)
+            if decl is None:
+                return "values of an unknown variable"
+            per_vertex = getattr(decl.symbol, "per_vertex", False)
+            values[name] = [np.asarray(v, dtype=float) for v in value] if per_vertex else \
+                (float(value) if not isinstance(value, list) else np.asarray(value, dtype=float))
+        point = {**instance.data, **values}
+        reports = lmi_certificate(instance, point, prove=True)
+        gamma = evaluate_performance(instance, point)
+    except Exception as exc:           # a malformed stored point is a failed record, not a crash
+        return f"its stored point does not evaluate ({type(exc).__name__})"
+    if not reports or not all(r.proof == PROVED for r in reports):
+        return "its LMIs are not proved at the stored point"
+    stored = record["gamma"]
+    if (gamma is None) != (stored is None) or gamma is not None and not math.isclose(gamma, stored, rel_tol=1e-9, abs_tol=1e-300):
+        return "its gamma is not the one at the stored point"
+    return None
 
 
 def format_timing(t: dict) -> str:
     lines = [f"compile {t['compile'] * 1e3:.1f} ms once; first point {t['first_point'] * 1e3:.1f} ms "
-             "(cvxpy builds its parametrised form)",
+             "(it includes setting up the backend model)",
              f"per point (mean of {t['points_timed']}): total {t['total_per_point'] * 1e3:.1f} ms, "
              f"solver call {t['solver_call_per_point'] * 1e3:.1f} ms, overhead "
              f"{t['overhead_per_point'] * 1e3:.1f} ms = {100 * t['overhead_ratio']:.1f} % of the solver call"]

@@ -37,10 +37,10 @@ from ..certify.montecarlo import monte_carlo
 from ..certify.synthesis import synthesis_lmis
 from ..theorem.registry import linked_analysis
 from ..pipeline import as_theorem, make_instance, solve_instance
-from ..solver.backends import choose_backend, get_backend
-from ..solver.conditioning import solve_conditioned
-from ..solver.margin import solve_model
+from ..solver.plan import Plan
+from ..numeric.interconnection import design_kind
 from ..solver.status import SOLVED
+from ..solver.verdict import CERTIFIED, NOT_CERTIFIED, NOT_SOLVED, QUANTITIES, REFUTED, Verdict
 from ..solver.solution import lmi_certificate
 from ..numeric.proof import PROVED
 from types import SimpleNamespace
@@ -72,11 +72,35 @@ class Verification:
     checks: dict = field(default_factory=dict)
     notes: list = field(default_factory=list)
     backoff: dict | None = None
+    kind: str = "unspecified"       # what the theorem designs (lmidsl.numeric.interconnection.DESIGN_KIND_TABLE)
 
     @property
     def certified(self) -> bool:
         return bool(self.checks) and self.checks.get("analysis") is True and all(
             v for v in self.checks.values() if v is not None)
+
+    @property
+    def verdict(self) -> Verdict:
+        """The verdict record (:mod:`lmidsl.solver.verdict`): the headline is the level the
+        analysis certifies for this design; an exact figure above the claim refutes it."""
+        levels = {"claimed": self.claimed_gamma, "synthesis": self.synthesis_gamma,
+                  "analysis": self.analysis_gamma,
+                  "exact": None if self.exact is None else self.exact.value}
+        if self.backoff and "gamma_opt" in self.backoff:
+            levels = {"optimum": self.backoff["gamma_opt"], "backoff": self.backoff.get("gamma"), **levels}
+        failed = [k for k, v in self.checks.items() if v is False]
+        if self.certified:
+            word, why = CERTIFIED, (f"the {self.mode} {design_kind(self.kind).noun} is certified by {self.analysis_theorem}"
+                                    + (", its exact figure and the simulation agree" if self.exact is not None else ""))
+        elif self.checks.get("exact_within_gamma") is False and self.exact is not None:
+            word, why = REFUTED, (f"the exact figure {self.exact.value} exceeds the claimed level "
+                                  f"{self.claimed_gamma}")
+        elif self.synthesis_status is not None and self.synthesis_status not in OK_STATUS:
+            word, why = NOT_SOLVED, f"the synthesis did not solve ({self.synthesis_status})"
+        else:
+            word, why = NOT_CERTIFIED, "failed: " + ", ".join(failed) if failed else "nothing certified"
+        return Verdict(self.certified, word, self.analysis_gamma, why, "gamma",
+                       QUANTITIES["gamma"], levels, tuple(f"check {k} failed" for k in failed))
 
     def as_dict(self) -> dict:
         exact = None
@@ -86,7 +110,8 @@ class Verification:
                 exact["per_vertex"] = [f.value for f in self.exact_per_vertex]
         return {
             "theorem": self.theorem, "example": self.example, "mode": self.mode,
-            "certified": self.certified, "checks": self.checks, "tolerance": self.tolerance,
+            "certified": self.certified, "verdict": self.verdict.as_dict(),
+            "gamma": self.verdict.gamma, "checks": self.checks, "tolerance": self.tolerance,
             "claimed_gamma": self.claimed_gamma,
             "synthesis_gamma": self.synthesis_gamma, "synthesis_status": self.synthesis_status,
             "lmis": self.lmis, "inverted": self.inverted,
@@ -99,51 +124,6 @@ class Verification:
             "backoff": _backoff_summary(self.backoff),
             "notes": self.notes,
         }
-
-    def format(self) -> str:
-        """Human-readable report."""
-        def g(x):
-            return "—" if x is None else f"{x:.6g}"
-        lines = [f"{self.theorem}" + (f" [{self.example}]" if self.example else "") + f"  ({self.mode} filter)"]
-        for name, M in self.design.items():
-            rows = np.atleast_2d(np.asarray(M, dtype=float))
-            lines.append(f"  {name} = " + "; ".join(" ".join(f"{x:.6g}" for x in r) for r in rows))
-        if self.claimed_gamma is not None:
-            lines.append(f"  claimed γ            {g(self.claimed_gamma)}")
-        if self.synthesis_status is not None:
-            lines.append(f"  synthesis            {self.synthesis_status}, γ = {g(self.synthesis_gamma)}")
-            for r in self.lmis:
-                where = (f" @ vertex {r['vertex']}" if "vertex" in r else "") + \
-                        (f" @ {r['point']}" if r.get("point") else "")
-                lines.append(f"    {r['label'] + where:<20} λmax = {r['max_eig']: .3e}"
-                             f"  ({'holds' if r['max_eig'] < 0 else 'VIOLATED'})")
-            for inv in self.inverted:
-                lines.append(f"    inverted {inv['matrix']}: condition number {inv['cond']:.3g}")
-        if self.analysis_theorem is not None:
-            certified = (f"γ = {g(self.analysis_gamma)}" if self.analysis_gamma is not None
-                         else "no γ certified")
-            lines.append(f"  analysis {self.analysis_theorem}: {self.analysis_status}, {certified}")
-        if self.exact is not None:
-            e = self.exact
-            extra = ""
-            if e.details.get("feedback_value") is not None:
-                extra = f"; state-feedback disturbances {g(e.details['feedback_value'])}"
-            lines.append(f"  exact {e.kind}: γ = {g(e.value) if e.value is not None else '∞'}"
-                         f" (squared {g(e.squared)}){extra}")
-            measure = "max Re λ(A)" if e.time == "continuous" else "ρ(𝓛)"
-            lines.append(f"  mean-square stability: {measure} = {e.spectral_radius:.6g}"
-                         f" ({'stable' if e.mean_square_stable else 'UNSTABLE'})")
-        mc = self.monte_carlo
-        if mc is not None:
-            lines.append(f"  Monte Carlo ({mc.runs} runs, {mc.disturbance} disturbance, seed {mc.seed}): "
-                         f"ratio {g(mc.ratio)}, {100 * mc.confidence:.0f}% CI [{g(mc.ci_low)}, {g(mc.ci_high)}]"
-                         f"; exact for this w {g(mc.expected)} (squared units)")
-        lines.append("  checks: " + ", ".join(f"{k} {'ok' if v else ('—' if v is None else 'FAILED')}"
-                                             for k, v in self.checks.items()))
-        lines += [f"  note: {n}" for n in self.notes]
-        level = self.claimed_gamma if self.claimed_gamma is not None else self.analysis_gamma
-        lines.append("  verdict: " + (f"CERTIFIED at γ = {g(level)}" if self.certified else "NOT CERTIFIED"))
-        return "\n".join(lines)
 
 
 def _backoff_summary(record: dict | None) -> dict | None:
@@ -251,7 +231,7 @@ def _disturbance(choice, figure, horizon: int, m: int):
 def verify(theorem, example: str | None = None, data: dict | None = None, overrides: dict | None = None,
            design=None, gamma: float | None = None, runs: int = 10000, seed: int | None = 0,
            confidence: float = 0.95, disturbance="worst", horizon: int = 50,
-           solver: str | None = None, backend: str | None = None, backoff=None, margin: float | None = None,
+           solver: str | None = None, backend: str | None = None, backoff="auto", margin: float | None = None,
            progress=None, **options) -> Verification:
     """Certify a designed, printed (``design='printed'``) or given (``design={name: matrix}``) design
     (a filter, controller, ...).
@@ -264,11 +244,12 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
     ``progress(stage)`` is called with each stage's name as it starts (synthesis, analysis,
     exact figure, Monte Carlo).
     """
-    backend = choose_backend(backend, solver)
+    plan = Plan(backend, solver, options, margin)
     step = progress or (lambda stage: None)
 
     thm = as_theorem(theorem)
     instance = make_instance(thm, example, data, overrides)
+    kind = thm.designs or ("filter" if thm.certification is not None else None)   # an error system: a filter's
     ex = thm.examples.get(instance.example) if instance.example else None
     printed = ex.printed if ex is not None else {}
     if runs < 0:
@@ -294,10 +275,10 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
         claimed = gamma
         if claimed is None:                       # the level the example prints
             claimed = printed.get("gamma_bound", printed.get("gamma"))
-        result = Verification(thm.id, instance.example, mode, fil, claimed, tol, analysis_theorem=thm.id)
+        result = Verification(thm.id, instance.example, mode, fil, claimed, tol, analysis_theorem=thm.id,
+                              kind=kind)
         step(f"analysis ({thm.id})")
-        sol, _ = solve_conditioned(instance, get_backend(backend),
-                                   lambda m: solve_model(m, solver, **options), margin)
+        sol, _ = plan.solve(instance)
         reports = (lmi_certificate(instance, {**instance.data, **sol.values}, prove=True)
                    if sol.ok else sol.lmis)
         _set_analysis(result, sol.status, sol.gamma if sol.ok else None,
@@ -307,13 +288,12 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
         analysis_thm = linked_analysis(thm)
         link = analysis_thm.certification
         tol = thm.analysis.gamma_tolerance
-        names = thm.analysis.design
-        result = Verification(thm.id, instance.example, "designed", {}, gamma, tol,
+        names = instance.theorem.analysis.design     # a member of an index set: K_1 … K_N
+        result = Verification(thm.id, instance.example, "designed", {}, gamma, tol, kind=kind,
                               analysis_theorem=analysis_thm.id)
         if design is None:
             step(f"synthesis ({thm.id})")
-            sol = solve_instance(instance, solver, backend, margin, certify=backoff == "auto",
-                                 backoff=backoff, **options)
+            sol = solve_instance(instance, certify=True, backoff=backoff, plan=plan)
             result.synthesis_status = sol.status
             if sol.backoff is not None:
                 result.backoff = sol.backoff
@@ -346,7 +326,8 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
                 result.claimed_gamma = printed.get("gamma", printed.get("gamma_bound"))
         result.design = fil
         step(f"analysis ({analysis_thm.id})")
-        cert = certify_by_analysis(instance, fil, result.claimed_gamma, solver=solver, backend=backend)
+        cert = sol.analysis if design is None and sol.analysis is not None else \
+            certify_by_analysis(instance, fil, result.claimed_gamma, plan=plan)
         _set_analysis(result, cert.status, cert.gamma, cert.lmis)
         result.analysis_per_vertex = cert.per_vertex
         analysis_instances = analysis_instances_for(instance, fil)

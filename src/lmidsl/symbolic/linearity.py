@@ -93,6 +93,17 @@ class DegreeWalker(Walker):
     def _visit_BlockMatrix(self, expr):  # BlockDiagMatrix too (a subclass)
         return max((self.visit(b) for b in expr.blocks), default=0)
 
+    def _visit_Coefficient(self, expr):     # π_ij: data
+        return 0
+
+    def _index_op(self, expr):             # Σ, stack, diag over an index: the body's degree
+        return self.visit(expr.body)
+
+    _visit_IndexSum = _visit_IndexStack = _visit_IndexDiag = _index_op
+
+    def _visit_MatrixElement(self, expr):
+        return self.visit(expr.parent)
+
     # -- degree-preserving maps ----------------------------------------------------------------
     def _visit_Transpose(self, expr):
         return self.visit(expr.arg)

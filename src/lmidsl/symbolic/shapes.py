@@ -28,6 +28,7 @@ import sympy as sp
 from sympy.matrices.expressions.matexpr import MatrixExpr
 
 from ..errors import ShapeMismatchError
+from .indexed import count
 from .walker import Walker
 
 SCALAR = (1, 1)
@@ -110,6 +111,25 @@ class ShapeWalker(Walker):
                     raise self.mismatch(
                         f"block matrix {expr}: block ({i + 1},{j + 1}) {blocks[i, j]} is {fmt_shape(s)}")
         return expr.shape
+
+    # -- over an index (symbolic/indexed.py) -----------------------------------------------------
+    def _index_op(self, expr):
+        """Σ, stack, diag over an index: the body's shape may not depend on the index."""
+        r, c = self.visit(expr.body)
+        if expr.index in (sp.sympify(r).free_symbols | sp.sympify(c).free_symbols):
+            raise self.mismatch(f"{expr}: the shape of {expr.body} depends on the index {expr.index}")
+        if expr.condition is not None:
+            count(expr.index, expr.size, expr.condition)   # a range the library can count
+        return expr.shape
+
+    _visit_IndexSum = _visit_IndexStack = _visit_IndexDiag = _index_op
+
+    def _visit_Coefficient(self, expr):   # π_ij, a scalar
+        return SCALAR
+
+    def _visit_MatrixElement(self, expr):  # M[a, b] of a matrix, a scalar
+        self.visit(expr.parent)
+        return SCALAR
 
     # -- matrix to scalar -----------------------------------------------------------------
     def _visit_Trace(self, expr):

@@ -18,6 +18,7 @@ declarations, the symbols are what LMIs are written with.
 """
 from __future__ import annotations
 
+import numpy as np
 import sympy as sp
 from sympy import MatrixSymbol
 from sympy.core.symbol import Str
@@ -186,3 +187,65 @@ def expand_derived(expr: sp.Expr) -> sp.Expr:
         expr = expr.xreplace({d: d.definition for d in derived})
         derived = [s for s in expr.free_symbols if isinstance(s, DerivedParam)]
     return expr
+
+
+# -- quick mode: numpy arrays written directly in an LMI --------------------------------------
+class ConstantMatrix(DataMatrix):
+    """Numeric data written directly in an LMI (a numpy array): a data matrix that carries its
+    value (``value``, nested lists), so that a theorem built in Python needs no example.  One
+    symbol per distinct array (an array equal to the transpose of a known one is that one's
+    transpose), so that ``A.T*P + P*A`` prints as ``M_1^T P + P M_1``."""
+
+    value = _meta_property("value")
+
+
+CONSTANT_TAG = "lmidsl#constant"
+_CONSTANTS: dict = {}
+
+
+def constant_matrix(array) -> sp.MatrixExpr:
+    """The :class:`ConstantMatrix` of a real numpy array (a vector is a column)."""
+    a = np.asarray(array, dtype=float)
+    a = a.reshape(-1, 1) if a.ndim == 1 else a
+    if a.ndim != 2 or not np.all(np.isfinite(a)):
+        raise TypeError("a constant in an LMI must be a finite real vector or matrix")
+    key = (a.shape, a.tobytes())
+    if key in _CONSTANTS:
+        return _CONSTANTS[key]
+    transposed = (a.T.shape, np.ascontiguousarray(a.T).tobytes())
+    if transposed in _CONSTANTS:
+        return _CONSTANTS[transposed].T
+    symbol = ConstantMatrix(f"M{len(_CONSTANTS) + 1}", a.shape[0], a.shape[1], CONSTANT_TAG)
+    symbol.value = a.tolist()
+    symbol.latex_name = f"M_{{{len(_CONSTANTS) + 1}}}"
+    symbol.description = f"constant {a.shape[0]}×{a.shape[1]} matrix"
+    _CONSTANTS[key] = symbol
+    return symbol
+
+
+def as_symbolic(x):
+    """``x``, with a numpy array (of numbers) made a :func:`constant_matrix`."""
+    if type(x).__module__ == "numpy" and getattr(x, "ndim", 0) in (1, 2) and getattr(x, "dtype", None) is not None \
+            and x.dtype.kind in "biuf":
+        base = x.base                               # A.T is a view of A: the transpose of A's constant
+        if (x.ndim == 2 and type(base).__name__ == "ndarray" and base.ndim == 2 and base.shape == x.shape[::-1]
+                and (x == base.T).all() and not (x.shape == base.shape and (x == base).all())):
+            return constant_matrix(base).T
+        return constant_matrix(x)
+    return x
+
+
+def _accept_numpy(op: str):
+    original = getattr(sp.MatrixExpr, op)
+
+    def method(self, other):
+        return original(self, as_symbolic(other))
+    method.__name__, method.__doc__ = op, original.__doc__
+    return method
+
+
+# numpy defers to a matrix expression (``A.T * P`` with a numpy ``A`` reaches ``P.__rmul__``),
+# and the expression takes the array as a constant: in sympy such mixed products are errors
+for _op in ("__add__", "__radd__", "__sub__", "__rsub__", "__mul__", "__rmul__", "__matmul__", "__rmatmul__"):
+    setattr(sp.MatrixExpr, _op, _accept_numpy(_op))
+sp.MatrixExpr.__array_ufunc__ = None

@@ -35,6 +35,16 @@ _STRUCTURE: dict = {}     # (id(node), how) -> (node, its parts); theorem trees 
 _METHODS: dict = {}       # (walker class, node class) -> the _visit_ function, or None
 
 
+HINTS = {
+    "KroneckerProduct": "; for K ⊗ X with K constant use lmidsl.kron(K, X)",
+    "Sum": "; for Σ over the members of an index set use lmidsl.sum_over (thm.index_set)",
+    "Indexed": "; for A_i over an index set declare thm.data(..., over=thm.index_set(...)) and write A[i]",
+    "IndexedBase": "; declare the index set with thm.index_set and the data with over=...",
+    "Idx": "; declare indices with M.indices('i j') of an index set M = thm.index_set(...)",
+}
+"""What to use instead of a sympy node lmidsl has no rule for (appended to the refusal)."""
+
+
 def structure(expr, parts):
     """``parts(expr)`` computed once per node (a node's operands in the form a walk uses, or a
     property such as what it contains), cached by identity; the entry keeps the node alive, so
@@ -143,9 +153,10 @@ class Walker:
         if root is not None and root is not expr:
             text = str(root)
             inside = f" in {text if len(text) <= 200 else text[:200] + '...'}"
+        hint = HINTS.get(type(expr).__name__, "")
         raise self.error(TheoremDefinitionError,
                          f"{type(self).__name__} cannot {self.action} {type(expr).__name__}: "
-                         f"{expr}{inside} (lmidsl has no rule for this sympy node)")
+                         f"{expr}{inside} (lmidsl has no rule for this sympy node{hint})")
 
 
 class ExpressionWalker(Walker):
@@ -286,6 +297,13 @@ class ExpressionWalker(Walker):
     def _visit_Trace(self, expr):
         # tr(M) is linear in M: the target's trace of the evaluated argument
         return self.trace(self.visit(expr.arg))
+
+    def _visit_MatrixElement(self, expr):
+        # an entry of a matrix (π_ij of a coefficient matrix): a number of a constant matrix
+        return self.element(self.visit(expr.parent), int(expr.i), int(expr.j), expr)
+
+    def element(self, a, i: int, j: int, expr):
+        return np.asarray(a)[i, j]
 
     # -- scalar nodes -------------------------------------------------------------------
     def _visit_Number(self, expr):

@@ -29,6 +29,7 @@ import re
 from typing import Callable
 
 from ..errors import InputError
+from .index_set import count_members
 from .theorem import Source, Theorem
 
 
@@ -194,16 +195,6 @@ def member_label(label: str, i: int) -> str:
     return f"({m.group(1)}, i={i})" if m else f"{label} (i={i})"
 
 
-def count_members(inputs, key: str, where: str = "") -> int:
-    """The N for which ``key_1 .. key_N`` are all present among ``inputs`` (names)."""
-    pattern = re.compile(rf"^{re.escape(key)}_(\d+)$")
-    found = sorted(int(m.group(1)) for name in inputs for m in [pattern.match(str(name))] if m)
-    if not found:
-        return 0
-    if found != list(range(1, len(found) + 1)):
-        raise InputError(f"{where + ': ' if where else ''}the subsystems given as {key}_<i> are {found}; "
-                         f"expected {key}_1 .. {key}_{len(found)}")
-    return len(found)
 
 
 class SubsystemFamily(TheoremFamily):

@@ -17,7 +17,7 @@ import os
 import tempfile
 from pathlib import Path
 
-INDEX_VERSION = 1
+INDEX_VERSION = 2
 
 
 def cache_dir() -> Path:
@@ -55,9 +55,17 @@ def _version() -> str:
         return "?"
 
 
+def supported_commands(thm) -> list[str]:
+    """The commands that need a declaration this theorem may lack: ``verify`` (an analysis
+    counterpart or an error system), ``simulate`` (a simulator), ``derive-check`` (derivations)."""
+    needs = {"verify": thm.analysis is not None or getattr(thm, "certification", None) is not None,
+             "simulate": thm.simulator is not None, "derive-check": bool(thm.derivations)}
+    return [name for name, has in needs.items() if has]
+
+
 def _entry(thm, origin: str) -> dict:
     return {**thm.summary(), "source_paper": thm.source.paper, "source_equations": thm.source.equations,
-            "origin": origin}
+            "commands": supported_commands(thm), "origin": origin}
 
 
 def build_index() -> list[dict]:

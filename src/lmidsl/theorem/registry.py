@@ -18,9 +18,12 @@ A theorem file is code and runs with the user's rights; lmidsl isolates one file
 but does not sandbox it.  A user file that fails to load (a syntax error, an exception) is
 skipped, its problem recorded once (file, line, exception: :func:`load_problems`, which the
 command line prints as one warning line) so that the built-in theorems and the other files keep
-working; asking for a theorem that only a broken file could define is that file's error.  Two
-modules defining the same id is an error naming both files.  Entries of ``LMIDSL_THEOREM_PATH``
-must be absolute folders (a relative one would depend on the current directory).
+working; so is a file that calls ``sys.exit`` or raises ``KeyboardInterrupt``, and one still
+running after :func:`load_timeout` seconds (it runs in a thread with that deadline); asking for a theorem that only a broken file could define is that file's error.  Two
+modules defining the same id is an error naming both files, also when one is built in and
+the id is asked for by name.  Entries of ``LMIDSL_THEOREM_PATH``
+must be absolute folders (a relative one would depend on the current directory); one that does
+not exist or is not a folder is a one-line warning.
 """
 from __future__ import annotations
 
@@ -28,13 +31,16 @@ import importlib
 import importlib.util
 import os
 import pkgutil
+import ctypes
 import sys
+import threading
 import traceback
+import warnings
 from functools import lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..errors import InputError, LmidslError
+from ..errors import InputError, LmidslError, LmidslWarning, did_you_mean
 from . import build_cache
 
 if TYPE_CHECKING:       # the registry itself never builds a theorem: `lmidsl list` reads an index
@@ -44,7 +50,8 @@ BUILTIN_PACKAGE = "lmidsl.theorems"
 
 
 def theorem_dirs() -> list[Path]:
-    """The user folders on ``LMIDSL_THEOREM_PATH`` that exist (a relative entry is an error)."""
+    """The user folders on ``LMIDSL_THEOREM_PATH`` (a relative entry is an error; one that does
+    not exist or is not a folder is a one-line warning, once)."""
     dirs = []
     for entry in os.environ.get("LMIDSL_THEOREM_PATH", "").split(os.pathsep):
         if not entry:
@@ -52,9 +59,21 @@ def theorem_dirs() -> list[Path]:
         if not os.path.isabs(entry):
             raise InputError(f"LMIDSL_THEOREM_PATH entry {entry!r} is relative; give absolute folders "
                              f"(e.g. {os.path.abspath(entry)})")
-        if Path(entry).is_dir() and Path(entry).resolve() not in dirs:
+        if not Path(entry).is_dir():
+            _warn_once(entry, f"LMIDSL_THEOREM_PATH entry {entry} "
+                       + ("is not a folder" if Path(entry).exists() else "does not exist") + "; ignored")
+        elif Path(entry).resolve() not in dirs:
             dirs.append(Path(entry).resolve())
     return dirs
+
+
+_WARNED: set = set()
+
+
+def _warn_once(key: str, message: str) -> None:
+    if key not in _WARNED:
+        _WARNED.add(key)
+        warnings.warn(message, LmidslWarning, stacklevel=3)
 
 
 class TheoremFileError(InputError):
@@ -92,7 +111,7 @@ def _file_error(exc: BaseException, where: Path, kind: str) -> TheoremFileError:
                   and (kind == "package" or Path(f.filename).resolve() == where.resolve())]
         path, line = (frames[-1].filename, frames[-1].lineno) if frames else (str(where), None)
     at = f"{path}" + (f", line {line}" if line else "")
-    what = str(exc) if isinstance(exc, LmidslError) else f"{type(exc).__name__}: {exc}"
+    what = str(exc) if isinstance(exc, (LmidslError, UserFileExit, LoadTimeout)) else f"{type(exc).__name__}: {exc}"
     return TheoremFileError(f"theorem file {at}: {what}", str(where))
 
 
@@ -129,11 +148,66 @@ def _import(kind: str, where):
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module   # a package's relative imports look itself up here
     try:
-        spec.loader.exec_module(module)
+        _run_with_deadline(lambda: spec.loader.exec_module(module), where)
     except BaseException:
-        del sys.modules[name]
+        sys.modules.pop(name, None)
         raise
     return module
+
+
+def load_timeout() -> float:
+    """Seconds a user theorem file may take to load (``LMIDSL_THEOREM_LOAD_TIMEOUT``, default
+    :data:`LOAD_TIMEOUT`)."""
+    try:
+        value = float(os.environ.get("LMIDSL_THEOREM_LOAD_TIMEOUT", LOAD_TIMEOUT))
+    except ValueError:
+        value = LOAD_TIMEOUT
+    return value if value > 0 else LOAD_TIMEOUT
+
+
+#: a user theorem file still running after this many seconds is stopped and skipped
+LOAD_TIMEOUT = 20.0
+
+
+class UserFileExit(Exception):
+    """``sys.exit()`` or ``raise KeyboardInterrupt`` in a user theorem file: reported, not obeyed."""
+
+
+class LoadTimeout(Exception):
+    """A user theorem file that did not finish loading within :func:`load_timeout`."""
+
+
+def _run_with_deadline(run, where) -> None:
+    """``run()`` (executing a user file) in a thread, waited for :func:`load_timeout` seconds.
+    A file still running then gets ``SystemExit`` raised inside its thread (Python stops a loop
+    of Python code there; a file blocked in C code stays, as a daemon thread) and is skipped;
+    ``SystemExit`` and ``KeyboardInterrupt`` raised by the file itself are reported as its error,
+    not obeyed (``lmidsl list`` printed nothing and exited 0 for a file calling ``sys.exit(0)``)."""
+    outcome: list = []
+
+    def target():
+        try:
+            run()
+            outcome.append(None)
+        except BaseException as exc:         # noqa: BLE001 - reported by the caller
+            outcome.append(exc)
+
+    thread = threading.Thread(target=target, name=f"lmidsl-load-{Path(where).name}", daemon=True)
+    thread.start()
+    seconds = load_timeout()
+    thread.join(seconds)
+    if thread.is_alive():
+        ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(thread.ident), ctypes.py_object(SystemExit))
+        thread.join(1.0)
+        raise LoadTimeout(f"did not finish loading within {seconds:g} s (stopped and skipped; "
+                          f"LMIDSL_THEOREM_LOAD_TIMEOUT sets the limit)")
+    error = outcome[0] if outcome else None
+    if isinstance(error, (SystemExit, KeyboardInterrupt)):
+        what = f"sys.exit({error.code!r})" if isinstance(error, SystemExit) else "KeyboardInterrupt"
+        raise UserFileExit(f"{what} while loading (a theorem file must not end the program)") \
+            .with_traceback(error.__traceback__) from None
+    if error is not None:
+        raise error
 
 
 def _theorems_of(kind: str, where) -> list:
@@ -229,6 +303,7 @@ def get_theorem(theorem_id: str) -> Theorem:
     if module_name in _module_locations(dirs):
         theorems = _load_module(module_name, dirs)
         if theorem_id in theorems:
+            _refuse_redefinition(theorem_id, theorems[theorem_id][1], dirs)
             return theorems[theorem_id][0]
         for _, where in _module_locations(dirs)[module_name]:   # the file named by the id is broken
             if str(where) in _PROBLEMS:
@@ -244,8 +319,36 @@ def get_theorem(theorem_id: str) -> Theorem:
             _REPORTED.update(p.path for p in problems)
             raise InputError(f"unknown theorem {theorem_id!r}; theorem files that failed to load: "
                              + "; ".join(str(p) for p in problems))
-        raise InputError(f"unknown theorem {theorem_id!r}; known: {', '.join(sorted(theorems))}")
+        raise InputError(f"unknown theorem {theorem_id!r}{did_you_mean(theorem_id, theorems)}; "
+                         f"`lmidsl list` shows the {len(theorems)} theorems")
     return theorems[theorem_id]
+
+
+def _refuse_redefinition(theorem_id: str, origin: str, dirs: tuple) -> None:
+    """A user module of another name that defines ``theorem_id`` too is an error naming both
+    (it was silently ignored by ``solve``, which executes only the module the id names).  Only
+    user modules whose source mentions the id are executed to see (the others stay unexecuted;
+    an id computed at run time is found by ``lmidsl list``, which loads every file)."""
+    for module_name, places in _module_locations(dirs).items():
+        if module_name == theorem_id.split(".", 1)[0] or not any(
+                kind != "builtin" and _mentions(kind, where, theorem_id) for kind, where in places):
+            continue
+        other = _load_module(module_name, dirs).get(theorem_id)
+        if other is not None and other[1] != origin:
+            raise InputError(f"theorem id {theorem_id!r} is defined twice: in {origin} and in {other[1]}; "
+                             f"rename one")
+
+
+def _mentions(kind: str, where, text: str) -> bool:
+    """Whether a Python file of a theorem module contains ``text`` (read, not executed)."""
+    for path in _location_files(kind, where):
+        if path.suffix == ".py":
+            try:
+                if text in path.read_text(errors="replace"):
+                    return True
+            except OSError:
+                continue
+    return False
 
 
 def linked_analysis(theorem: Theorem) -> Theorem:
@@ -258,7 +361,8 @@ def linked_analysis(theorem: Theorem) -> Theorem:
 def get_example(theorem: Theorem, name: str):
     if name not in theorem.examples:
         known = ", ".join(theorem.examples) or "none"
-        raise InputError(f"{theorem.id}: unknown example {name!r}; examples: {known}")
+        raise InputError(f"{theorem.id}: unknown example {name!r}{did_you_mean(name, theorem.examples)}; "
+                         f"examples: {known}")
     return theorem.examples[name]
 
 

@@ -22,25 +22,19 @@ from ..errors import TheoremDefinitionError
 from ..symbolic.linearity import check_affine
 from ..symbolic.shapes import check_conformance, dims_equal, fmt_shape
 from ..symbolic.uncertainty import uncertain_symbol
-from ..symbolic.symbols import (DataMatrix, DerivedParam, DiagonalVariable, Dim, Param, RecoveredMatrix,
+from ..symbolic.symbols import (ConstantMatrix, DataMatrix, DerivedParam, as_symbolic, DiagonalVariable, Dim, Param, RecoveredMatrix,
                       ScalarVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
                       Variable, metadata_snapshot, restore_metadata)
-from .values import (DESIGN_KINDS, FIGURES, LMI, TIME_DOMAINS, AnalysisLink, Bisection, BoundedRealForm, StateFeedbackForm,
+from . import index_set as _ix
+from .values import (DESIGN_KINDS, FIGURES, LATEX_RENDERER, LMI, TIME_DOMAINS, AnalysisLink, Bisection, BoundedRealForm, StateFeedbackForm,
                      Declaration, Derivation, ErrorSystemLink, Example, FactorStep, SignalScaling, Source,
                      check_provenance)
-
-
-LATEX_RENDERER: dict = {}
-"""``{"theorem": function(theorem) -> str}``: how a theorem's LMIs are written in LaTeX, for
-:meth:`Theorem._repr_latex_`.  The printer lives in :mod:`lmidsl.render.latex`, a layer above
-this one, which registers itself here when it is imported (and ``lmidsl``'s public face imports
-it with :class:`Theorem`), so that this layer never imports the one above it."""
 
 
 class Theorem:
     """A theorem: declarations, LMIs, objective, recovery, analysis counterpart, examples."""
 
-    def __init__(self, id: str, title: str, source: Source, *, description: str = "",
+    def __init__(self, id: str, title: str | None = None, source: Source | None = None, *, description: str = "",
                  time: str = "discrete", designs: str | None = None,
                  sample_time: float | None = None, provenance: str = "paper",
                  provenance_note: str = ""):
@@ -50,8 +44,8 @@ class Theorem:
             raise TheoremDefinitionError(f"{id}: designs must be one of {DESIGN_KINDS}, got {designs!r}")
         check_provenance(id, provenance, provenance_note)
         self.id = id
-        self.title = title
-        self.source = source
+        self.title = id if title is None else title                  # quick mode: an id is enough
+        self.source = Source("stated in Python", "") if source is None else source
         self.description = description
         self.time = time
         self.designs = designs              # what the recovery produces: filter, controller, ...
@@ -83,6 +77,12 @@ class Theorem:
         self.examples: dict[str, Example] = {}
         self.reported: dict[str, sp.Expr] = {}
         self.checks: list = []
+        self.index_sets: dict = {}             # name -> IndexSet (theorem/index_set.py)
+        self.indexed_decl: dict = {}           # name -> IndexedFamily (A[i], P[i], K[i])
+        self.coefficient_decl: dict = {}       # name -> CoefficientFamily (Pi[i, j])
+        self.indexed_recovery: dict = {}       # name -> (formula, family, quantifier)
+        self._members: dict = {}               # sizes -> member theorem (index sets)
+        self.assumptions: list = []           # Theorem.assume (lmidsl.theorem.assumptions)
 
     # -- pickling ----------------------------------------------------------------------
     def __getstate__(self) -> dict:
@@ -92,7 +92,7 @@ class Theorem:
         solved theorem's variables)."""
         tags = {self.id, f"{self.id}#derivation"}
         tags |= {getattr(s, "tag", None) for lmi in self.lmis for s in lmi.symbols()}
-        return {**self.__dict__, "_symbol_metadata": metadata_snapshot(tags)}
+        return {**self.__dict__, "_members": {}, "_symbol_metadata": metadata_snapshot(tags)}
 
     def __setstate__(self, state: dict) -> None:
         state = dict(state)
@@ -113,7 +113,8 @@ class Theorem:
         taken = (self.dims.keys() | self.data_decl.keys() | self.var_decl.keys()
                  | self.param_decl.keys() | self.derived_decl.keys() | self.notation.keys()
                  | self.uncertain_decl.keys() | self.intermediate_decl.keys()
-                 | self.recovered_decl.keys())
+                 | self.recovered_decl.keys() | getattr(self, "indexed_decl", {}).keys()
+                 | getattr(self, "coefficient_decl", {}).keys())
         if name in taken:
             raise TheoremDefinitionError(f"{self.id}: the name {name!r} is declared twice")
 
@@ -133,9 +134,13 @@ class Theorem:
         return symbol
 
     def data(self, name: str, rows, cols, *, latex: str | None = None, description: str = "",
-             symmetric: bool = False, per_vertex: bool = False) -> DataMatrix:
-        """Declare a given matrix of shape rows × cols (dimension symbols or integers)."""
+             symmetric: bool = False, per_vertex: bool = False, over=None) -> DataMatrix:
+        """Declare a given matrix of shape rows × cols (dimension symbols or integers); ``over``
+        an index set (or a tuple of them): one matrix per member, ``A[i]`` (see
+        :mod:`lmidsl.theorem.index_set`)."""
         self._check_new(name)
+        if over is not None:
+            return self._indexed(name, "data", rows, cols, over, latex, description, symmetric)
         cls = SymmetricDataMatrix if symmetric else DataMatrix
         symbol = self._describe(cls(name, rows, cols, self.id), latex, description)
         symbol.per_vertex = per_vertex
@@ -143,8 +148,9 @@ class Theorem:
         return symbol
 
     def var(self, name: str, rows, cols=None, *, kind: str = "full", latex: str | None = None,
-            description: str = "", per_vertex: bool = False):
-        """Declare a decision matrix; ``kind`` is 'full', 'symmetric' or 'diagonal'."""
+            description: str = "", per_vertex: bool = False, over=None):
+        """Declare a decision matrix; ``kind`` is 'full', 'symmetric' or 'diagonal'; ``over`` an
+        index set (or a tuple of them): one variable per member, ``P[i]``."""
         self._check_new(name)
         classes = {"full": Variable, "symmetric": SymmetricVariable, "diagonal": DiagonalVariable}
         if kind not in classes:
@@ -152,6 +158,8 @@ class Theorem:
         cols = rows if cols is None else cols
         if kind != "full" and sp.expand(sp.sympify(rows) - sp.sympify(cols)) != 0:
             raise TheoremDefinitionError(f"{self.id}: {kind} variable {name} must be square")
+        if over is not None:
+            return self._indexed(name, kind, rows, cols, over, latex, description)
         symbol = self._describe(classes[kind](name, rows, cols, self.id), latex,
                                  description)
         symbol.per_vertex = per_vertex
@@ -228,6 +236,69 @@ class Theorem:
                                                 {"bound": symbol.bound, "points": points})
         return symbol
 
+    # -- index sets (theorem/index_set.py) -------------------------------------------------
+    def index_set(self, name: str, *, key: str | None = None, size: str = "N",
+                  latex: str | None = None, description: str = ""):
+        """Declare an index set {1, …, N} (modes, rules, subsystems); N is the length of the list
+        of objects under ``key`` (default: the name) in the data.  ``size`` names N (it may
+        appear in LMIs: ``(M.size - 1) * X``)."""
+        self._check_new(name)
+        if name in self.index_sets:
+            raise TheoremDefinitionError(f"{self.id}: the index set {name} is declared twice")
+        made = _ix.IndexSet(self, name, key or name, size, latex, description)
+        self.index_sets[name] = made
+        return made
+
+    def _indexed(self, name, kind, rows, cols, over, latex, description, symmetric=False):
+        sets = tuple(over) if isinstance(over, (tuple, list)) else (over,)
+        for s in sets:
+            if not isinstance(s, _ix.IndexSet) or self.index_sets.get(s.name) is not s:
+                raise TheoremDefinitionError(f"{self.id}: {name}: over={s!r} is not an index set "
+                                             f"of this theorem")
+        family = _ix.IndexedFamily(self, name, kind, rows, cols, sets, latex, description, symmetric)
+        self.indexed_decl[name] = family
+        # the template declares the generic member A[i] (printing: tables of data and variables)
+        generic = family[tuple(s.generic_index for s in sets)]
+        table = self.data_decl if kind == "data" else self.var_decl
+        table[name] = Declaration(generic, family.latex, description, {"indexed": True})
+        return family
+
+    def coefficients(self, name: str, over, *, structure: str | None = None,
+                     latex: str | None = None, matrix_latex: str | None = None,
+                     description: str = ""):
+        """Declare a matrix of scalar coefficients over an index set, used as ``Pi[i, j]``; bound
+        as one N×N datum whose ``structure`` ('generator', 'stochastic', 'nonnegative') is
+        checked at bind time; ``latex`` names the entries (π → π_ij), ``matrix_latex`` the
+        matrix (Π)."""
+        self._check_new(name)
+        if not isinstance(over, _ix.IndexSet):
+            raise TheoremDefinitionError(f"{self.id}: coefficients {name}: over must be an index set")
+        family = _ix.CoefficientFamily(self, name, over, structure, latex, description)
+        self.coefficient_decl[name] = family
+        symbol = self._describe(DataMatrix(f"{name}#matrix", over.size, over.size, self.id),
+                                matrix_latex or name, description)
+        self.data_decl[name] = Declaration(symbol, symbol.latex_name, description, {"indexed": True})
+        return family
+
+    def specialise(self, inputs: dict) -> "Theorem":
+        """The theorem for these inputs: itself, or, for a theorem with index sets, the member
+        for the sizes the inputs give (built once per sizes, see :mod:`lmidsl.theorem.index_set`)."""
+        if not self.index_sets:
+            return self
+        sizes = _ix.sizes_from_inputs(self, inputs)
+        key = tuple(sorted(sizes.items()))
+        if key not in self._members:
+            self._members[key] = _ix.build_member(self, sizes)
+        return self._members[key]
+
+    def inputs_for(self, inputs: dict) -> dict:
+        """The inputs in this theorem's own names (a member of an indexed theorem flattens
+        ``"modes": [{"A": …}, …]`` into ``A_1, …``); unchanged for any other theorem."""
+        template = getattr(self, "template", None)
+        if template is None:
+            return inputs
+        return _ix.flatten_inputs(template, inputs, self.member_sizes)
+
     def determined(self) -> set:
         """The decision variables the LMIs declared so far determine: every variable in an LMI
         block (a structured variable's entries included)."""
@@ -244,18 +315,32 @@ class Theorem:
         mentions: its value at the solution would be whatever the solver left there.  ``what``
         says where the expression is used ("the recovery of Af", "the objective")."""
         determined = self.determined()
+        names = {getattr(s, "name", None) for s in determined}
         for symbol in sorted(sp.sympify(expr).atoms(sp.Symbol, sp.MatrixSymbol), key=str):
             if (isinstance(symbol, (Variable, ScalarVariable, StructuredVariable))
-                    and symbol not in determined):
+                    and symbol not in determined
+                    and not (len(getattr(symbol, "args", ())) > 4 and symbol.name in names)):
                 raise TheoremDefinitionError(
                     f"{self.id}: {what} uses the decision variable {symbol.name}, which is in no "
                     f"LMI declared before it, so the LMIs do not determine it (declare the LMIs "
                     f"first, or use a variable of the LMIs)")
 
     # -- conditions ---------------------------------------------------------------------
-    def lmi(self, label: str, rows, *, sense: str = "<", triangle: str = "lower", sizes=None,
-            strict: bool = True, description: str = "") -> LMI:
-        """Declare the block LMI ``label``: one triangle of blocks, ``sense`` '<' or '>'."""
+    def lmi(self, label, rows=None, *, sense: str = "<", triangle: str = "lower", sizes=None,
+            strict: bool = True, description: str = "", forall=None, where=None) -> LMI:
+        """Declare the block LMI ``label``: one triangle of blocks, ``sense`` '<' or '>'.
+        ``thm.lmi(rows)`` labels it itself: (1), (2), ...; a numpy array in a block is constant
+        data (:func:`~lmidsl.symbolic.symbols.constant_matrix`), given in the example 'data'.
+
+        With indices (:meth:`index_set`): ``forall`` the quantified indices (default: every free
+        index), ``where`` a condition on them (``i < j``, ``Ne(i, j)``); one LMI per instance
+        at bind time."""
+        condition = where
+        if rows is None:
+            label, rows = f"({len(self.lmis) + 1})", label
+        if isinstance(rows, (list, tuple)):
+            rows = [[as_symbolic(b) for b in row] if isinstance(row, (list, tuple)) else as_symbolic(row)
+                    for row in rows]
         if sense not in ("<", ">", "<=", ">="):
             raise TheoremDefinitionError(f"{self.id}: LMI {label}: sense must be '<' or '>'")
         if any(l.label == label for l in self.lmis):
@@ -271,12 +356,34 @@ class Theorem:
         if any(isinstance(a, RecoveredMatrix) for a in lmi.symbols()):
             raise TheoremDefinitionError(f"{where}: uses a recovery intermediate (declared by factor)")
         lmi.per_vertex = any(getattr(s, "per_vertex", False) for s in lmi.symbols())
+        quantifier = _ix.quantifier_for(self.id, f"LMI {label}", [b for r in spec.lower for b in r],
+                                        forall, condition)
+        if quantifier is not None:
+            lmi.quantifier = quantifier
+        self._declare_constants(lmi.symbols())
         self.lmis.append(lmi)
         return lmi
 
-    def positive(self, *variables, label: str | None = None) -> list[LMI]:
-        """Declare ``X > 0`` for each variable (labelled 'X > 0' unless ``label`` is given)."""
-        return [self.lmi(label or f"{v.name} > 0", [[v]], sense=">") for v in variables]
+    def _declare_constants(self, symbols) -> None:
+        """Declare the numpy constants an LMI uses as data, their values in the example 'data'."""
+        for c in sorted((s for s in symbols if isinstance(s, ConstantMatrix)), key=lambda s: s.name):
+            if c.name not in self.data_decl:
+                self.data_decl[c.name] = Declaration(c, c.latex_name, c.description)
+                example = self.examples.get("data") or self.example(
+                    "data", {}, description="the constants written in the LMIs")
+                example.data[c.name] = c.value
+
+    def assume(self, assumption):
+        """Declare a hypothesis on the data (:mod:`lmidsl.theorem.assumptions`: ``zero("D11")``,
+        ``stable("A")``, ``full_rank(...)``), checked when data are bound: exit 2 if it fails."""
+        self.assumptions.append(assumption)
+        return assumption
+
+    def positive(self, *variables, label: str | None = None, forall=None, where=None) -> list[LMI]:
+        """Declare ``X > 0`` for each variable (labelled 'X > 0' unless ``label`` is given);
+        ``P[i]`` of an index set: for every i."""
+        return [self.lmi(label or f"{v.name} > 0", [[v]], sense=">", forall=forall, where=where)
+                for v in variables]
 
     def minimize(self, objective, *, performance: tuple[str, Any] | None = None):
         """Minimise a scalar objective affine in the decision variables (``g``, ``g1 + g2``,
@@ -292,6 +399,7 @@ class Theorem:
         self._check_determined(objective, "the objective")
         self.objective = objective
         self._set_performance(performance)
+        return self                           # lmidsl.solve(thm.minimize(g)) in quick mode
 
     def feasibility(self, *, performance: tuple[str, Any] | None = None):
         """A feasibility problem (no objective); ``performance`` = (name, expr) names the level
@@ -321,6 +429,27 @@ class Theorem:
         """Extra certificates run after recovery: callables ``check(solution) -> CheckResult``
         (frequency sweeps, simulations; see :mod:`lmidsl.theorem.checks`)."""
         self.checks.extend(checks)
+
+    def recover_each(self, forall, **formulas):
+        """Recovery formulas for every member, e.g. ``K = thm.recover_each(i, K=W[i] * Y[i].I)``
+        (Kᵢ = WᵢYᵢ⁻¹ for every i); returns the indexed families (``K[i]``)."""
+        made = []
+        q = _ix.quantifier_for(self.id, "recovery", list(formulas.values()), forall, None)
+        if q is None:
+            raise TheoremDefinitionError(f"{self.id}: recover_each: no index in {list(formulas)}")
+        for name, expr in formulas.items():
+            where = f"{self.id}: recovery of {name}"
+            shape = check_conformance(expr, where=where)
+            self._check_determined(expr, f"the recovery of {name}")
+            self._check_new(name)
+            sets = tuple(self.index_sets[k.set_name] for k in q.indices)
+            family = _ix.IndexedFamily(self, name, "recovered", shape[0], shape[1], sets, None, "")
+            self.indexed_decl[name] = family
+            self.indexed_recovery[name] = (sp.sympify(expr), family, q)
+            self.recovery[name] = sp.sympify(expr)      # printed as K = W_i Y_i^{-1}
+            self.recovery_steps.append(("formula", name))
+            made.append(family)
+        return made[0] if len(made) == 1 else tuple(made)
 
     def recover(self, **formulas):
         """Recovery formulas, e.g. ``Af=V2.I * Af_hat``: evaluated after the solve, in order.
@@ -436,13 +565,16 @@ class Theorem:
             check_conformance(expr, where=f"{self.id}: linearisation of {name}")
             self.linearisation[name] = expr
 
-    def certified_by(self, theorem, design: tuple, gamma_tolerance: float = 1e-3):
+    def certified_by(self, theorem, design: tuple, gamma_tolerance: float = 1e-3, criterion: str = "level"):
         """Name the analysis theorem (a :class:`Theorem`, or the id of one in another file) that
-        certifies the recovered ``design`` matrices, which it takes as data."""
-        if isinstance(theorem, Theorem):
-            self.analysis = AnalysisLink(theorem.id, tuple(design), gamma_tolerance, theorem)
-        else:
-            self.analysis = AnalysisLink(str(theorem), tuple(design), gamma_tolerance)
+        certifies the recovered ``design`` matrices, which it takes as data.  ``criterion``:
+        "level" (the analysis certifies the synthesis γ within ``gamma_tolerance``) or "feasible"
+        (a stabilisation design: the analysis LMIs proved with the design fixed, no level)."""
+        if criterion not in ("level", "feasible"):
+            raise TheoremDefinitionError(f"{self.id}: certified_by: criterion must be 'level' or 'feasible'")
+        target = theorem if isinstance(theorem, Theorem) else None
+        self.analysis = AnalysisLink(theorem.id if target is not None else str(theorem), tuple(design),
+                                     gamma_tolerance, target, criterion)
 
     def error_system(self, system, *, figure: str, design: tuple, simulate=None):
         """Declare the error system (data + design -> stochastic system), its figure and simulation."""
@@ -564,5 +696,9 @@ class Theorem:
         if not (lower < upper and tol > 0):
             raise TheoremDefinitionError(f"{self.id}: bisect: need lower < upper and tol > 0")
         self.bisection = Bisection(parameter, float(lower), float(upper), float(tol), goal, performance)
+        extra = self.param_decl[parameter].extra
+        if extra.get("default") is None:
+            # the bisection sets the parameter: data need not give it (bound at the feasible end)
+            extra["default"] = float(lower) if goal == "max" else float(upper)
         return self.bisection
 

@@ -29,8 +29,8 @@ PROVENANCE = {
 
 OUTCOMES = ("certified", "not certified", "infeasible", "not solved")
 """What solving an example ends in, best first: the solution certified (every LMI proved, the
-analysis and checks passed); solved but not certified; proved infeasible (feasp); no solver
-returned a point.  An example declares the outcome it is known to have (``expect``, default
+analysis and checks passed); solved but not certified; proved infeasible (a theorem-of-alternatives certificate); neither
+a point proved nor infeasibility proved.  An example declares the outcome it is known to have (``expect``, default
 certified); ``lmidsl reproduce`` fails when a row ends worse than that."""
 
 
@@ -57,6 +57,13 @@ class Source:
         return f"{self.citation or self.paper}, {self.equations}"
 
 
+LATEX_RENDERER: dict = {}
+"""``{"theorem": f(theorem) -> str, "lmi": f(lmi) -> str}``: how a theorem's and an LMI's
+``_repr_latex_`` write them.  The printer lives in the render layer, above this one, which
+registers itself here when it is imported (:mod:`lmidsl.render.notebook`; ``lmidsl``'s public face
+imports it with :class:`Theorem`), so that this layer never imports the one above it."""
+
+
 @dataclass
 class LMI:
     """A labelled block LMI ``M < 0`` (or ``M > 0``) as the paper writes it."""
@@ -78,6 +85,12 @@ class LMI:
             lower = [[-b for b in row] for row in self.spec.lower]
             self._negative = BlockMatrixSpec(lower, self.spec.sizes, self.spec.given_as)
         return self._negative
+
+    def _repr_latex_(self) -> str | None:
+        """The LMI in LaTeX for a notebook, by the printer the render layer registers in
+        :data:`LATEX_RENDERER` (None: the plain repr)."""
+        render = LATEX_RENDERER.get("lmi")
+        return None if render is None else render(self)
 
     def symbols(self) -> set:
         """Every symbol in the LMI's blocks (computed once; an LMI does not change)."""
@@ -166,6 +179,7 @@ class AnalysisLink:
     design: tuple
     gamma_tolerance: float = 1e-3
     target: Any = None
+    criterion: str = "level"     # "level": the analysis certifies γ; "feasible": its LMIs hold (stabilisation)
 
 
 @dataclass

@@ -81,7 +81,17 @@ class BackendCompiler(ExpressionWalker):
                 return self.constants.visit(expr)
             if not isinstance(expr, sp.MatrixExpr) and not expr.has(sp.MatrixSymbol):
                 return self.model.parameter_for(expr)  # a scalar of parameters only (not r·tr(W))
+            if isinstance(expr, (sp.Inverse, sp.MatPow)):
+                return self.folded(expr)
         return super()._dispatch(expr)
+
+    def folded(self, expr):
+        """A matrix of data and parameters that no backend algebra spells, (r I + D Dᵀ)⁻¹ with
+        r a parameter: its number at the instance's parameter values; the model then compiles
+        again when the parameters change (:meth:`CompiledModel.update`)."""
+        self.model.folded_parameters = True
+        evaluator = NumericEvaluator(self.dims, self.model.instance.data, self.model.instance.params, self.vertex)
+        return evaluator.visit(expr)
 
     def context(self) -> str:
         theorem = self.model.instance.theorem.id
@@ -126,6 +136,8 @@ class CompiledModel:
     #: whether :meth:`set_parameter` changes a number inside a built problem (cvxpy); otherwise
     #: parameters are numbers and a problem with new ones is built again (PICOS, direct)
     mutable_parameters = True
+    solved_once = False      # whether the last solve returned a point (values() reads it)
+    folded_parameters = False  # a parameter inside an inverse was compiled as a number
 
     def __init__(self, instance: Instance, margin: float | None = None, reuse: bool = False,
                  conditioning: Equilibration | None = None):
@@ -217,8 +229,12 @@ class CompiledModel:
         self.set_parameter(self._margin_parameter, self.margin)
 
     def update(self, instance: Instance) -> None:
-        """Take new parameter values (same data and dimensions) without recompiling."""
+        """Take new parameter values (same data and dimensions) without recompiling (unless a
+        parameter sits inside an inverse: then compile again)."""
         self.instance = instance
+        if self.folded_parameters:
+            self._compile()
+            return
         for expr, p in self._parameters.items():
             self.set_parameter(p, self._parameter_value(expr))
 
@@ -238,8 +254,13 @@ class CompiledModel:
         return out
 
     def _unscaled(self, name: str, variable):
-        """X = s_X X̃ from the backend variable X̃."""
+        """X = s_X X̃ from the backend variable X̃.  A variable the solved problem does not
+        constrain (W₃ in B₃W₃ with the datum B₃ = 0: the compiled problem has no entry of it)
+        has no value from the solver; any value is as good, and it is 0."""
         value = self.value_of(variable)
+        if value is None and self.solved_once:
+            shape = tuple(getattr(variable, "shape", ()))
+            value = np.zeros(shape) if shape else 0.0
         factor = self.equilibration.variable(name)
         return value if value is None or factor == 1.0 else value * factor
 
@@ -285,6 +306,7 @@ class CompiledModel:
             solution.times["solver"] = solver_time
         if getattr(self, "last_solver_call", None) is not None:
             solution.times["solver_call"] = self.last_solver_call  # incl. the solver's interface
+        self.solved_once = solved(status)
         if solved(status):
             t1 = time.perf_counter()
             values = self.values()

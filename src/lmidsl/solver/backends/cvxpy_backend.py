@@ -15,13 +15,14 @@ import numpy as np
 from ...errors import SolverUnavailableError
 from . import backend_info, default_options
 from .base import BackendCompiler, CompiledModel, solver_crashed
+from ..status import INFEASIBLE, OPTIMAL, OPTIMAL_INACCURATE, SOLVER_ERROR
 
 DEFAULT_SOLVER = backend_info("cvxpy").default
 
 _STATUS = {
-    cp.OPTIMAL: "optimal",
-    cp.OPTIMAL_INACCURATE: "optimal_inaccurate",
-    cp.INFEASIBLE: "infeasible",
+    cp.OPTIMAL: OPTIMAL,
+    cp.OPTIMAL_INACCURATE: OPTIMAL_INACCURATE,
+    cp.INFEASIBLE: INFEASIBLE,
     cp.INFEASIBLE_INACCURATE: "infeasible_inaccurate",
     cp.UNBOUNDED: "unbounded",
     cp.UNBOUNDED_INACCURATE: "unbounded_inaccurate",
@@ -109,7 +110,7 @@ class CvxpyModel(CompiledModel):
                                         np.linalg.LinAlgError)):
                 raise
             text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            return "solver_error", None, text or "solver failed", None
+            return SOLVER_ERROR, None, text or "solver failed", None
         status = _STATUS.get(problem.status, str(problem.status))
         # wall time of the solver call including its interface (cvxpy's own measurement)
         self.last_solver_call = getattr(problem, "_solve_time", None)

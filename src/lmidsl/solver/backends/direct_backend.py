@@ -31,11 +31,13 @@ from ...errors import InputError, SolverUnavailableError
 from . import backend_info
 from .affine import Affine, Cone, VariableSpace, block
 from .base import BackendCompiler, CompiledModel, classify, solver_crashed
+from ..status import (INFEASIBLE, INFEASIBLE_INACCURATE, OPTIMAL, OPTIMAL_INACCURATE, UNBOUNDED,
+                      UNBOUNDED_INACCURATE, USER_LIMIT, SOLVER_ERROR, SOLVED)
 
 DEFAULT_SOLVER = backend_info("direct").default
 
-#: Clarabel's linear-algebra threads (0: by problem size, :func:`solver_threads`).  Parallel runs
-#: set ``LMIDSL_SOLVER_THREADS=1`` in their local workers: N workers on N cores, one thread each.
+#: Clarabel's linear-algebra threads (0: by problem size, :func:`solver_threads`, as in local
+#: Dask workers, so that a parallel run gives the serial run's numbers).
 THREADS = int(os.environ.get("LMIDSL_SOLVER_THREADS", "0") or 0)
 
 #: Below this many PSD-cone rows (svec entries, all LMIs together) one thread is faster than
@@ -45,25 +47,32 @@ THREADS = int(os.environ.get("LMIDSL_SOLVER_THREADS", "0") or 0)
 SINGLE_THREAD_ROWS = 3000
 
 
+#: Clarabel's threads above SINGLE_THREAD_ROWS: a fixed number, not "every core" (0): Clarabel's
+#: answer depends on its thread count (n = 10 of seed 000's family, 2,294 rows: objective
+#: 8.298465416 on one thread, 8.298459366 on two, each repeatable), so "every core" would make
+#: the numbers depend on the machine
+LARGE_PROBLEM_THREADS = 2
+
+
 def solver_threads(problem) -> int:
     """Clarabel's ``max_threads`` for ``problem``: ``LMIDSL_SOLVER_THREADS`` if set, else one
-    thread for small problems (thread start-up costs more than it saves) and 0 (every core)
-    for large ones."""
+    thread for small problems (thread start-up costs more than it saves) and
+    :data:`LARGE_PROBLEM_THREADS` for large ones -- never a number that depends on the machine."""
     if THREADS:
         return THREADS
     psd_rows = sum(c.size for c in problem.cones if c.kind == "psd")
-    return 1 if psd_rows < SINGLE_THREAD_ROWS else 0
+    return 1 if psd_rows < SINGLE_THREAD_ROWS else LARGE_PROBLEM_THREADS
 
 #: Clarabel's statuses, named as the other backends name them (cvxpy's mapping of the same solver)
 _STATUS = {
-    "Solved": "optimal",
-    "AlmostSolved": "optimal_inaccurate",
-    "PrimalInfeasible": "infeasible",
-    "AlmostPrimalInfeasible": "infeasible_inaccurate",
-    "DualInfeasible": "unbounded",
-    "AlmostDualInfeasible": "unbounded_inaccurate",
-    "MaxIterations": "user_limit",
-    "MaxTime": "user_limit",
+    "Solved": OPTIMAL,
+    "AlmostSolved": OPTIMAL_INACCURATE,
+    "PrimalInfeasible": INFEASIBLE,
+    "AlmostPrimalInfeasible": INFEASIBLE_INACCURATE,
+    "DualInfeasible": UNBOUNDED,
+    "AlmostDualInfeasible": UNBOUNDED_INACCURATE,
+    "MaxIterations": USER_LIMIT,
+    "MaxTime": USER_LIMIT,
 }
 
 
@@ -81,6 +90,18 @@ def resolve_solver(name: str | None) -> str:
     raise SolverUnavailableError(
         f"unknown solver {name!r} for backend direct (it calls Clarabel only; use --backend cvxpy "
         f"or picos for {name})")
+
+
+def psd_diagonal(problem) -> np.ndarray:
+    """The vector with 1 on the diagonal entries of every PSD cone of ``problem`` (svec order):
+    e with eᵀs = Σ_k tr S_k."""
+    e, r0 = np.zeros(problem.A.shape[0]), 0
+    for cone in problem.cones:
+        if cone.kind == "psd":
+            k = np.arange(cone.dim)
+            e[r0 + k * (k + 1) // 2 + k] = 1.0
+        r0 += cone.size
+    return e
 
 
 class ConicProblem:
@@ -147,11 +168,19 @@ class DirectModel(CompiledModel):
     backend = "direct"
     compiler_class = DirectCompiler
     mutable_parameters = False
+    #: the dual shift ε of the main problem's solves (Clarabel's units; 0: none).  With ε > 0 the
+    #: solver minimises qᵀx − ε Σ_k tr S_k(x) over the PSD cones S_k = −N_k − margin·I: its dual
+    #: Z′ ⪰ 0 gives Z = Z′ + εI, a dual of the theorem with margin ε, from which
+    #: :func:`lmidsl.solver.dual_bound.lower_bound` proves a lower bound without a second solve
+    #: (the point is pushed inside by as little; the objective reported is the theorem's own,
+    #: qᵀx + q₀ at the returned point).  Opt-in: off by default.
+    dual_shift = 0.0
 
     def __init__(self, instance, margin=None, reuse=False, conditioning=None):
         self.space = VariableSpace()
         self._nonneg: list[Cone] = []
         self._last = None          # (problem, clarabel solution) of the last solve
+        self.last_shift = 0.0      # the dual shift ε of that solve (see dual_shift)
         self._static: dict = {}    # (id, vertex) -> value of a parameter-free sub-expression
         super().__init__(instance, margin, reuse, conditioning)
 
@@ -224,26 +253,28 @@ class DirectModel(CompiledModel):
             setattr(settings, key, value)
         for v in self.space.variables:
             v.free = None
+        shift = self.dual_shift if problem is self.problem else 0.0
+        q = problem.q + shift * (problem.A.T @ psd_diagonal(problem)) if shift else problem.q
         t0 = time.perf_counter()
         try:
             P = sparse.csc_matrix((problem.n, problem.n))
-            result = clarabel.DefaultSolver(P, problem.q, problem.A, problem.b,
+            result = clarabel.DefaultSolver(P, q, problem.A, problem.b,
                                             problem.clarabel_cones(), settings).solve()
         except BaseException as exc:
             if not solver_crashed(exc, (ArithmeticError, ValueError, np.linalg.LinAlgError)):
                 raise
             text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            return "solver_error", None, text or "solver failed", None
+            return SOLVER_ERROR, None, text or "solver failed", None
         self.last_solver_call = time.perf_counter() - t0
-        self._last = (problem, result)
-        status = _STATUS.get(str(result.status), "solver_error")
-        message = "" if status != "solver_error" else f"CLARABEL: {result.status}"
+        self._last, self.last_shift = (problem, result), shift
+        status = _STATUS.get(str(result.status), SOLVER_ERROR)
+        message = "" if status != SOLVER_ERROR else f"CLARABEL: {result.status}"
         objective = None
-        if status in ("optimal", "optimal_inaccurate"):
+        if status in SOLVED:
             x = np.asarray(result.x, dtype=float)
             for v, o in problem.layout.items():
                 v.free = x[o: o + v.size]
-            objective = float(result.obj_val) + problem.q0
+            objective = float(result.obj_val) + problem.q0 if not shift else float(problem.q @ x) + problem.q0
             if not np.isfinite(objective):
                 objective = None
         return status, objective, message, float(result.solve_time)

@@ -20,13 +20,14 @@ from __future__ import annotations
 
 from functools import lru_cache
 
+import cvxopt
 import numpy as np
 import picos
 
 from ...errors import InputError, SolverUnavailableError, TheoremDefinitionError
 from . import backend_info
 from .base import BackendCompiler, CompiledModel, solver_crashed
-from ..status import solved
+from ..status import INFEASIBLE, OPTIMAL, OPTIMAL_INACCURATE, SOLVER_ERROR, solved
 
 DEFAULT_SOLVER = backend_info("picos").default
 
@@ -170,21 +171,21 @@ class PicosModel(CompiledModel):
             if not solver_crashed(exc, (Exception,)):
                 raise
             text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            return "solver_error", None, text, None
+            return SOLVER_ERROR, None, text, None
         primal, problem_status = solution.primalStatus, solution.problemStatus
         raw = solution.info.get("cvxopt_sol", {}) or {}
         message = f"{name}: {raw['status']}" if raw.get("status") not in (None, "optimal") else ""
         if problem_status == "infeasible":
-            status = "infeasible"
+            status = INFEASIBLE
         elif problem_status == "unbounded":
             status = "unbounded"
         elif primal == "optimal":
-            status = "optimal"
+            status = OPTIMAL
         elif primal in ("feasible", "unknown", "premature") and solution.primals and \
                 all(v is not None for v in solution.primals.values()):
-            status = "optimal_inaccurate"  # a point exists; the numpy certificate decides
+            status = OPTIMAL_INACCURATE  # a point exists; the numpy certificate decides
         else:
-            status = "solver_error"
+            status = SOLVER_ERROR
             message = message or f"{name}: {solution.claimedStatus}"
         objective = None
         if solved(status):
@@ -221,4 +222,7 @@ class PicosModel(CompiledModel):
     def expression_value(self, expression):
         if not _is_picos(expression):
             return np.asarray(expression, dtype=float)
-        return np.array(expression.value, dtype=float).reshape(expression.shape)
+        value = expression.value
+        if isinstance(value, cvxopt.spmatrix):       # PICOS gives a sparse CVXOPT matrix for some values
+            value = cvxopt.matrix(value)
+        return np.array(value, dtype=float).reshape(expression.shape)

@@ -1,0 +1,98 @@
+"""``lmidsl successive``: a BMI by successive LMIs (:mod:`lmidsl.studies.bmi`).
+
+For a theorem that declares a linearisation point (``Theorem.linearise``, e.g. S̄ = S⁻¹): solve
+the LMI at the point, move the point to the solution's update, repeat until γ stops improving;
+keep the best certified solution (its design certified by the analysis counterpart, as `solve`
+does).  ``--start`` gives initial points (repeatable): a JSON object of the point's data, a
+number c meaning c·I.  Exit code 0 when the best solution is certified, 1 otherwise.
+"""
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from ..errors import InputError
+from ..pipeline import make_instance
+from ..render.table import format_matrix, format_table
+from ..render.terminal import echo, is_terminal, wrap
+from ..studies.bmi import successive_lmi
+from .common import (add_output_arguments, add_solve_arguments, instance_spec, positive_float, positive_int,
+                     print_json, refuse, show_progress, solve_arguments, strict_loads)
+
+ORDER = 45
+
+
+def register(sub):
+    p = sub.add_parser("successive", help="a BMI by successive LMIs over the theorem's linearisation point")
+    add_solve_arguments(p)
+    add_output_arguments(p, progress=True)
+    p.add_argument("--start", action="append", default=[], metavar="JSON",
+                   help='an initial linearisation point (repeatable), e.g. \'{"Sbar": 1, "P3bar": 100}\' '
+                        "(a number c is c·I); default: the example's own point")
+    p.add_argument("--max-iter", type=positive_int, default=30, help="iterations per start (default 30)")
+    p.add_argument("--rtol", type=positive_float, default=1e-4,
+                   help="stop when γ improves by less than this, relative (default 1e-4)")
+    p.add_argument("--no-certify", action="store_true", help="skip the analysis certificate of the best design")
+    p.set_defaults(run=run)
+
+
+def parse_start(text: str, instance) -> dict:
+    """One ``--start``: the linearisation data by name, a number c meaning c·I of the datum's shape."""
+    point = strict_loads(text, "--start")
+    if not isinstance(point, dict):
+        raise InputError(f"--start {text}: expected a JSON object of the linearisation point's data")
+    names = list(instance.theorem.linearisation)
+    out = {}
+    for name, value in point.items():
+        if name not in names:
+            raise InputError(f"--start: {name!r} is not a datum of the linearisation point ({', '.join(names)})")
+        shape = np.shape(instance.data[name])
+        out[name] = float(value) * np.eye(*shape) if isinstance(value, (int, float)) else np.asarray(value, float)
+    return out
+
+
+def format_successive(result, theorem_id: str) -> str:
+    """The history (one row per solve), why it stopped, and the best solution."""
+    starts = len({s.start for s in result.history}) > 1
+    rows = [([s.start] if starts else []) + [s.iteration, s.status, s.gamma, None if s.worst_eig is None
+                                              else f"{s.worst_eig:.2e}"] for s in result.history]
+    lines = [format_table((["start"] if starts else []) + ["iteration", "status", "gamma", "max eig"], rows),
+             "", wrap(f"stopped: {result.stop_reason}")]
+    best = result.best
+    if best is None:
+        lines.append(wrap(f"{theorem_id}: no certified point (every LMI's largest eigenvalue < 0) was met"))
+        return "\n".join(lines)
+    lines.append(wrap(f"best point: gamma = {best.gamma:.8g}" + (f" (start {result.best_start})" if starts else "")))
+    lines.append(wrap(f"verdict: {best.verdict.line()}"))
+    analysis = getattr(best, "analysis", None)
+    if analysis is not None:
+        lines.append(wrap(f"analysis {analysis.theorem}: gamma = {analysis.gamma:.8g}"
+                          + ("" if analysis.passed else " (does not certify the design)")))
+    for name, value in (best.recovered or {}).items():
+        lines.append(format_matrix(name, value))
+    return "\n".join(lines)
+
+
+def run(args):
+    refuse(args, "each step is solved with the solver's defaults (studies.bmi)", "--solver-option")
+    instance = make_instance(args.theorem, **instance_spec(args))
+    if not instance.theorem.linearisation:
+        raise InputError(f"{instance.theorem.id} declares no linearisation point (Theorem.linearise): "
+                         "its LMIs are solved by `lmidsl solve`")
+    starts = [parse_start(text, instance) for text in args.start] or None
+    solving = solve_arguments(args)
+    result = successive_lmi(instance, starts=starts, max_iter=args.max_iter, rtol=args.rtol,
+                            solver=solving["solver"], backend=solving["backend"], margin=solving["margin"],
+                            progress=show_progress(args) and is_terminal(sys.stderr), certify=not args.no_certify)
+    best = result.best
+    certified = best is not None and best.verdict.certified
+    if args.json:
+        print_json({"theorem": instance.theorem.id, "example": instance.example, **result.as_dict(),
+                    "verdict": None if best is None else best.verdict.as_dict(),
+                    "best": None if best is None else best.as_dict()})
+    else:
+        echo(f"{instance.theorem.id}" + (f" [{instance.example}]" if instance.example else "")
+             + f": successive LMIs over {', '.join(instance.theorem.linearisation)}")
+        print(format_successive(result, instance.theorem.id))
+    return 0 if certified else 1

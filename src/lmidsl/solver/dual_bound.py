@@ -1,0 +1,379 @@
+"""A proved lower bound on a theorem's optimum from the solver's dual (weak duality, VSDP-style).
+
+For the compiled problem min qᵀx + q₀ s.t. S_k(x) ∈ K_k (:mod:`lmidsl.solver.dual_point`), any
+dual z with M z = q exactly and every Z_k ⪰ 0 gives
+
+    qᵀx + q₀ ≥ q₀ − ⟨Z, S⁰⟩     for every feasible x.
+
+Clarabel returns z̃ with M z̃ ≈ q; :func:`~lmidsl.solver.dual_point.corrected_point` encloses an
+exact solution z of M z = q near z̃, and :func:`~lmidsl.solver.dual_point.check_cone` proves each
+Z_k ⪰ 0 over the enclosure.  At an optimum complementarity puts eigenvalues of Z_k at 0, and the
+correction may push them below: then the perturbed problem
+
+    min qᵀx − ε Σ_{k∈F} tr S_k(x)     (F: the blocks that failed)
+
+is solved (its dual Z′ ⪰ 0 gives Z = Z′ + εI, dual feasible for the original with margin ε).
+Its value is lower by about ε·tr S(x_ε), which grows fast with ε, so the solver's dual z_a
+(nearly PSD, value near the optimum) and the shifted one z_b (PSD with margin) are combined:
+both satisfy M z = q exactly, λ_min is concave, and the least θ with
+(1 − θ) λ_min(Z_a,k) + θ λ_min(Z_b,k) ≥ 0 for every block loses only θ·(v_a − v_b), θ ≈ deficit/ε.
+ε starts at SHIFT_START times the deficit and grows (or shrinks after a proof, while the loss
+exceeds LOSS_TARGET); dual blocks the solver made singular on whole coordinates are taken on
+their face (:meth:`~lmidsl.solver.dual_point.DualData.support`: a shift off the face makes the
+shifted problem unbounded).  When an eigenvalue is
+still negative, VSDP's bound (Jansson, Chaykin, Keil, SIAM J. Numer. Anal. 46(1), 2007) applies
+only with an a-priori bound r̄_k ≥ λ_max(S_k) on the primal (``primal_bounds``):
+qᵀx + q₀ ≥ q₀ − ⟨Z, S⁰⟩ + Σ_k d_k·min(0, λ_min(Z_k))·r̄_k (d_k the block size).
+
+**Which problem.**  The strict LMIs enter with ε = 0 (their closure): the bound is on the
+infimum over the strict set (equal to the closure's minimum when the strict set is non-empty);
+the strictness margin of the compiled model is not in it.  The bound is proved for the SDP as
+compiled (its double-precision coefficients taken exactly).  A model compiled with conditioning
+(:mod:`lmidsl.solver.conditioning`: a congruence T N T with positive power-of-two T and variables
+X = s_X X̃) has the same feasible set in the original variables and the same objective values,
+so its bound is a bound on the original theorem's optimum; the objective is the theorem's own
+(``model.objective``, not the solver's rescaled one).
+
+The headline performance is mapped monotonically: γ = √g gives the lower γ = √max(lower, 0)
+(rounded down in ball arithmetic); a performance equal to the objective is the bound itself.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+from flint import arb, ctx
+
+from .dual_point import U, DualData, check_cone, corrected_point, last_dual, pairing_bounds, round_down
+
+#: shifted re-solves tried: ε = SHIFT_START × the deficit of the solver's dual (in the units of
+#: the solver's objective), then × SHIFT_GROWTH while the shifted dual is not proved PSD (÷ 30 when
+#: the shifted problem does not solve: near unbounded).  Small shifts keep the shifted dual's value
+#: close: its loss ε·tr S(x_ε) grows faster than ε, since x_ε runs off along near-free directions.
+SHIFT_TRIES = 4
+SHIFT_START = 10.0
+SHIFT_GROWTH = 4.0
+#: the face of the solver's dual is used when its deficit is at most this many times the full one
+FACE_TOLERANCE = 10.0
+#: once proved, a further smaller shift is tried while the bound is below the solver's own dual
+#: value by more than this (relative)
+LOSS_TARGET = 1e-5
+MIN_SHIFT = 1e-9
+
+
+@dataclass
+class DualBound:
+    """A lower bound on the objective, proved or not (``why``)."""
+
+    lower: float | None = None            # proved lower bound on the objective (e.g. γ²)
+    lower_performance: float | None = None  # the headline performance at ``lower`` (e.g. γ)
+    proved: bool = False
+    why: str = ""
+    epsilon: float = 0.0                  # the dual shift that gave the bound (0: the solver's dual)
+    theta: float = 0.0                    # weight of the shifted duals in the combination
+    extra_solves: int = 0
+    min_eigenvalue: float | None = None   # smallest proved λ_min lower bound over the dual blocks
+    residual: float | None = None         # ‖M z̃ − q‖∞ before the exact correction
+    correction: float | None = None       # ‖z − z̃‖∞
+    attempts: list = field(default_factory=list)   # (ε, worst λ_min) per try
+    times: dict = field(default_factory=dict)
+
+    def as_dict(self) -> dict:
+        return {"lower": self.lower, "lower_performance": self.lower_performance, "proved": self.proved,
+                "why": self.why, "epsilon": self.epsilon, "theta": self.theta, "extra_solves": self.extra_solves,
+                "min_eigenvalue": self.min_eigenvalue, "residual": self.residual,
+                "correction": self.correction, "attempts": self.attempts, "times": self.times}
+
+
+def performance_lower(theorem, params: dict, lower: float) -> float | None:
+    """The headline performance at objective value ``lower``, rounded down, when the theorem's
+    performance is a non-decreasing function of its objective (√g, g, c·g with c ≥ 0); else None."""
+    if theorem.performance is None or theorem.objective is None:
+        return None
+    perf, obj = theorem.performance[1], theorem.objective
+    saved = ctx.prec
+    ctx.prec = 128
+    try:
+        if perf == obj:
+            return lower
+        if perf == sp.sqrt(obj):
+            return round_down(float(arb(lower).sqrt().lower())) if lower > 0 else 0.0
+        level = sp.Symbol("level_", real=True)
+        expr = perf.xreplace({obj: level})
+        free = expr.free_symbols - {level}
+        values = {s: params[s.name] for s in free if s.name in params}
+        if set(values) != free:
+            return None
+        expr = expr.xreplace(values)
+        derivative = sp.diff(expr, level)
+        if not (derivative.is_nonnegative or sp.simplify(derivative).is_nonnegative):
+            return None
+        value = complex(sp.N(expr.xreplace({level: max(lower, 0.0)}), 30))
+        if value.imag != 0 or not math.isfinite(value.real):
+            return None
+        return round_down(value.real * (1 - 1e-15) if value.real > 0 else value.real * (1 + 1e-15), 4)
+    finally:
+        ctx.prec = saved
+
+
+class _ShiftedProblem:
+    """The compiled problem with q replaced (the same rows and cones)."""
+
+    def __init__(self, problem, q):
+        self._base = problem
+        self.n, self.A, self.b, self.cones, self.q, self.q0 = problem.n, problem.A, problem.b, problem.cones, q, problem.q0
+        self.layout = problem.layout
+
+    def clarabel_cones(self):
+        return self._base.clarabel_cones()
+
+
+def _solve_shifted(model, data: DualData, blocks, eps: float, solver=None, keep=None):
+    """Solve min qᵀx − ε Σ_{k∈blocks} tr S_k(x) on the model's problem (Clarabel's units; with a
+    support ``keep``, only the traces of its principal submatrices);
+    returns its z + ε·e (dual feasible for the original up to rounding), or None.  The model's
+    variable values and last result are restored afterwards."""
+    problem = model.problem
+    e = data.selector(blocks, keep)
+    shifted = _ShiftedProblem(problem, problem.q + eps * (problem.A.T @ e))
+    saved_values = [v.free for v in model.space.variables]
+    saved_last, saved_shift = model._last, getattr(model, "last_shift", 0.0)
+    saved_call = getattr(model, "last_solver_call", None)
+    try:
+        status, _, _, _ = model.run_solver(solver, shifted)
+        result = model._last[1] if model._last is not None and model._last[0] is shifted else None
+    finally:
+        for v, f in zip(model.space.variables, saved_values):
+            v.free = f
+        model._last, model.last_shift = saved_last, saved_shift
+        model.last_solver_call = saved_call
+    if result is None or status not in ("optimal", "optimal_inaccurate"):
+        return None
+    z = np.asarray(result.z, dtype=float)
+    return z + eps * e if np.all(np.isfinite(z)) else None
+
+
+@dataclass
+class _Candidate:
+    """A corrected dual point: its proved value q₀ − ⟨Z, S⁰⟩ (whatever its cone) and cone check."""
+
+    value: float
+    cone: object
+    point: object
+    keep: object
+
+
+def _candidate(data: DualData, z_svec, scale: float, keep=None) -> _Candidate | None:
+    """The exact correction of one dual estimate (Clarabel's svec units), on the support
+    ``keep`` (None: every unknown); None when the correction fails."""
+    point = corrected_point(data, data.from_svec(z_svec, scale), data.q_used, keep)
+    if point is None:
+        return None
+    _, high = pairing_bounds(data, point)
+    return _Candidate(round_down(data.q0 - high), check_cone(data, point, keep), point, keep)
+
+
+def _vsdp(data: DualData, a: _Candidate, primal_bounds) -> float | None:
+    """VSDP's bound q₀ − ⟨Z, S⁰⟩ + Σ_k d_k·min(0, λ_min(Z_k))·r̄_k with r̄_k ≥ λ_max(S_k) given."""
+    penalty = 0.0
+    for b, low in zip(data.blocks, a.cone.lower):
+        if low >= 0.0:
+            continue
+        bound = primal_bounds.get(b.label) if isinstance(primal_bounds, dict) else primal_bounds(b)
+        if bound is None or not math.isfinite(low):
+            return None
+        penalty += b.dim * low * bound
+    return round_down(a.value + penalty * (1 + 1e-12))
+
+
+def _pair(a: _Candidate, b: _Candidate) -> tuple[float, float] | None:
+    """(θ, bound) for z = (1 − θ) z_a + θ z_b, the least θ that makes every block's bound
+    (1 − θ) a_k + θ b_k ≥ 0 (checked in floats with its rounding error), or None."""
+    lo, hi = 0.0, 1.0
+    for ak, bk in zip(a.cone.lower, b.cone.lower):
+        if ak >= 0 and bk >= 0:
+            continue                                   # (an empty block: +∞ on both sides)
+        if not (math.isfinite(ak) and math.isfinite(bk)):
+            if ak < 0 and not (bk > 0):
+                return None
+            if bk < 0 and not (ak > 0):
+                return None
+            if ak == math.inf:
+                hi = min(hi, 1.0 - 1e-12)
+            elif bk == math.inf:
+                lo = max(lo, 1e-12)
+            continue
+        if ak < 0:
+            if bk <= 0:
+                return None
+            lo = max(lo, -ak / (bk - ak))
+        else:
+            hi = min(hi, ak / (ak - bk))
+    theta = min(1.0, lo * (1 + 1e-6) + 1e-300) if lo > 0 else 0.0
+    if theta > hi:
+        return None
+    for ak, bk in zip(a.cone.lower, b.cone.lower):
+        if ak >= 0 and bk >= 0:
+            continue
+        x, y = (1 - theta) * ak, theta * bk
+        if x + y - 8 * U * (abs(x) + abs(y)) < 0:
+            return None
+    value = (1 - theta) * a.value + theta * b.value
+    return theta, round_down(value - 8 * U * (abs(a.value) + abs(b.value) + abs(value)))
+
+
+def _combine(candidates: list) -> tuple[float, float] | None:
+    """(weight of the shifted duals, bound) for the best z = (1 − θ) z_i + θ z_j over pairs of
+    corrected dual points on one support (a point alone when it is proved in the cone): each
+    satisfies M z = q exactly, so z does; λ_min is concave, so λ_min(Z_k) ≥ (1 − θ) λ_k(i) + θ λ_k(j)
+    with λ_k the proved bounds, and the value is (1 − θ) v_i + θ v_j.  The solver's dual (nearly
+    PSD, value near the optimum) and a shifted dual (PSD with margin ε, value lower by about
+    ε·tr S) give a bound that loses only about θ·(v_a − v_b), θ ≈ deficit/ε."""
+    best = None
+    for i, a in enumerate(candidates):
+        if a.cone.worst >= 0 and (best is None or a.value > best[1]):
+            best = (0.0 if i == 0 else 1.0, a.value)
+        for b in candidates[i + 1:]:
+            found = _pair(a, b)
+            if found is not None and (best is None or found[1] > best[1]):
+                best = (found[0] if i == 0 else 1.0, found[1])
+    return best
+
+
+def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
+                primal_bounds=None) -> DualBound:
+    """A proved lower bound on the optimum of a direct-backend ``model`` after its solve.
+
+    ``solution`` (optional): the :class:`~lmidsl.solver.solution.Solution` of that solve (only
+    its status is read; the dual comes from the model's last Clarabel result).  ``tries``: shifted
+    re-solves allowed when the solver's own dual is not proved PSD (module docstring).
+    ``primal_bounds``: {LMI label: r̄ ≥ λ_max(S)} or a callable(block) for VSDP's term (default
+    none: a block not proved PSD leaves the bound unproved).
+    """
+    t0 = time.perf_counter()
+    out = DualBound()
+    if getattr(model, "backend", None) != "direct":
+        out.why = f"no dual: the {getattr(model, 'backend', '?')} backend keeps none (direct backend only)"
+        return out
+    if model.objective is None:
+        out.why = "a feasibility problem: no objective to bound"
+        return out
+    if solution is not None and not getattr(solution, "ok", True):
+        out.why = f"the solve did not return an optimum ({solution.status})"
+        return out
+    z = last_dual(model, ("Solved", "AlmostSolved"), shifted=True)
+    if z is None:
+        out.why = "the model's last solve left no dual for its problem"
+        return out
+    try:
+        data = DualData(model)
+    except ValueError as exc:
+        out.why = f"the model's cones are not all LMIs and non-negative variables ({exc})"
+        return out
+    out.times["setup"] = time.perf_counter() - t0
+    if not data.magnitude_ok:
+        out.why = "coefficients below 2^-900: rounding bounds do not hold (underflow)"
+        return out
+    scale = model.equilibration.objective      # the solver minimised objective / scale
+
+    def record(c: _Candidate | None, eps: float):
+        out.attempts.append({"epsilon": eps, "worst": None if c is None else c.cone.worst,
+                             "face": None if c is None or c.keep is None else int(c.keep.sum())})
+        if c is not None:
+            out.residual, out.correction, out.min_eigenvalue = c.point.residual, c.point.correction, c.cone.worst
+
+    def proved(value: float, eps: float):
+        out.lower, out.proved, out.epsilon, out.why = value, True, eps, ""
+
+    t1 = time.perf_counter()
+    a = _candidate(data, z, scale)
+    record(a, 0.0)
+    other = None                                          # the support not chosen, tried second
+    if a is not None and a.cone.worst < 0:
+        face = data.support(data.from_svec(z, scale))     # dual blocks the solver made singular
+        if not face.all():
+            on_face = _candidate(data, z, scale, face)
+            record(on_face, 0.0)
+            # preferred unless much worse: a shift off the face makes the shifted problem
+            # unbounded (the direction that makes those duals singular grows for free); much
+            # worse means the dropped entries were needed (wang_l2linf.thm3: −3e-10 → −2.6e-8)
+            if on_face is not None and on_face.cone.worst >= FACE_TOLERANCE * a.cone.worst:
+                a, other = on_face, a
+            else:
+                other = on_face
+    out.times["verify_solver_dual"] = time.perf_counter() - t1
+    if a is None:
+        out.why = "the equality correction failed (the Gram matrix of the constraints is not provably invertible)"
+    elif a.cone.worst >= 0:
+        proved(a.value, 0.0)
+    elif primal_bounds is not None and _vsdp(data, a, primal_bounds) is not None:
+        proved(_vsdp(data, a, primal_bounds), 0.0)
+    else:
+        failing = a.cone.failing(data.blocks)
+        worst = min(zip(a.cone.lower, data.blocks), key=lambda t: t[0])
+        out.why = (f"dual of {worst[1].label} ({worst[1].kind}) not proved PSD after the exact "
+                   f"correction (λ_min ≥ {worst[0]:.3g})")
+        deficit = -a.cone.worst / scale if math.isfinite(a.cone.worst) else 1e-6
+        eps = max(SHIFT_START * deficit, MIN_SHIFT * max(1.0, float(np.abs(z).max())))
+        face = data.support(data.from_svec(z, scale))
+        pool, eaten = [a], 0
+        for attempt in range(tries):
+            t1 = time.perf_counter()
+            shifted = _solve_shifted(model, data, failing, eps, solver, a.keep)
+            out.times[f"shifted_solve_{attempt}"] = time.perf_counter() - t1
+            out.extra_solves += 1
+            if shifted is None:
+                # unbounded: a primal direction grows a block at no cost, every dual is singular
+                # there; shift on the face of the solver's dual instead
+                if a.keep is None and not face.all():
+                    on_face = other if other is not None else _candidate(data, z, scale, face)
+                    other = None
+                    if on_face is not None:
+                        a, failing, pool = on_face, on_face.cone.failing(data.blocks), [on_face]
+                        if a.cone.worst >= 0:
+                            proved(a.value, 0.0)
+                            break
+                        continue
+                if attempt + 1 < tries and "did not solve" not in out.why:
+                    out.why = f"the shifted problem (ε = {eps:.2g}) did not solve; " + out.why
+                    eps /= 30          # near unbounded: a smaller shift (the combination needs little)
+                    continue
+                out.why = f"the shifted problem (ε = {eps:.2g}) did not solve; " + out.why.split("; ")[-1]
+                break
+            t1 = time.perf_counter()
+            b = _candidate(data, shifted, scale, a.keep)
+            record(b, eps)
+            out.times[f"verify_shifted_{attempt}"] = time.perf_counter() - t1
+            if b is None:
+                break
+            pool.append(b)
+            combined = _combine(pool)
+            if combined is not None and (not out.proved or combined[1] > out.lower):
+                proved(combined[1], eps)
+                out.theta = combined[0]
+                if a.value - out.lower <= LOSS_TARGET * max(abs(a.value), 1e-300):
+                    break
+                eps /= SHIFT_GROWTH * 2       # proved: a smaller shift may lose less
+                continue
+            if out.proved:
+                break                          # a smaller shift did not improve: keep the bound
+            eaten += b.cone.worst <= -0.3 * eps * scale
+            if other is not None and eaten >= 2:
+                # twice the correction ate the shift (λ_min ≈ −ε/2, growing with ε): this support
+                # drops entries the shifted duals need, or keeps ones they cannot have; the other
+                a, other, pool, eaten = other, None, [other], 0
+                failing = a.cone.failing(data.blocks)
+                eps = max(SHIFT_START * -a.cone.worst / scale, MIN_SHIFT) if math.isfinite(a.cone.worst) else eps
+                continue
+            eps *= SHIFT_GROWTH
+    if out.proved:
+        theorem = model.instance.theorem
+        out.lower_performance = performance_lower(theorem, model.instance.params, out.lower)
+    out.times["total"] = time.perf_counter() - t0
+    return out
+
+
+__all__ = ["DualBound", "lower_bound", "performance_lower"]

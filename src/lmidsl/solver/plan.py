@@ -1,0 +1,270 @@
+"""The one road to a certified point.
+
+Every caller that needs a solved, certified point — a solve, the analysis certificate of a design,
+``verify``, a bisection step, a successive-LMI step, the back-off's level problem — asks a
+:class:`Plan`.  A plan is built once from the backend, the solver (named or not), the solver
+options and the strictness margin, and tries, in this stated order:
+
+1. the named (or the backend's default) solver on the theorem **as written**, then on the
+   **conditioned** LMIs where :func:`~lmidsl.solver.conditioning.equilibrate` proposes an exact
+   congruence/variable scaling (both are solved: on badly scaled data the answer as written can
+   be a certified bound far above the optimum);
+2. when no solver was named, the backend's **fallback routes** (other solvers, other modelling
+   layers; :func:`~lmidsl.solver.backends.fallback_routes`) until one gives a *good* answer
+   (certified, solved to full accuracy, the margin not setting the objective);
+3. the theorem's declared **closed forms** (a Riccati point, :mod:`lmidsl.solver.fallback`),
+   whenever the answer in hand is not good — also when the user named a solver: a certified
+   but inaccurate point (the bounded real lemma at 775 for a norm of 0.557) is not the end of
+   the road.
+
+Of all answers the *better* one is kept (:func:`~lmidsl.solver.fallback.better`: certified over
+uncertified, then the lower objective — each certified objective is a valid bound).  The notes
+of the kept solution say what each route gave.
+
+A plan asked for a point **at a given level** (:meth:`Plan.point_at_level`, the analysis
+certificate of a design) tries the closed form first, since it needs no SDP, and the level
+problem when the minimum sits on the boundary of the strict set.  :meth:`Plan.level` is the level
+problem "every LMI, objective ≤ β" along the same routes (the back-off).  :meth:`Plan.diagnose`
+is the feasp diagnosis of a solve that gave no certified point.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..errors import LmidslError
+from .backends import Route, choose_backend, fallback_routes, get_backend, is_first_order, second_opinion
+from .backends.base import DEFAULT_MARGIN
+from .conditioning import equilibrate
+from .fallback import better, good, riccati_point, route_model, said
+from .feasibility import diagnosis_needed, feasp
+from .margin import solve_model
+from .solution import Solution
+from .status import INFEASIBLE, INFEASIBLE_INACCURATE, NOT_SOLVED, SOLVER_ERROR
+
+
+@dataclass
+class Plan:
+    """Backend, solver, options and margin of every solve on the road (see the module docstring).
+
+    ``fallbacks``: try the fallback routes (default: when no solver is named).
+    ``closed_forms``: try the theorem's declared closed forms (a cross-check of one named
+    solver turns them off, so that its row is that solver's answer).
+    ``infeasible_ends``: a solver's "infeasible" ends the road (a bisection step: the bracket's
+    infeasible end is then the solver's word, reported as such, not a proof)."""
+
+    backend: str
+    solver: str | None = None
+    options: dict = field(default_factory=dict)
+    margin: float | None = None
+    fallbacks: bool | None = None
+    closed_forms: bool = True
+    infeasible_ends: bool = False
+
+    def __post_init__(self):
+        self.backend = choose_backend(self.backend, self.solver)
+        if self.fallbacks is None:
+            self.fallbacks = self.solver is None
+
+    @property
+    def base_margin(self) -> float:
+        return self.margin if self.margin is not None else DEFAULT_MARGIN
+
+    def routes(self) -> list[Route]:
+        """The routes in order: the named or default solver, then (with ``fallbacks``) the backend's."""
+        first = [Route(self.backend, self.solver)]
+        return first + (list(fallback_routes(self.backend)) if self.fallbacks else [])
+
+    def _solve_model(self, model, solver, **extra):
+        options = self.options if model.backend == self.backend else {}
+        return solve_model(model, solver, **{**options, **extra})
+
+    # -- the optimum --------------------------------------------------------------------------
+    def solve(self, instance, restore_margin: bool = False, model=None):
+        """(solution, model) of ``instance``: steps 1–3 of the module docstring.  ``model``: a
+        compiled model of the plan's backend to update to ``instance`` instead of compiling it
+        as written (a bisection re-solves one compiled model)."""
+        model_class = get_backend(self.backend)
+        if model is not None:
+            model.update(instance)
+            model.set_margin(self.base_margin)       # undo escalations of the previous step
+            plain = model
+        else:
+            plain = model_class(instance, margin=self.margin)
+        solution = self._solve_model(plain, self.solver, restore_margin=restore_margin)
+        model = plain
+        proposal = equilibrate(instance)
+        if not proposal.trivial:
+            conditioned = model_class(instance, margin=self.margin, conditioning=proposal)
+            other = self._solve_model(conditioned, self.solver, restore_margin=restore_margin)
+            kept = better(solution, other)
+            before, after = proposal.spread
+            kept.notes.append(f"conditioning (coefficient spread 2^{before:.0f} -> 2^{after:.0f}): as written "
+                              f"{said(solution)}; conditioned {said(other)}; kept "
+                              + ("the conditioned" if kept is other else "as written"))
+            solution, model = kept, (conditioned if kept is other else plain)
+        return self._other_routes(model, solution), model
+
+    def _other_routes(self, model, first: Solution) -> Solution:
+        """The fallback routes (step 2) and the closed forms (step 3) while the answer is not good."""
+        if good(first) or (self.infeasible_ends and first.status == INFEASIBLE):
+            return first
+        kept, tried = first, [said(first)]
+        points = first.ok           # some route returned a point (certified or not)
+        for route in (self.routes()[1:] if self.fallbacks else []):
+            if route.backend == first.backend and route.solver.lower() == (first.solver or "").lower():
+                continue
+            if points and is_first_order(route.solver):
+                continue           # a first-order point (1e-4 accurate) would not sharpen a point in hand
+            try:
+                other = self._solve_model(route_model(model, route, self.base_margin), route.solver)
+            except LmidslError:        # not installed here
+                continue
+            tried.append(said(other))
+            points = points or other.ok
+            kept = better(kept, other)
+            if good(other):
+                break
+        if not good(kept) and self.closed_forms:
+            closed = riccati_point(model.instance, None, 0.0)
+            if closed is not None:
+                tried.append(said(closed))
+                kept = better(kept, closed)
+        if len(tried) == 1:
+            return first
+        if kept is first:
+            first.notes.append("no other route returned a better certified point: " + "; ".join(tried))
+        else:
+            kept.notes.append(f"the first route gave {tried[0]}; kept {said(kept)} (tried: "
+                              + "; ".join(tried[1:]) + ")")
+        return kept
+
+    # -- a point at a level ---------------------------------------------------------------------
+    def level(self, model, bound: float):
+        """The first certified point of "every LMI, objective ≤ ``bound``" (no objective) along the
+        routes (first-order solvers skipped); None when no route certifies one.  Returns
+        (solution, the model it was solved on, what each route gave)."""
+        if model.objective is None:
+            return None, model, []
+        tried = []
+        for route in self.routes():
+            if route.solver is not None and is_first_order(route.solver):
+                continue
+            try:
+                level_model = route_model(model, route)
+                new = level_model.solve(route.solver, problem=level_model.level_problem(bound),
+                                        **(self.options if route.backend == self.backend else {}))
+            except LmidslError:
+                continue
+            tried.append(f"{new.backend}/{new.solver}: {new.status}" + ("" if new.lmis_hold else ", not certified"))
+            if new.ok and new.lmis_hold:
+                return new, level_model, tried
+        return None, model, tried
+
+    def point_at_level(self, instance, target_gamma: float | None, tolerance: float, objective_level):
+        """A certified point of an analysis ``instance`` whose level is at most ``target_gamma``
+        (1 + ``tolerance``) if one can be found, else the best: (solution, method, minimum, route).
+
+        The closed form first (no SDP); then each route, as written and conditioned: the minimum,
+        and when its point misses the strict set, the level problem at the target and at the
+        minimum (1 + tolerance) (``objective_level(theorem, γ)`` maps a level to the objective)."""
+        def enough(sol):
+            return sol.ok and sol.lmis_hold and (target_gamma is None or sol.gamma is not None
+                                                 and sol.gamma <= target_gamma * (1 + tolerance))
+
+        if self.closed_forms:
+            closed = riccati_point(instance, target_gamma, tolerance)
+            if closed is not None and (target_gamma is None or closed.gamma <= target_gamma * (1 + tolerance)):
+                return closed, "riccati", closed.gamma, "riccati/scipy ARE"
+        proposal = equilibrate(instance)
+        conditionings = [None] if proposal.trivial else [None, proposal]
+        result = None
+        for route in self.routes():
+            if self.solver is None and is_first_order(route.solver or ""):
+                # SCS's 1e-4-accurate points did not certify an analysis in the papers' reproduction
+                # nor in the gallery: the route costs seconds (a solver the user names is used)
+                continue
+            for conditioning in conditionings:
+                try:
+                    model = get_backend(route.backend)(instance, conditioning=conditioning)
+                    sol, method, minimum = self._min_then_level(model, route.solver, target_gamma,
+                                                                tolerance, objective_level)
+                except LmidslError:      # a fallback backend or solver that is not installed
+                    break
+                if result is None or better(result[0], sol) is sol:
+                    result = (sol, method, minimum, f"{sol.backend}/{sol.solver}")
+            if result is not None and enough(result[0]):
+                break
+        return result
+
+    def _min_then_level(self, model, solver, target_gamma, tolerance, objective_level):
+        """min γ, then (when its point is not strictly feasible) the level problems."""
+        sol = self._solve_model(model, solver)
+        minimum = sol.gamma if sol.ok else None
+        if sol.ok and sol.lmis_hold:
+            return sol, "min", minimum
+        levels = sorted({g for g in (target_gamma, None if minimum is None else minimum * (1 + tolerance))
+                         if g is not None})
+        for gamma in levels:
+            bound = objective_level(model.instance.theorem, gamma)
+            if bound is None or model.objective is None:
+                break
+            level_sol = model.solve(solver, problem=model.level_problem(bound))
+            if level_sol.ok and level_sol.lmis_hold:
+                return level_sol, "level", minimum
+            if sol.status == SOLVER_ERROR and level_sol.status != SOLVER_ERROR:
+                sol = level_sol
+        return sol, "min", minimum
+
+    # -- no certified point: the diagnosis -------------------------------------------------------
+    def diagnose(self, solution: Solution, margin: float | None = None) -> None:
+        """The feasp diagnosis of a solve without a certified point, in place.
+
+        feasp as written, then on the conditioned LMIs (an infeasibility verdict must survive the
+        conditioning), then a second solver (one solver's t* ≥ 0 is not a proof: Clarabel called a
+        stable plant with a pole at radius 0.99982 "infeasible", CVXOPT found it strictly
+        feasible), then the closed form (a Riccati point satisfying every LMI refutes any
+        "infeasible").  A verdict "infeasible"/"marginal" becomes the status (the solver's word
+        stays in ``solver_status``); a solver's "infeasible" that the diagnosis does not confirm
+        becomes "not solved"."""
+        if not diagnosis_needed(solution):
+            return
+        instance = solution.instance
+        feasp_margin = solution.margin if margin is None else margin
+        report = feasp(instance, backend=self.backend, solver=self.solver, margin=feasp_margin)
+        proposal = equilibrate(instance)
+        if report.verdict == "infeasible" and not proposal.trivial:
+            conditioned = feasp(instance, backend=self.backend, solver=self.solver, detail=False,
+                                margin=feasp_margin, conditioning=proposal)
+            if conditioned.verdict != "infeasible":
+                solution.notes.append(f"feasp as written said infeasible (t* = {report.tmin:.3g}); on the "
+                                      f"conditioned LMIs: {conditioned.verdict} (t* = {conditioned.tmin})")
+                report = conditioned
+        other = second_opinion(self.backend, report.solver) if report.verdict == "infeasible" else None
+        if other is not None:
+            second = feasp(instance, backend=other.backend, solver=other.solver, detail=False,
+                           margin=feasp_margin)
+            if second.verdict != "infeasible":
+                solution.notes.append(f"feasp with {report.solver} said infeasible (t* = {report.tmin:.3g}); "
+                                      f"with {second.solver}: {second.verdict} (t* = {second.tmin}): "
+                                      "not a proof of infeasibility")
+                report = second
+        if report.verdict == "infeasible" and self.closed_forms:
+            witness = riccati_point(instance, None, 0.0)
+            if witness is not None:
+                solution.notes.append(f"feasp said infeasible (t* = {report.tmin:.3g}), but a point from the "
+                                      f"Riccati equation satisfies every LMI (gamma {witness.gamma:.8g}): "
+                                      f"the problem is feasible; {solution.solver} did not solve it")
+                report.refuted_by = "Riccati"
+        solution.feasp = report
+        if report.verdict in ("infeasible", "marginal"):
+            solution.solver_status = solution.status
+            solution.status = report.verdict
+        elif solution.status in (INFEASIBLE, INFEASIBLE_INACCURATE):
+            solution.solver_status = solution.status
+            solution.status = NOT_SOLVED
+            if not report.refuted_by:
+                solution.notes.append(f"{solution.solver} said {solution.solver_status}; feasp: {report.verdict}: "
+                                      "not a proof of infeasibility")
+
+
+__all__ = ["Plan"]

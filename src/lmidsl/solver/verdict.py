@@ -1,0 +1,245 @@
+"""The verdict: one record of what a result proves, decided in one place, told the same way by
+every command.
+
+A result (a :class:`~lmidsl.solver.solution.Solution`, a verification, a sweep point, a row of
+``check`` or ``reproduce``) carries one :class:`Verdict`:
+
+* ``certified`` — every claim made is proved: the LMIs at the returned point in ball arithmetic,
+  and, for a design, the design's level by its analysis counterpart (the analysis LMIs proved with
+  the design fixed) and the theorem's declared checks;
+* ``word`` — one of :data:`WORDS`;
+* ``gamma`` — the *headline*: the level the delivered design is certified for (the analysis
+  level), or, for a theorem without a design, the level at the proved point; ``quantity`` says
+  what it is (an L2 gain bound, a decay rate, a passivity index, ...; a *prescribed* level for a
+  feasibility problem);
+* ``levels`` — the other levels, each named for what it is: ``optimum`` (the SDP optimum's level),
+  ``backoff`` (the synthesis level of the back-off point the design was recovered at),
+  ``analysis`` (the analysis level of the delivered design);
+* ``why`` — one sentence; ``reasons`` — what is not proved.
+
+The word is never "optimal" unless optimality is proved (a bracket from a proved dual bound within
+tolerance): a certified bound from an inaccurate solver point or a margin-set objective is a
+"certified bound".
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..numeric.interconnection import design_kind
+from .status import INFEASIBLE as STATUS_INFEASIBLE, MARGINAL, OPTIMAL, SOLVED
+
+OPTIMAL_WORD = "optimal"            # certified, and proved near the optimum (a dual bound)
+CERTIFIED = "certified"             # certified; nearness to the optimum not proved / not asked
+CERTIFIED_BOUND = "certified bound"  # certified, but the point is known not to be (near) the optimum
+NOT_CERTIFIED = "not certified"
+REFUTED = "refuted"                 # independent evidence contradicts the claim
+DISAGREEMENT = "disagreement"       # trusted answers of several solvers differ (lmidsl check)
+VERTEX_WISE = "vertex-wise"         # a polytopic design's analysis holds at each vertex only
+INFEASIBLE = "infeasible"
+NOT_SOLVED = "not solved"
+SKIPPED = "certification skipped"
+
+WORDS = (OPTIMAL_WORD, CERTIFIED, CERTIFIED_BOUND, NOT_CERTIFIED, REFUTED, VERTEX_WISE, DISAGREEMENT,
+         INFEASIBLE, NOT_SOLVED, SKIPPED)
+CERTIFIED_WORDS = frozenset({OPTIMAL_WORD, CERTIFIED, CERTIFIED_BOUND})
+
+QUANTITIES = {
+    "gamma": "the guaranteed gain level γ",
+    "h2": "the guaranteed H2 level",
+    "nu": "the certified passivity index ν",
+    "alpha": "the certified decay rate α",
+}
+"""What a theorem's declared performance name measures (``Theorem.minimize(performance=...)``)."""
+
+LEVEL_NAMES = {"optimum": "SDP optimum", "backoff": "back-off point", "analysis": "delivered design (analysis)",
+               "claimed": "claimed level", "synthesis": "synthesis point", "exact": "exact figure",
+               "feasible_end": "feasible end", "infeasible_end": "infeasible end", "reference": "reference row"}
+"""What each named level of a verdict is, in words."""
+
+
+def quantity_words(name: str | None, feasibility: bool) -> str:
+    """Words for the headline quantity; a feasibility problem's level is prescribed, not found."""
+    if name is None:
+        return "feasibility (no level)"
+    words = QUANTITIES.get(name, f"the level {name}")
+    return f"{words}, prescribed (a feasibility problem)" if feasibility else words
+
+
+@dataclass(frozen=True)
+class Verdict:
+    certified: bool
+    word: str
+    gamma: float | None
+    why: str
+    quantity: str = "gamma"
+    quantity_words: str = ""
+    levels: dict = field(default_factory=dict)
+    reasons: tuple = ()
+    bracket: dict | None = None     # the optimum's bracket: lower/upper, each proved or not (why)
+
+    def line(self) -> str:
+        """The verdict in one line, the same in every command: WORD [at q = x]: why."""
+        level = "" if self.gamma is None or not self.certified else f" at {self.quantity or 'level'} = {self.gamma:.8g}"
+        why = self.why if self.certified else "; ".join(self.reasons) or self.why
+        return f"{self.word.upper()}{level}: {why}"
+
+    def as_dict(self) -> dict:
+        return {"certified": self.certified, "word": self.word, "gamma": self.gamma, "why": self.why,
+                "quantity": self.quantity, "quantity_words": self.quantity_words,
+                "levels": dict(self.levels), "reasons": list(self.reasons)}
+
+    def bracket_line(self) -> str:
+        """"optimum in [lo, hi], proved" (or what is not proved), empty without a bracket."""
+        b = self.bracket
+        if not b:
+            return ""
+        lo = "?" if b["lower"] is None else f"{b['lower']:.10g}"
+        hi = "?" if b["upper"] is None else f"{b['upper']:.10g}"
+        proved = [w for w, p in (("lower", b["lower_proved"]), ("upper", b["upper_proved"])) if p]
+        state = "proved" if len(proved) == 2 else (f"{proved[0]} end proved" if proved else "not proved")
+        why = f" (lower bound: {b['why']})" if b["why"] and not b["lower_proved"] else ""
+        return f"LMI optimum ({self.quantity or 'objective'}) in [{lo}, {hi}], {state}{why}"
+
+
+def decide(solution) -> Verdict:
+    """The verdict of a solution (see the module docstring).  Reads: status, the LMI proofs, the
+    design and its analysis (duck-typed: ``passed``, ``gamma``, ``theorem``, ``status``), the
+    theorem's checks, whether certification was asked for, the back-off record, the margin flag."""
+    theorem = solution.instance.theorem if solution.instance is not None else None
+    name = theorem.performance[0] if theorem is not None and theorem.performance else None
+    feasibility = theorem is not None and theorem.objective is None
+    words = quantity_words(name, feasibility and getattr(theorem, "bisection", None) is None)
+    analysis = solution.analysis
+    backoff = solution.backoff or {}
+    levels = {"optimum": backoff.get("gamma_opt", solution.gamma) if "gamma" in backoff else solution.gamma}
+    if "gamma" in backoff:
+        levels["backoff"] = solution.gamma
+    if analysis is not None:
+        levels["analysis"] = analysis.gamma
+    delivers = bool(theorem is not None and theorem.recovery)
+    headline = solution.gamma
+    if delivers and analysis is not None and analysis.passed and analysis.gamma is not None:
+        headline = analysis.gamma
+
+    box = bracket(solution)
+
+    def verdict(certified, word, why, reasons=()):
+        return Verdict(certified, word, headline, why, name or "", words, levels, tuple(reasons), box)
+
+    if solution.status not in SOLVED:
+        proof = solution.infeasibility
+        if proof is not None and proof.proved:
+            why = (f"infeasible, proved: a theorem-of-alternatives certificate (Z ⪰ 0, Z ≠ 0, "
+                   f"tr(F_i Z) = 0, tr(F_0 Z) ≥ 0) verified {'exactly' if proof.route == 'exact' else 'in ball arithmetic'}")
+            return verdict(False, INFEASIBLE, why, [why])
+        if solution.status == STATUS_INFEASIBLE:
+            why = ("feasp finds no strictly feasible point; infeasibility not proved"
+                   + (f" ({proof.why})" if proof is not None and proof.why else ""))
+            return verdict(False, NOT_SOLVED, why, [why])
+        if solution.status == MARGINAL:
+            return verdict(False, NOT_SOLVED, "feasible only by less than the strictness margin",
+                           [f"status {solution.status}"])
+        return verdict(False, NOT_SOLVED, f"no point was returned ({solution.status})",
+                       [f"status {solution.status}"])
+    reasons = not_proved(solution)
+    if not solution.certify:
+        why = "certification was skipped (--no-certify): nothing is claimed"
+        return verdict(False, SKIPPED, why, [why])
+    refuting = [e for e in solution.evidence if e.refutes]
+    if refuting:
+        why = f"{refuting[0].name}: {refuting[0].summary}"
+        return verdict(False, REFUTED, why, [why] + reasons)
+    if reasons:
+        return verdict(False, NOT_CERTIFIED, reasons[0], reasons)
+    if analysis is not None and getattr(analysis, "coverage", "") == "vertex-wise":
+        why = (f"{analysis.theorem} certifies the design at each vertex with its own Lyapunov matrix; "
+               "the polytope's interior is not covered by a proof")
+        return verdict(False, VERTEX_WISE, why, [why])
+    if delivers and analysis is not None:
+        what = (f"the delivered {design_kind(solution.design.kind if solution.design is not None else None).noun}"
+                f" is certified by {analysis.theorem}")
+        what += "" if analysis.gamma is None else f" at {name or 'level'} = {analysis.gamma:.8g}"
+    elif delivers:
+        what = "every LMI proved at the returned point; the design has no analysis counterpart"
+    else:
+        what = "every LMI proved at the returned point"
+    if box is not None and box["lower_proved"] and headline is not None and box["lower"] is not None:
+        gap = (headline - box["lower"]) / max(abs(headline), 1e-300)
+        where = f"the optimum is in [{box['lower']:.10g}, {box['upper']:.10g}]"
+        if gap <= OPTIMAL_GAP:
+            return verdict(True, OPTIMAL_WORD, f"{what}; optimal within {max(gap, 0.0):.1e}: {where}, proved")
+        cost = f"; the back-off costs {gap:.1e} against the proved lower bound" if "backoff" in levels else ""
+        return verdict(True, CERTIFIED_BOUND, f"{what}; {where} (proved), {gap:.1e} above its lower end{cost}")
+    bound_reason = loose_reason(solution)
+    if bound_reason:
+        return verdict(True, CERTIFIED_BOUND, f"{what}; a bound, not known to be the optimum: {bound_reason}")
+    return verdict(True, CERTIFIED, what)
+
+
+OPTIMAL_GAP = 1e-4
+"""A certified level within this relative gap of the proved lower bound is called optimal."""
+
+
+def bracket(solution) -> dict | None:
+    """The optimum's bracket: the proved lower bound (:mod:`lmidsl.solver.dual_bound`, mapped to the
+    headline quantity) and the optimum's level, proved when every LMI is proved at the optimum's
+    point (the back-off point's record keeps the optimum's proofs); None for a feasibility problem."""
+    theorem = solution.instance.theorem if solution.instance is not None else None
+    if theorem is None or theorem.objective is None or not solution.ok:
+        return None
+    backoff = solution.backoff or {}
+    if "gamma" in backoff:
+        upper, lmis = backoff.get("gamma_opt"), [r.get("proof") for r in backoff.get("optimum_lmis") or []]
+    else:
+        upper, lmis = solution.gamma, [r.proof for r in solution.lmis]
+    b = solution.bounds
+    proved = bool(b is not None and b.proved and b.lower_performance is not None)
+    why = "not computed (--no-bounds, or not the direct backend)" if b is None else (
+        b.why or ("the performance is not a non-decreasing function of the objective" if not proved else ""))
+    return {"lower": b.lower_performance if proved else None, "upper": upper, "lower_proved": proved,
+            "upper_proved": bool(lmis) and all(p == "proved" for p in lmis), "why": why}
+
+
+def not_proved(solution) -> list[str]:
+    """What keeps a solved point from being certified (empty: nothing).
+
+    The claim of a design theorem is "the recovered design meets γ".  When the analysis
+    counterpart proves exactly that, the claim stands even if the synthesis LMIs hold only
+    numerically at the returned point (a back-off point that misses the strictness margin by
+    1e-8): those LMIs are then evidence, not the proof."""
+    reasons = []
+    analysis = solution.analysis
+    design_proved = analysis is not None and analysis.passed
+    unproved = [] if design_proved else [r for r in solution.lmis if r.proof != "proved"]
+    for r in unproved[:3]:
+        where = f" @ vertex {r.vertex}" if r.vertex is not None else ""
+        reasons.append(f"LMI {r.label}{where} {r.proof or 'not proved'}"
+                       + (f" ({r.proof_note})" if r.proof_note else ""))
+    if len(unproved) > 3:
+        reasons.append(f"{len(unproved) - 3} more LMIs not proved")
+    if not solution.lmis:
+        reasons.append("no LMI certificate")
+    if solution.message.startswith("recovery failed"):
+        reasons.append(solution.message)
+    if analysis is not None and not analysis.passed:
+        reasons.append(f"the analysis {analysis.theorem} does not certify the design "
+                       f"({analysis.status}, {('gamma ' + format(analysis.gamma, '.6g')) if analysis.gamma is not None else 'no level'})")
+    reasons += [f"check {c.name} failed" for c in solution.checks if not c.passed]
+    return reasons
+
+
+def loose_reason(solution) -> str:
+    """Why a certified level is only a bound (empty: no known reason): the solver's point is
+    inaccurate, or the strictness margin sets the objective."""
+    theorem = solution.instance.theorem if solution.instance is not None else None
+    if theorem is None or theorem.objective is None:
+        return ""
+    status = (solution.backoff or {}).get("status_opt", solution.status)
+    if solution.margin_limited:
+        return "the strictness margin sets the objective"
+    if status != OPTIMAL:
+        return f"the solver's point is {status}"
+    return ""
+
+
+__all__ = ["Verdict", "decide", "WORDS", "CERTIFIED_WORDS", "QUANTITIES", "quantity_words", "not_proved"]
