@@ -131,7 +131,7 @@ def main():
     hand.solve(solver=cp.CLARABEL)
     model = lmidsl_build(data, g, d)
     sol = model.solve()
-    print(f"feasible: hand {hand.status}, lmidsl {sol.status} (certified {sol.certified})")
+    print(f"feasible: hand {hand.status}, lmidsl {sol.status} (every coefficient LMI holds: {sol.lmis_hold})")
 
 
 if __name__ == "__main__":

@@ -98,6 +98,7 @@ def main(paths):
     indexed = ROOT / "docs" / "gallery_indexed.md"     # scripts/gallery_indexed_doc.py
     if indexed.exists():
         text.append(indexed.read_text())
+    text.append((ROOT / "docs" / "gallery_hppd.md").read_text())   # its own study: benchmarks/stress/hppd_study.py
     (ROOT / "docs" / "gallery.md").write_text("\n".join(text))
 
 

@@ -85,6 +85,7 @@ class RobustMember:
     vertex_data: dict                            # alias name -> (datum, vertex index)
     coefficients: dict = field(default_factory=dict)   # statement LMI label -> [(exponent, member label)]
     lmi_degree: dict = field(default_factory=dict)     # statement LMI label -> degree per simplex (before Pólya)
+    coefficient_vars: dict = field(default_factory=dict)  # HPPD variable -> {exponent: coefficient symbol}
 
 
 class RobustTheorem(Theorem):
@@ -274,6 +275,22 @@ class RobustTheorem(Theorem):
         m.robust = info
         info.coefficient_vars = coefficient_vars
         return m
+
+    def lmi(self, label: str, rows, **kwargs):
+        """Declare an LMI (stated in α when it mentions α-dependent symbols); besides the checks
+        of :meth:`Theorem.lmi`, every block must be polynomial in α (no inverse or function of
+        an α-dependent matrix), checked now on a one-vertex domain."""
+        lmi = super().lmi(label, rows, **kwargs)
+        forms = {d.symbol: HomogeneousPolynomial.from_coefficients(
+                     {tuple((1,) for _ in self.simplices): d.symbol}, (1,) * len(self.simplices),
+                     (1,) * len(self.simplices)) for d in self.polynomial.values()}
+        if forms and lmi.symbols() & set(forms):
+            try:
+                coefficient_blocks(lmi.spec, forms, (1,) * len(self.simplices), 0, where=f"{self.id}: LMI {label}")
+            except TheoremDefinitionError:
+                self.lmis.remove(lmi)
+                raise
+        return lmi
 
     def summary(self) -> dict:
         out = super().summary()
