@@ -12,7 +12,8 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, replace, fields
 
-from ..pipeline import solve
+from ..pipeline import make_instance, solve
+from .bisection import bisect
 from ..errors import Interrupted, LmidslError
 from ..solver.backends import DEFAULT_BACKEND
 from ..solver.status import INFEASIBLE, MARGINAL, solved
@@ -105,7 +106,14 @@ def reproduce_one(theorem_id: str, example: str, solver: str | None = None, **so
     kind = "gamma_bound" if "gamma_bound" in printed_values else "gamma"
     printed = printed_values.get(kind)
     try:
-        sol = solve(theorem, example=example, solver=solver, backoff="auto", **solve_options)
+        spec = getattr(theorem, "bisection", None)    # a GEVP: bisected as `lmidsl solve` does
+        if spec is not None and spec.parameter not in theorem.examples[example].params:
+            bisection = bisect(make_instance(theorem, example), solver=solver, **solve_options)
+            if bisection.solution is None:
+                raise LmidslError(bisection.verdict.why)
+            sol = bisection.solution
+        else:
+            sol = solve(theorem, example=example, solver=solver, backoff="auto", **solve_options)
     except LmidslError as exc:
         return ReproductionRow(theorem_id, example, kind, printed, None, None, f"error: {exc}", None,
                                None, False, "error", provenance=provenance, expect=expect,
