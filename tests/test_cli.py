@@ -126,3 +126,9 @@ def test_reproduce_json():
     assert rows["paper-full"]["rel_diff"] < 5e-3
     assert rows["paper-reduced"]["comparison"] == "reproduced"
     assert rows["paper-full"]["certified"] is True
+
+
+def test_a_mistyped_flag_gets_a_did_you_mean():
+    code, out, err = run_cli("solve", "wang_l2linf.thm3", "--exmaple", "paper-full")
+    assert code == 2 and err.strip().splitlines() == [
+        "error: lmidsl: unrecognized arguments: --exmaple paper-full (did you mean '--example'?)"]

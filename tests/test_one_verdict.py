@@ -16,7 +16,7 @@ from lmidsl.solver.backends import Route, fallback_routes
 from lmidsl.solver.plan import Plan
 from lmidsl.solver.verdict import CERTIFIED_BOUND, CERTIFIED_WORDS
 
-from conftest import run_cli
+from conftest import ROOT, run_cli
 
 RECORD_KEYS = {"certified", "word", "gamma", "why", "quantity", "quantity_words", "levels", "reasons"}
 
@@ -118,6 +118,14 @@ def test_the_verdict_record_has_the_same_keys_in_every_command(tmp_path):
     for where, record in records.items():
         assert set(record) == RECORD_KEYS, where
         assert isinstance(record["certified"], bool) and isinstance(record["word"], str), where
+
+
+def test_docs_json_lists_the_record_and_the_words():
+    """docs/json.md states the record's keys and every verdict word the code can give."""
+    from lmidsl.solver.verdict import WORDS
+    text = (ROOT / "docs" / "json.md").read_text()
+    assert all(f"`{key}`" in text for key in RECORD_KEYS)
+    assert all(f"`{word}`" in text for word in WORDS)
 
 
 def test_no_certify_never_says_certified():

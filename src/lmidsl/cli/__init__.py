@@ -27,7 +27,7 @@ import threading
 import warnings
 from pathlib import Path
 
-from ..errors import Interrupted, LmidslError, LmidslWarning
+from ..errors import Interrupted, LmidslError, LmidslWarning, did_you_mean
 from ..render.terminal import configure
 from ..theorem.index import cache_dir, write_atomically
 from ..theorem.registry import load_problems
@@ -37,7 +37,21 @@ class OneLineParser(argparse.ArgumentParser):
     """argparse with one-line errors and exit code 2."""
 
     def error(self, message):
+        if message.startswith("unrecognized arguments:"):
+            flags = [t for t in message.split(":", 1)[1].split() if t.startswith("-")]
+            message += "".join(did_you_mean(f.split("=")[0], self.option_strings_everywhere()) for f in flags)
         self.exit(2, f"error: {self.prog}: {message}\n")
+
+    def option_strings_everywhere(self) -> list:
+        """Every option string of this parser and of its sub-commands' parsers."""
+        out, parsers = [], [self]
+        while parsers:
+            parser = parsers.pop()
+            for action in parser._actions:
+                out += action.option_strings
+                if isinstance(action, argparse._SubParsersAction):
+                    parsers += list(action.choices.values())
+        return sorted(set(out))
 
 
 class VersionAction(argparse.Action):
