@@ -131,7 +131,9 @@ def test_cli_set_xi(capsys):
     code = main(["solve", THM, "--example", "paper", "--set", "xi1=0.9", "--set", "xi2=0.5",
                  "--no-certify", "--json"])
     out = json.loads(capsys.readouterr().out)
-    assert code == 0 and out["params"]["xi1"] == 0.9 and out["params"]["xi2"] == 0.5
+    # --no-certify: nothing is claimed (exit 1, "certification skipped"); the point's level is reported
+    assert code == 1 and out["verdict"]["word"] == "certification skipped"
+    assert out["params"]["xi1"] == 0.9 and out["params"]["xi2"] == 0.5
     direct = solve(THM, example="paper", overrides={"xi1": 0.9, "xi2": 0.5}, certify=False)
     assert out["gamma"] == pytest.approx(direct.gamma, rel=1e-6)
     assert out["gamma"] < PRINTED_GAMMA          # more on-time packets, better level

@@ -236,7 +236,8 @@ def test_sweep_interrupted_then_resumed_loses_nothing_and_solves_nothing_twice(t
     assert len(saved["points"]) == 150
     assert len((out / "sweep.csv").read_text().splitlines()) == 151
     assert (out / "sweep.png").stat().st_size > 0
-    assert not [p for p in out.iterdir() if p.name.startswith(".")]   # no temporary left
+    # no temporary left (the lock file of --out stays: one run per --out at a time, flock)
+    assert not [p for p in out.iterdir() if p.name.startswith(".") and not p.name.endswith(".lock")]
 
 
 def test_resume_refuses_another_grid(capsys, tmp_path):
