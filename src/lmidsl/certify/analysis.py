@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from ..errors import InputError, LmidslError
+from ..errors import InputError
 from ..numeric.instance import Instance, bind
 from ..numeric.scaling import apply_scaling
 from ..solver.feasibility import feasp

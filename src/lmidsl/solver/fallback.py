@@ -11,7 +11,7 @@ certifies all five within 2.1e-4 of ``control.hinfsyn``'s γ, proved, in under a
 
 A solver's failure is not a verdict on the problem, and which route found a point does not
 matter to the certificate: it is numpy's (and the ball-arithmetic proof's) at the returned point.
-:func:`with_fallbacks` keeps the first *good* answer (certified, solved to full accuracy, with an
+:class:`lmidsl.solver.plan.Plan` keeps the first *good* answer (certified, solved to full accuracy, with an
 objective that the strictness margin does not set), else the best certified one (lowest
 objective: each is a valid bound), else the first answer; its notes say what each route gave.
 Once any route has returned a point, first-order routes (SCS) are skipped: they cost seconds to
@@ -28,11 +28,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import LmidslError
 from ..numeric.evaluate import NumericEvaluator
 from ..numeric.instance import Instance
 from ..numeric.riccati import full_information_gain, hinf_norm, storage_candidates
-from .backends import Route, fallback_routes, get_backend, is_first_order
+from .backends import Route, get_backend
 from .solution import Solution, evaluate_performance, lmi_certificate
 from .status import OPTIMAL
 
@@ -73,42 +72,6 @@ def said(solution: Solution) -> str:
                                           else (", gamma set by the margin" if solution.margin_limited else ""))
     objective = f" ({solution.objective:.8g})" if solution.ok and solution.objective is not None else ""
     return f"{solution.backend}/{solution.solver}: {solution.status}{objective}{verdict}"
-
-
-def with_fallbacks(model, first: Solution, solve, margin: float | None = None) -> Solution:
-    """``first`` if :func:`good`, else the fallback routes of ``model``'s backend in order
-    (``solve(route_model, solver)`` returns a Solution; a route whose backend or solver is not
-    installed is skipped), then the Riccati point.  See the module docstring for which answer
-    is kept."""
-    if good(first):
-        return first
-    kept, tried = first, [said(first)]
-    points = first.ok           # some route returned a point (certified or not)
-    for route in fallback_routes(model.backend):
-        if route.backend == first.backend and route.solver.lower() == (first.solver or "").lower():
-            continue
-        if points and is_first_order(route.solver):
-            continue           # a first-order point (1e-4 accurate) would not sharpen a point in hand
-        try:
-            other = solve(route_model(model, route, margin), route.solver)
-        except LmidslError:        # not installed here
-            continue
-        tried.append(said(other))
-        points = points or other.ok
-        kept = better(kept, other)
-        if good(other):
-            break
-    if not good(kept):          # no SDP route did it: the Riccati point, where the theorem has one
-        riccati = riccati_point(model.instance, None, 0.0)
-        if riccati is not None:
-            tried.append(said(riccati))
-            kept = better(kept, riccati)
-    if kept is first:
-        first.notes.append("no route returned a better certified point: " + "; ".join(tried))
-    else:
-        kept.notes.append(f"the default route gave {tried[0]}; kept {said(kept)} (tried: "
-                          + "; ".join(tried[1:]) + ")")
-    return kept
 
 
 RICCATI_LEVELS = (1e-5, 1e-3)
@@ -227,4 +190,4 @@ def state_feedback_point(instance: Instance) -> Solution | None:
 
 
 
-__all__ = ["better", "good", "riccati_point", "route_model", "said", "state_feedback_point", "with_fallbacks"]
+__all__ = ["better", "good", "riccati_point", "route_model", "said", "state_feedback_point"]

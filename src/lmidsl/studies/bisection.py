@@ -19,7 +19,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field, replace
 
-from ..errors import InputError, LmidslError
+from ..errors import InputError
 from ..numeric.instance import Instance
 from ..pipeline import finish_solution
 from ..solver.backends import get_backend
