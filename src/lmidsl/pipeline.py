@@ -11,6 +11,7 @@ import time
 from .solver.dual_bound import lower_bound
 from .solver.infeasibility import prove_infeasible
 from .solver.plan import Plan
+from .solver.verdict import headline_level
 from .certify import certify_by_analysis
 from .certify.evidence import claim_evidence
 from .theorem.checks import run_checks
@@ -220,7 +221,7 @@ def finish_solution(solution: Solution, plan: Plan | None = None, certify: bool 
     solution.analysis = None
     if diagnose and diagnosis_needed(solution):
         t0 = time.perf_counter()
-        plan.diagnose(solution, plan.base_margin)
+        plan.diagnose(solution)
         solution.times["feasp"] = time.perf_counter() - t0
     if solution.ok:
         # THE certificate again, now proved in ball arithmetic (lmidsl.numeric.proof)
@@ -250,9 +251,7 @@ def finish_solution(solution: Solution, plan: Plan | None = None, certify: bool 
         solution.times["checks"] = time.perf_counter() - t0
     if certify and solution.ok:
         t0 = time.perf_counter()
-        analysis = solution.analysis
-        level = analysis.gamma if analysis is not None and analysis.passed else solution.gamma
-        solution.evidence = claim_evidence(solution, level)
+        solution.evidence = claim_evidence(solution, headline_level(solution))
         if solution.evidence:
             solution.times["evidence"] = time.perf_counter() - t0
     return solution

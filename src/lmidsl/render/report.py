@@ -3,15 +3,14 @@ from __future__ import annotations
 
 from ..numeric.interconnection import design_kind
 from .table import format_matrix
-from ..solver.verdict import LEVEL_NAMES
+from ..solver.verdict import LEVEL_NAMES, design_certified_level
 
 
 def headline_words(sol, verdict) -> str:
     """What the headline level is: of the delivered design (its analysis level), or of the
     proved point."""
     what = verdict.quantity_words or "the level"
-    analysis = sol.analysis
-    if sol.design is not None and analysis is not None and analysis.passed and analysis.gamma is not None:
+    if sol.design is not None and design_certified_level(sol) is not None:
         return f"{what} of the delivered {design_kind(sol.design.kind).noun}, by its analysis"
     if not verdict.certified:
         return f"{what} at the returned point, not certified"

@@ -25,7 +25,7 @@ so that a solver's absolute tolerances mean the same on γ* = 1e-9 as on γ* = 1
 
 The scaling is proposed only when it narrows the spread of the coefficients (largest over
 smallest, log2) by at least :data:`MIN_GAIN` bits.  Even then it is a second opinion, not a
-replacement (:func:`solve_conditioned`): a least-squares compromise can make a problem worse for
+replacement (:meth:`lmidsl.solver.plan.Plan.solve`): a least-squares compromise can make a problem worse for
 a particular solver, so the theorem is solved as written *and* conditioned, and of the points
 whose LMIs hold the one with the lower objective is kept (both are certificates: the lower bound
 is the better one).
@@ -44,7 +44,6 @@ from ..numeric.evaluate import NumericEvaluator
 from ..numeric.instance import Instance
 from ..symbolic.symbols import DECISION_TYPES, ScalarVariable, StructuredVariable
 from ..symbolic.uncertainty import scenarios
-from .fallback import better
 
 MAX_EXPONENT = 60
 PULL = 1e-2          # weight of log f = 0 for every factor (fixes the directions left free)
@@ -195,28 +194,4 @@ def equilibrate(instance: Instance) -> Equilibration:
     return result
 
 
-def solve_conditioned(instance: Instance, model_class, solve, margin: float | None = None):
-    """(solution, model): ``solve(model)`` on the theorem as written and, when
-    :func:`equilibrate` proposes a scaling, on the conditioned model too; the better answer is
-    kept and the notes say what each gave.  Both are solved even when the first is certified and
-    "optimal": on badly scaled data the answer as written can be a certified bound far above the
-    optimum (the BRL with B × 1e-6, C × 1e6: 35.15 as written, 0.48871 conditioned)."""
-    plain = model_class(instance, margin=margin)
-    solution = solve(plain)
-    proposal = equilibrate(instance)
-    if proposal.trivial:
-        return solution, plain
-    conditioned = model_class(instance, margin=margin, conditioning=proposal)
-    other = solve(conditioned)
-    kept = better(solution, other)
-    before, after = proposal.spread
-    def said(s):
-        return f"{s.status}" + (f", objective {s.objective:.8g}" if s.objective is not None else "") + \
-            ("" if s.ok and s.lmis_hold else ", not certified")
-    kept.notes.append(f"conditioning (coefficient spread 2^{before:.0f} -> 2^{after:.0f}): as written "
-                      f"{said(solution)}; conditioned {said(other)}; kept "
-                      + ("the conditioned" if kept is other else "as written"))
-    return kept, (conditioned if kept is other else plain)
-
-
-__all__ = ["Equilibration", "equilibrate", "solve_conditioned"]
+__all__ = ["Equilibration", "equilibrate"]

@@ -47,7 +47,7 @@ import numpy as np
 import sympy as sp
 from flint import arb, ctx
 
-from .dual_point import U, DualData, check_cone, corrected_point, last_dual, pairing_bounds, round_down
+from .dual_point import U, DualData, check_cone, dual_data, corrected_point, last_dual, pairing_bounds, round_down
 
 #: shifted re-solves tried: ε = SHIFT_START × the deficit of the solver's dual (in the units of
 #: the solver's objective), then × SHIFT_GROWTH while the shifted dual is not proved PSD (÷ 30 when
@@ -268,14 +268,9 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
     if z is None:
         out.why = "the model's last solve left no dual for its problem"
         return out
-    try:
-        data = DualData(model)
-    except ValueError as exc:
-        out.why = f"the model's cones are not all LMIs and non-negative variables ({exc})"
-        return out
+    data, out.why = dual_data(model)
     out.times["setup"] = time.perf_counter() - t0
-    if not data.magnitude_ok:
-        out.why = "coefficients below 2^-900: rounding bounds do not hold (underflow)"
+    if out.why:
         return out
     scale = model.equilibration.objective      # the solver minimised objective / scale
 

@@ -240,6 +240,22 @@ class DualData:
         return e if keep is None else e * keep
 
 
+
+def dual_data(model) -> tuple:
+    """(DualData of a direct-backend ``model`` or None, why it cannot be used — '' when it can):
+    the conic data both proofs (the dual bound, the infeasibility certificate) work on, refused for
+    another backend, for cones other than LMIs and non-negative variables, and for coefficients so
+    small that the rounding bounds fail (the data are then returned with the reason)."""
+    if getattr(model, "backend", None) != "direct":
+        return None, f"the {getattr(model, 'backend', '?')} backend keeps no conic data (direct backend only)"
+    try:
+        data = DualData(model)
+    except ValueError as exc:
+        return None, f"the model's cones are not all LMIs and non-negative variables ({exc})"
+    if not data.magnitude_ok:
+        return data, "coefficients below 2^-900: rounding bounds do not hold (underflow)"
+    return data, ""
+
 def last_dual(model, statuses: tuple, shifted: bool = False) -> np.ndarray | None:
     """Clarabel's z (svec) from the model's last solve of its own problem when that solve ended
     in one of ``statuses``, or None.  ``shifted``: a main solve with a dual shift ε
@@ -625,5 +641,5 @@ def exact_support_point(data: DualData, z0: np.ndarray, threshold: float, max_un
     return ExactPoint(z, psd, pairing, strict_trace, total_trace)
 
 
-__all__ = ["DualData", "Block", "last_dual", "BallPoint", "corrected_point", "check_cone", "pairing_bounds",
+__all__ = ["DualData", "dual_data", "Block", "last_dual", "BallPoint", "corrected_point", "check_cone", "pairing_bounds",
            "proved_min_eigenvalue", "exact_support_point", "ExactPoint", "exact_psd"]

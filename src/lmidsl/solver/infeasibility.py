@@ -36,7 +36,7 @@ import clarabel
 import numpy as np
 from scipy import sparse
 
-from .dual_point import (DualData, check_cone, corrected_point, exact_support_point, last_dual,
+from .dual_point import (DualData, check_cone, dual_data, corrected_point, exact_support_point, last_dual,
                          pairing_bounds, round_down, svec_diagonal, U)
 
 THRESHOLDS = (1e-3, 1e-5, 1e-7)      # supports tried by the exact route (relative to max |z|)
@@ -179,17 +179,10 @@ def prove_infeasible(model, shifts=(0.0, 1e-6, 1e-4)) -> InfeasibilityCertificat
     """
     t0 = time.perf_counter()
     out = InfeasibilityCertificate()
-    if getattr(model, "backend", None) != "direct":
-        out.why = f"the {getattr(model, 'backend', '?')} backend keeps no conic data (direct backend only)"
-        return out
-    try:
-        data = DualData(model)
-    except ValueError as exc:
-        out.why = f"the model's cones are not all LMIs and non-negative variables ({exc})"
-        return out
-    out.blocks, out.unknowns = len(data.blocks), data.nz
-    if not data.magnitude_ok:
-        out.why = "coefficients below 2^-900: rounding bounds do not hold (underflow)"
+    data, out.why = dual_data(model)
+    if data is not None:
+        out.blocks, out.unknowns = len(data.blocks), data.nz
+    if out.why:
         return out
     estimates = []
     z = last_dual(model, ("PrimalInfeasible", "AlmostPrimalInfeasible"))

@@ -216,7 +216,7 @@ class Plan:
         return sol, "min", minimum
 
     # -- no certified point: the diagnosis -------------------------------------------------------
-    def diagnose(self, solution: Solution, margin: float | None = None) -> None:
+    def diagnose(self, solution: Solution) -> None:
         """The feasp diagnosis of a solve without a certified point, in place.
 
         feasp as written, then on the conditioned LMIs (an infeasibility verdict must survive the
@@ -229,7 +229,7 @@ class Plan:
         if not diagnosis_needed(solution):
             return
         instance = solution.instance
-        feasp_margin = solution.margin if margin is None else margin
+        feasp_margin = self.base_margin
         report = feasp(instance, backend=self.backend, solver=self.solver, margin=feasp_margin)
         proposal = equilibrate(instance)
         if report.verdict == "infeasible" and not proposal.trivial:

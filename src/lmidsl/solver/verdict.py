@@ -110,16 +110,13 @@ def decide(solution) -> Verdict:
     feasibility = theorem is not None and theorem.objective is None
     words = quantity_words(name, feasibility and getattr(theorem, "bisection", None) is None)
     analysis = solution.analysis
-    backoff = solution.backoff or {}
-    levels = {"optimum": backoff.get("gamma_opt", solution.gamma) if "gamma" in backoff else solution.gamma}
-    if "gamma" in backoff:
+    levels = {"optimum": optimum_level(solution)}
+    if backed_off(solution):
         levels["backoff"] = solution.gamma
     if analysis is not None:
         levels["analysis"] = analysis.gamma
     delivers = bool(theorem is not None and theorem.recovery)
-    headline = solution.gamma
-    if delivers and analysis is not None and analysis.passed and analysis.gamma is not None:
-        headline = analysis.gamma
+    headline = headline_level(solution)
 
     box = bracket(solution)
 
@@ -180,6 +177,31 @@ OPTIMAL_GAP = 1e-4
 """A certified level within this relative gap of the proved lower bound is called optimal."""
 
 
+def backed_off(solution) -> bool:
+    """The point is a back-off point (its record keeps the optimum's level and proofs)."""
+    return "gamma" in (solution.backoff or {})
+
+
+def optimum_level(solution):
+    """The level at the SDP optimum: the back-off record's for a back-off point, else the point's."""
+    return solution.backoff.get("gamma_opt") if backed_off(solution) else solution.gamma
+
+
+def design_certified_level(solution):
+    """The level the delivered design's analysis certifies, or None (no design, or not passed)."""
+    analysis = solution.analysis
+    theorem = solution.instance.theorem if solution.instance is not None else None
+    if theorem is None or not theorem.recovery or analysis is None or not analysis.passed:
+        return None
+    return analysis.gamma
+
+
+def headline_level(solution):
+    """THE headline: the delivered design's certified level, else the level at the point."""
+    level = design_certified_level(solution)
+    return solution.gamma if level is None else level
+
+
 def bracket(solution) -> dict | None:
     """The optimum's bracket: the proved lower bound (:mod:`lmidsl.solver.dual_bound`, mapped to the
     headline quantity) and the optimum's level, proved when every LMI is proved at the optimum's
@@ -187,11 +209,9 @@ def bracket(solution) -> dict | None:
     theorem = solution.instance.theorem if solution.instance is not None else None
     if theorem is None or theorem.objective is None or not solution.ok:
         return None
-    backoff = solution.backoff or {}
-    if "gamma" in backoff:
-        upper, lmis = backoff.get("gamma_opt"), [r.get("proof") for r in backoff.get("optimum_lmis") or []]
-    else:
-        upper, lmis = solution.gamma, [r.proof for r in solution.lmis]
+    upper = optimum_level(solution)
+    lmis = ([r.get("proof") for r in solution.backoff.get("optimum_lmis") or []] if backed_off(solution)
+            else [r.proof for r in solution.lmis])
     b = solution.bounds
     proved = bool(b is not None and b.proved and b.lower_performance is not None)
     why = "not computed (--no-bounds, or not the direct backend)" if b is None else (
@@ -242,4 +262,4 @@ def loose_reason(solution) -> str:
     return ""
 
 
-__all__ = ["Verdict", "decide", "WORDS", "CERTIFIED_WORDS", "QUANTITIES", "quantity_words", "not_proved"]
+__all__ = ["Verdict", "decide", "headline_level", "optimum_level", "design_certified_level", "bracket", "WORDS", "CERTIFIED_WORDS", "QUANTITIES", "quantity_words", "not_proved"]

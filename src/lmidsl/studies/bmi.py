@@ -11,7 +11,7 @@ non-increasing; the driver stops when γ stops improving:
 
 and keeps the best certified solution met (every LMI's largest eigenvalue < 0 at the returned
 point), with the history of γ.  Each step is solved as ``solve`` solves one LMI problem: as
-written and equilibrated (:func:`~lmidsl.solver.conditioning.solve_conditioned`), with margin
+written and equilibrated (:meth:`~lmidsl.solver.plan.Plan.solve`), with margin
 escalation; the linearisation point can spread the coefficients over 2⁵⁰, where the problem as
 written ends in the solver's "insufficient progress".  ``starts`` runs the iteration from
 several initial points (the paper's "choose several suitable S̄, P̄3") and keeps the best.
