@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import time
 
-from .solver.dual_bound import lower_bound
+from .solver.dual_bound import PendingBound
 from .solver.infeasibility import prove_infeasible
 from .solver.plan import Plan
 from .solver.verdict import headline_level
@@ -95,12 +95,25 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str |
     solution, model = plan.solve(applied.scaled)
     solution.scaling = applied
     solution.certify = certify
-    if bounds and certify and solution.ok and instance.theorem.objective is not None:
-        # before any back-off or level solve: they overwrite the model's last dual
-        t0 = time.perf_counter()
-        solution.bounds = lower_bound(model, solution)
-        solution.times["lower_bound"] = time.perf_counter() - t0
-    finish = dict(plan=plan, certify=certify, diagnose=diagnose)
+    if not (bounds and certify and solution.ok and instance.theorem.objective is not None):
+        return _recover_and_certify(model, applied, solution, backoff, bounds,
+                                    dict(plan=plan, certify=certify, diagnose=diagnose))
+    # the bound reads the model's dual now (a back-off or level solve replaces it) and runs on a
+    # worker thread while the design is recovered and certified
+    pending = PendingBound(model, solution)
+    final = _recover_and_certify(model, applied, solution, backoff, bounds,
+                                 dict(plan=plan, certify=certify, diagnose=diagnose))
+    t0 = time.perf_counter()
+    solution.bounds = final.bounds = pending.result()
+    final.times["lower_bound_wait"] = time.perf_counter() - t0
+    final.times["lower_bound"] = solution.bounds.times.get("total", 0.0)
+    return final
+
+
+def _recover_and_certify(model, applied, solution: Solution, backoff, bounds: bool, finish: dict) -> Solution:
+    """After the optimum: recovery and certificates, the back-off when needed (``solve_instance``),
+    and the infeasibility proof for a solve without a point."""
+    instance = solution.instance
     if backoff is None or not solution.ok:
         finish_solution(solution, **finish)
         if bounds and not solution.ok:
@@ -118,7 +131,7 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str |
         kept = backed_off(model, applied, solution, delta, reason, finish)
         if kept is not solution:
             return kept
-    if certify and solution.analysis is None and not failed:
+    if finish["certify"] and solution.analysis is None and not failed:
         finish_solution(solution, **finish)      # no back-off point: the optimum's certificate
     return solution
 

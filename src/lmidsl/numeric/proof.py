@@ -21,6 +21,8 @@ singular matrix is semidefinite); otherwise it is numerical only.
 """
 from __future__ import annotations
 
+import threading
+from contextlib import contextmanager
 from functools import reduce
 
 import numpy as np
@@ -32,6 +34,24 @@ from ..symbolic.walker import ExpressionWalker
 from .evaluate import assemble_blocks, evaluate_block_matrix
 
 PRECISION = 212          # bits of the balls' midpoints (about 64 decimal digits)
+
+#: python-flint's working precision is one process-wide setting; the proved lower bound runs on a
+#: worker thread (:mod:`lmidsl.solver.dual_bound`) while the main thread proves LMIs, so every
+#: ball computation holds this lock for as long as it sets the precision.
+_BALL_LOCK = threading.RLock()
+
+
+@contextmanager
+def ball_precision(bits: int):
+    """Ball arithmetic at ``bits`` bits of midpoint precision, with no other thread changing it
+    meanwhile (the previous precision is restored on exit)."""
+    with _BALL_LOCK:
+        saved = ctx.prec
+        ctx.prec = bits
+        try:
+            yield
+        finally:
+            ctx.prec = saved
 
 PROVED = "proved"
 NUMERICAL = "numerical only"
@@ -176,15 +196,12 @@ def negative_definite(N: np.ndarray, strict: bool = True) -> tuple[str, str]:
 
 def prove_block_matrix(evaluator_args: tuple, spec, strict: bool = True) -> tuple[str, str]:
     """Assemble ``spec`` (the form N ≺ 0) in balls and prove or refute N ≺ 0."""
-    saved = ctx.prec
-    ctx.prec = PRECISION
-    try:
-        return negative_definite(evaluate_block_matrix(BallEvaluator(*evaluator_args), spec), strict)
-    except (ZeroDivisionError, ValueError, TypeError, KeyError) as exc:
-        return NUMERICAL, f"no ball evaluation ({type(exc).__name__}: {exc})"
-    finally:
-        ctx.prec = saved
+    with ball_precision(PRECISION):
+        try:
+            return negative_definite(evaluate_block_matrix(BallEvaluator(*evaluator_args), spec), strict)
+        except (ZeroDivisionError, ValueError, TypeError, KeyError) as exc:
+            return NUMERICAL, f"no ball evaluation ({type(exc).__name__}: {exc})"
 
 
 __all__ = ["PROVED", "NUMERICAL", "VIOLATED", "BallEvaluator", "negative_definite",
-           "prove_block_matrix", "decimal_ball", "PRECISION"]
+           "prove_block_matrix", "decimal_ball", "PRECISION", "ball_precision"]

@@ -40,12 +40,16 @@ The headline performance is mapped monotonically: γ = √g gives the lower γ =
 from __future__ import annotations
 
 import math
+import threading
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
-from flint import arb, ctx
+from flint import arb
+
+from ..numeric.proof import ball_precision
+from .backends.direct_backend import SolverCrash, clarabel_solve
 
 from .dual_point import U, DualData, check_cone, dual_data, corrected_point, last_dual, pairing_bounds, round_down
 
@@ -94,9 +98,7 @@ def performance_lower(theorem, params: dict, lower: float) -> float | None:
     if theorem.performance is None or theorem.objective is None:
         return None
     perf, obj = theorem.performance[1], theorem.objective
-    saved = ctx.prec
-    ctx.prec = 128
-    try:
+    with ball_precision(128):
         if perf == obj:
             return lower
         if perf == sp.sqrt(obj):
@@ -115,8 +117,6 @@ def performance_lower(theorem, params: dict, lower: float) -> float | None:
         if value.imag != 0 or not math.isfinite(value.real):
             return None
         return round_down(value.real * (1 - 1e-15) if value.real > 0 else value.real * (1 + 1e-15), 4)
-    finally:
-        ctx.prec = saved
 
 
 class _ShiftedProblem:
@@ -125,32 +125,23 @@ class _ShiftedProblem:
     def __init__(self, problem, q):
         self._base = problem
         self.n, self.A, self.b, self.cones, self.q, self.q0 = problem.n, problem.A, problem.b, problem.cones, q, problem.q0
-        self.layout = problem.layout
 
     def clarabel_cones(self):
         return self._base.clarabel_cones()
 
 
-def _solve_shifted(model, data: DualData, blocks, eps: float, solver=None, keep=None):
-    """Solve min qᵀx − ε Σ_{k∈blocks} tr S_k(x) on the model's problem (Clarabel's units; with a
-    support ``keep``, only the traces of its principal submatrices);
-    returns its z + ε·e (dual feasible for the original up to rounding), or None.  The model's
-    variable values and last result are restored afterwards."""
-    problem = model.problem
+def _solve_shifted(problem, data: DualData, blocks, eps: float, keep=None, max_iter: int | None = None):
+    """Solve min qᵀx − ε Σ_{k∈blocks} tr S_k(x) on the compiled ``problem`` (Clarabel's units;
+    with a support ``keep``, only the traces of its principal submatrices); returns its z + ε·e
+    (dual feasible for the original up to rounding), or None.  Touches no model (a worker
+    thread runs it while the main thread goes on with the model)."""
     e = data.selector(blocks, keep)
     shifted = _ShiftedProblem(problem, problem.q + eps * (problem.A.T @ e))
-    saved_values = [v.free for v in model.space.variables]
-    saved_last, saved_shift = model._last, getattr(model, "last_shift", 0.0)
-    saved_call = getattr(model, "last_solver_call", None)
     try:
-        status, _, _, _ = model.run_solver(solver, shifted)
-        result = model._last[1] if model._last is not None and model._last[0] is shifted else None
-    finally:
-        for v, f in zip(model.space.variables, saved_values):
-            v.free = f
-        model._last, model.last_shift = saved_last, saved_shift
-        model.last_solver_call = saved_call
-    if result is None or status not in ("optimal", "optimal_inaccurate"):
+        result = clarabel_solve(shifted, **({"max_iter": max_iter} if max_iter else {}))
+    except SolverCrash:
+        return None
+    if str(result.status) not in ("Solved", "AlmostSolved"):
         return None
     z = np.asarray(result.z, dtype=float)
     return z + eps * e if np.all(np.isfinite(z)) else None
@@ -243,16 +234,25 @@ def _combine(candidates: list) -> tuple[float, float] | None:
     return best
 
 
-def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
-                primal_bounds=None) -> DualBound:
-    """A proved lower bound on the optimum of a direct-backend ``model`` after its solve.
+@dataclass
+class _BoundJob:
+    """What the bound needs from a solved model, read as soon as the solve ends (a later solve on
+    the model replaces its dual): the conic data, the solver's dual z̃ (svec), the solver's
+    objective units, the compiled problem, the theorem, and the record being filled."""
 
-    ``solution`` (optional): the :class:`~lmidsl.solver.solution.Solution` of that solve (only
-    its status is read; the dual comes from the model's last Clarabel result).  ``tries``: shifted
-    re-solves allowed when the solver's own dual is not proved PSD (module docstring).
-    ``primal_bounds``: {LMI label: r̄ ≥ λ_max(S)} or a callable(block) for VSDP's term (default
-    none: a block not proved PSD leaves the bound unproved).
-    """
+    data: DualData
+    z: np.ndarray
+    scale: float
+    problem: object
+    theorem: object
+    params: dict
+    max_iter: int | None
+    out: DualBound
+    t0: float
+
+
+def _prepare(model, solution) -> _BoundJob | DualBound:
+    """The job for ``model`` after its solve, or the record saying why there is no bound."""
     t0 = time.perf_counter()
     out = DualBound()
     if getattr(model, "backend", None) != "direct":
@@ -272,7 +272,62 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
     out.times["setup"] = time.perf_counter() - t0
     if out.why:
         return out
-    scale = model.equilibration.objective      # the solver minimised objective / scale
+    iterations = getattr(model._last[1], "iterations", None)
+    # a shifted problem that does not solve runs to the iteration limit: allow it four times the
+    # main solve's iterations and some (the stress set's slowest proving one, a discrete ζ = 0.001
+    # plant: 72 against 22), not Clarabel's default 200
+    max_iter = 4 * int(iterations) + 40 if iterations else None
+    return _BoundJob(data, z, model.equilibration.objective, model.problem, model.instance.theorem,
+                     dict(model.instance.params), max_iter, out, t0)
+
+
+def lower_bound(model, solution=None, tries: int = SHIFT_TRIES, primal_bounds=None) -> DualBound:
+    """A proved lower bound on the optimum of a direct-backend ``model`` after its solve.
+
+    ``solution`` (optional): the :class:`~lmidsl.solver.solution.Solution` of that solve (only
+    its status is read; the dual comes from the model's last Clarabel result).  ``tries``: shifted
+    re-solves allowed when the solver's own dual is not proved PSD (module docstring).
+    ``primal_bounds``: {LMI label: r̄ ≥ λ_max(S)} or a callable(block) for VSDP's term (default
+    none: a block not proved PSD leaves the bound unproved).
+    """
+    job = _prepare(model, solution)
+    return job if isinstance(job, DualBound) else _bound(job, tries, primal_bounds)
+
+
+class PendingBound:
+    """:func:`lower_bound` running on a worker thread from the end of the main solve, while the
+    pipeline recovers and certifies the design (the shifted re-solves are Clarabel calls, which
+    release the GIL; ball arithmetic takes :func:`~lmidsl.numeric.proof.ball_precision`'s lock).
+    ``result()`` waits for it; an exception in the worker is raised there."""
+
+    def __init__(self, model, solution, tries: int = SHIFT_TRIES):
+        job = _prepare(model, solution)          # now: the model's dual is about to be replaced
+        self._done = job if isinstance(job, DualBound) else None
+        self._error = None
+        self._thread = None
+        if self._done is None:
+            self._thread = threading.Thread(target=self._run, args=(job, tries), daemon=True,
+                                            name="lmidsl-lower-bound")
+            self._thread.start()
+
+    def _run(self, job, tries):
+        try:
+            self._done = _bound(job, tries, None)
+        except BaseException as exc:      # re-raised in the caller's thread by result()
+            self._error = exc
+
+    def result(self) -> DualBound:
+        if self._thread is not None:
+            self._thread.join()
+            self._thread = None
+        if self._error is not None:
+            raise self._error
+        return self._done
+
+
+def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
+    """The bound itself (module docstring), from a prepared job."""
+    data, z, scale, out, t0 = job.data, job.z, job.scale, job.out, job.t0
 
     def record(c: _Candidate | None, eps: float):
         out.attempts.append({"epsilon": eps, "worst": None if c is None else c.cone.worst,
@@ -317,7 +372,7 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
         pool, eaten = [a], 0
         for attempt in range(tries):
             t1 = time.perf_counter()
-            shifted = _solve_shifted(model, data, failing, eps, solver, a.keep)
+            shifted = _solve_shifted(job.problem, data, failing, eps, a.keep, job.max_iter)
             out.times[f"shifted_solve_{attempt}"] = time.perf_counter() - t1
             out.extra_solves += 1
             if shifted is None:
@@ -365,10 +420,9 @@ def lower_bound(model, solution=None, solver=None, tries: int = SHIFT_TRIES,
                 continue
             eps *= SHIFT_GROWTH
     if out.proved:
-        theorem = model.instance.theorem
-        out.lower_performance = performance_lower(theorem, model.instance.params, out.lower)
+        out.lower_performance = performance_lower(job.theorem, job.params, out.lower)
     out.times["total"] = time.perf_counter() - t0
     return out
 
 
-__all__ = ["DualBound", "lower_bound", "performance_lower"]
+__all__ = ["DualBound", "lower_bound", "PendingBound", "performance_lower"]

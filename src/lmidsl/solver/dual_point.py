@@ -42,7 +42,9 @@ from fractions import Fraction
 
 import numpy as np
 from scipy import sparse
-from flint import arb, arb_mat, ctx, fmpq, fmpq_mat
+from flint import arb, arb_mat, fmpq, fmpq_mat
+
+from ..numeric.proof import ball_precision
 
 from .backends.direct_backend import psd_diagonal
 from .feasibility import compiled_lmis
@@ -311,9 +313,7 @@ def corrected_point(data: DualData, z0: np.ndarray, target: np.ndarray,
     n = G.shape[0]
     if n == 0:
         return BallPoint(z0.copy(), np.zeros_like(z0), 0.0, 0.0)
-    saved = ctx.prec
-    ctx.prec = BALL_PRECISION
-    try:
+    with ball_precision(BALL_PRECISION):
         Gb = arb_mat([[arb(G[i, j], G_rad[i, j]) for j in range(n)] for i in range(n)])
         rhs = arb_mat([[arb(-r[i], r_rad[i])] for i in range(n)])
         try:
@@ -322,8 +322,6 @@ def corrected_point(data: DualData, z0: np.ndarray, target: np.ndarray,
             return None
         w_mid = np.array([float(w[i, 0].mid()) for i in range(n)])     # rounded to nearest
         w_rad = np.array([round_up(float(w[i, 0].rad())) for i in range(n)]) + np.abs(w_mid) * 2 * U + TINY
-    finally:
-        ctx.prec = saved
     w_rad = np.array([round_up(x) for x in w_rad])
     step = D @ w_mid
     mid = z0 + step

@@ -164,6 +164,33 @@ class DirectCompiler(BackendCompiler):
         return a.trace() if isinstance(a, Affine) else super().trace(a)
 
 
+class SolverCrash(Exception):
+    """Clarabel raised on a problem (the first line of its message)."""
+
+
+def clarabel_solve(problem, q=None, **options):
+    """Clarabel's result for min qᵀx s.t. b − Ax ∈ K on ``problem`` (its own q by default), with
+    the given Clarabel settings; raises :class:`SolverCrash` when Clarabel fails on the data, and
+    :class:`~lmidsl.errors.InputError` for an unknown setting.  Touches no model: the proved lower
+    bound's shifted solves call it from a worker thread (Clarabel releases the GIL)."""
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    settings.max_threads = solver_threads(problem)
+    for key, value in options.items():
+        if not hasattr(settings, key):
+            raise InputError(f"unknown Clarabel setting {key!r} (e.g. max_iter, tol_gap_rel, tol_feas)")
+        setattr(settings, key, value)
+    try:
+        P = sparse.csc_matrix((problem.n, problem.n))
+        return clarabel.DefaultSolver(P, problem.q if q is None else q, problem.A, problem.b,
+                                      problem.clarabel_cones(), settings).solve()
+    except BaseException as exc:
+        if not solver_crashed(exc, (ArithmeticError, ValueError, np.linalg.LinAlgError)):
+            raise
+        text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise SolverCrash(text or "solver failed") from exc
+
+
 class DirectModel(CompiledModel):
     backend = "direct"
     compiler_class = DirectCompiler
@@ -244,27 +271,15 @@ class DirectModel(CompiledModel):
     def run_solver(self, solver, problem=None, **options):
         resolve_solver(solver)
         problem = self.problem if problem is None else problem
-        settings = clarabel.DefaultSettings()
-        settings.verbose = False
-        settings.max_threads = solver_threads(problem)
-        for key, value in options.items():
-            if not hasattr(settings, key):
-                raise InputError(f"unknown Clarabel setting {key!r} (e.g. max_iter, tol_gap_rel, tol_feas)")
-            setattr(settings, key, value)
         for v in self.space.variables:
             v.free = None
         shift = self.dual_shift if problem is self.problem else 0.0
         q = problem.q + shift * (problem.A.T @ psd_diagonal(problem)) if shift else problem.q
         t0 = time.perf_counter()
         try:
-            P = sparse.csc_matrix((problem.n, problem.n))
-            result = clarabel.DefaultSolver(P, q, problem.A, problem.b,
-                                            problem.clarabel_cones(), settings).solve()
-        except BaseException as exc:
-            if not solver_crashed(exc, (ArithmeticError, ValueError, np.linalg.LinAlgError)):
-                raise
-            text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            return SOLVER_ERROR, None, text or "solver failed", None
+            result = clarabel_solve(problem, q, **options)
+        except SolverCrash as exc:
+            return SOLVER_ERROR, None, str(exc), None
         self.last_solver_call = time.perf_counter() - t0
         self._last, self.last_shift = (problem, result), shift
         status = _STATUS.get(str(result.status), SOLVER_ERROR)
