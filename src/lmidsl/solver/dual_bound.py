@@ -155,6 +155,7 @@ class _Candidate:
     cone: object
     point: object
     keep: object
+    epsilon: float = 0.0     # the shift of the dual it was corrected from (0: the solver's own)
 
 
 def _candidate(data: DualData, z_svec, scale: float, keep=None) -> _Candidate | None:
@@ -165,6 +166,41 @@ def _candidate(data: DualData, z_svec, scale: float, keep=None) -> _Candidate | 
         return None
     _, high = pairing_bounds(data, point)
     return _Candidate(round_down(data.q0 - high), check_cone(data, point, keep), point, keep)
+
+
+class _Race:
+    """The first shifted solve on the support not chosen, on its own thread (see :func:`_bound`)."""
+
+    def __init__(self, job: _BoundJob, data: DualData, other: _Candidate, scale: float):
+        self.other, self.scale, self.data = other, scale, data
+        deficit = -other.cone.worst / scale if math.isfinite(other.cone.worst) else 1e-6
+        self.eps = max(SHIFT_START * deficit, MIN_SHIFT)
+        self.result, self.seconds = None, 0.0
+        failing = other.cone.failing(data.blocks)
+
+        def run():
+            t0 = time.perf_counter()
+            self.result = _solve_shifted(job.problem, data, failing, self.eps, other.keep, job.max_iter)
+            self.seconds = time.perf_counter() - t0
+
+        self.thread = threading.Thread(target=run, daemon=True, name="lmidsl-shifted-solve")
+        self.thread.start()
+
+    def finish(self, out: DualBound) -> list | None:
+        """[the other support's candidate, its shifted candidate] once the solve is done, or None
+        when the shifted problem did not solve or its correction failed."""
+        self.thread.join()
+        out.extra_solves += 1
+        out.times["shifted_solve_other_support"] = self.seconds
+        if self.result is None:
+            return None
+        b = _candidate(self.data, self.result, self.scale, self.other.keep)
+        out.attempts.append({"epsilon": self.eps, "worst": None if b is None else b.cone.worst,
+                             "face": None if self.other.keep is None else int(self.other.keep.sum())})
+        if b is None:
+            return None
+        b.epsilon = self.eps
+        return [self.other, b]
 
 
 def _vsdp(data: DualData, a: _Candidate, primal_bounds) -> float | None:
@@ -370,19 +406,58 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
         eps = max(SHIFT_START * deficit, MIN_SHIFT * max(1.0, float(np.abs(z).max())))
         face = data.support(data.from_svec(z, scale))
         pool, eaten = [a], 0
+        # the other support's first shift is solved at the same time (a thread: Clarabel releases
+        # the GIL): which support proves is not known in advance (li_delay_dropout.thm2: the face,
+        # after a full-support shift that does not move λ_min and one that is unbounded; the BRL
+        # stress set: mostly the full support)
+        race = _Race(job, data, other, scale) if other is not None else None
+        raced = False
+
+        def switch(to):
+            """The other support: its candidate alone, or the race's pair (resumed past its shift)."""
+            nonlocal a, pool, eps, failing, eaten
+            if isinstance(to, list):
+                a, pool, eps = to[0], to, to[-1].epsilon * SHIFT_GROWTH
+            else:
+                a, pool = to, [to]
+                eps = max(SHIFT_START * -a.cone.worst / scale, MIN_SHIFT) if math.isfinite(a.cone.worst) else eps
+            failing, eaten = a.cone.failing(data.blocks), 0
+
         for attempt in range(tries):
             t1 = time.perf_counter()
             shifted = _solve_shifted(job.problem, data, failing, eps, a.keep, job.max_iter)
             out.times[f"shifted_solve_{attempt}"] = time.perf_counter() - t1
             out.extra_solves += 1
+            b = None
+            if shifted is not None:
+                t1 = time.perf_counter()
+                b = _candidate(data, shifted, scale, a.keep)
+                record(b, eps)
+                out.times[f"verify_shifted_{attempt}"] = time.perf_counter() - t1
+                if b is not None:
+                    b.epsilon = eps
+            if race is not None and (b is None or _combine(pool + [b]) is None):
+                won, race = race.finish(out), None    # this support failed its first shift
+                if won is not None and _combine(won) is not None:
+                    switch(won)
+                    other = None
+                    found = _combine(won)
+                    proved(found[1], won[1].epsilon)
+                    out.theta = found[0]
+                    if a.value - out.lower <= LOSS_TARGET * max(abs(a.value), 1e-300):
+                        break
+                    eps = won[1].epsilon / (SHIFT_GROWTH * 2)   # proved: a smaller shift may lose less
+                    continue
+                # a switch to the other support resumes past its shift; none when it did not solve
+                other, raced = won, True
             if shifted is None:
                 # unbounded: a primal direction grows a block at no cost, every dual is singular
                 # there; shift on the face of the solver's dual instead
-                if a.keep is None and not face.all():
-                    on_face = other if other is not None else _candidate(data, z, scale, face)
+                if a.keep is None and not face.all() and (other is not None or not raced):
+                    to = other if other is not None else _candidate(data, z, scale, face)
                     other = None
-                    if on_face is not None:
-                        a, failing, pool = on_face, on_face.cone.failing(data.blocks), [on_face]
+                    if to is not None:
+                        switch(to)
                         if a.cone.worst >= 0:
                             proved(a.value, 0.0)
                             break
@@ -393,10 +468,6 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
                     continue
                 out.why = f"the shifted problem (ε = {eps:.2g}) did not solve; " + out.why.split("; ")[-1]
                 break
-            t1 = time.perf_counter()
-            b = _candidate(data, shifted, scale, a.keep)
-            record(b, eps)
-            out.times[f"verify_shifted_{attempt}"] = time.perf_counter() - t1
             if b is None:
                 break
             pool.append(b)
@@ -414,11 +485,12 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
             if other is not None and eaten >= 2:
                 # twice the correction ate the shift (λ_min ≈ −ε/2, growing with ε): this support
                 # drops entries the shifted duals need, or keeps ones they cannot have; the other
-                a, other, pool, eaten = other, None, [other], 0
-                failing = a.cone.failing(data.blocks)
-                eps = max(SHIFT_START * -a.cone.worst / scale, MIN_SHIFT) if math.isfinite(a.cone.worst) else eps
+                switch(other)
+                other = None
                 continue
             eps *= SHIFT_GROWTH
+        if race is not None:
+            race.thread.join()                # (not needed: proved on the first shift)
     if out.proved:
         out.lower_performance = performance_lower(job.theorem, job.params, out.lower)
     out.times["total"] = time.perf_counter() - t0
