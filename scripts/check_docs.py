@@ -6,7 +6,8 @@ Checks (and with ``--write`` rewrites) three things, and fails on any drift:
 
 1. **Generated tables** between ``<!-- generated: reproduce PAPER [PAPER ...] -->`` and
    ``<!-- end generated -->``: the rows of ``lmidsl reproduce --json`` whose theorem belongs to
-   one of the PAPERs (``li_delay_dropout``, ...), one line each.
+   one of the PAPERs (``li_delay_dropout``, ...), one line each; ``<!-- generated: bounds -->``:
+   every row's bracket (the proved lower end and the optimum's level, 8 digits rounded outwards).
 2. **Quoted numbers**: a number followed by ``<!-- = SOURCE -->`` is recomputed from SOURCE and
    written with as many significant digits as the docs show.  SOURCE is
    ``reproduce THEOREM EXAMPLE FIELD`` (a field of that row of ``lmidsl reproduce --json``, or
@@ -30,6 +31,7 @@ from __future__ import annotations
 import argparse
 import glob
 import json
+import math
 import re
 import subprocess
 import sys
@@ -101,11 +103,56 @@ def reproduce_table(sources: Sources, papers: list[str]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def directed(x: float, digits: int, down: bool) -> str:
+    """x with ``digits`` significant digits, rounded down (a lower end) or up (an upper end), so
+    that the printed bracket still contains the proved one."""
+    if x == 0:
+        return "0"
+    step = 10.0 ** (_exponent(x) - digits + 1)
+    k = math.floor(x / step) if down else math.ceil(x / step)
+    return f"{k * step:.{digits}g}"
+
+
+def bound_reason(why: str) -> str:
+    """The reason a lower end is missing, without its numbers (they vary in the last digits)."""
+    for key, words in (("did not solve", "the shifted problem did not solve"),
+                       ("not proved PSD", "a dual block not proved PSD"),
+                       ("left no dual", "no dual: the optimum came from another route"),
+                       ("non-decreasing", "the performance is not monotone in the objective"),
+                       ("not computed", "not computed")):
+        if key in why:
+            return words
+    return re.sub(r"[-−]?\d[\d.e+−-]*", "…", why.split(";")[0])
+
+
+def bounds_table(sources: Sources) -> str:
+    """Every reproduce row's bracket: the proved lower end, the optimum's level, both proofs."""
+    lines = ["| theorem | example | verdict | lower end | upper end | gap | lower proved | upper proved |",
+             "|---|---|---|---|---|---|---|---|"]
+    for r in sources.rows:
+        b = r.get("bounds")
+        word = (r.get("verdict") or {}).get("word", r.get("outcome", ""))
+        if b is None:
+            if word == "infeasible":
+                lines.append(f"| `{r['theorem']}` | {r['example']} | {word} | — | — | — | infeasibility proved | — |")
+            continue
+        lower, upper = b.get("lower"), b.get("upper")
+        gap = "—" if lower is None or upper is None else f"{max(upper - lower, 0.0) / abs(upper):.1e}"
+        lo = "—" if lower is None else directed(lower, 8, True)
+        hi = "—" if upper is None else directed(upper, 8, False)
+        proved_lower = "yes" if b.get("lower_proved") else f"no ({bound_reason(b.get('why', ''))})"
+        lines.append(f"| `{r['theorem']}` | {r['example']} | {word} | {lo} | {hi} | {gap} | {proved_lower} | "
+                     f"{'yes' if b.get('upper_proved') else 'no'} |")
+    return "\n".join(lines) + "\n"
+
+
 def block(sources: Sources, spec: str) -> str:
     kind, *args = spec.split()
     if kind == "reproduce" and args:
         return reproduce_table(sources, args)
-    raise BadInput(f"unknown generated block {spec!r} (reproduce PAPER [PAPER ...])")
+    if kind == "bounds" and not args:
+        return bounds_table(sources)
+    raise BadInput(f"unknown generated block {spec!r} (reproduce PAPER [PAPER ...] | bounds)")
 
 
 # -- quoted numbers ---------------------------------------------------------------------------

@@ -251,3 +251,55 @@ def test_paper_examples_bracket(theorem, example):
     assert bound.proved, bound.why
     assert bound.lower <= sol.objective
     assert (sol.gamma - bound.lower_performance) / sol.gamma <= 1e-4, (bound.lower_performance, sol.gamma)
+
+
+def test_background_bound_is_the_synchronous_bound():
+    """PendingBound (the worker thread solve() uses) gives the bound lower_bound gives on the same
+    solved model, while the main thread goes on proving LMIs in ball arithmetic (the shared
+    precision is under one lock: a proof needs its 212 bits, the bound sets 128)."""
+    import threading
+    from lmidsl.numeric.proof import PRECISION, ball_precision
+    from lmidsl.solver.dual_bound import PendingBound
+    from flint import ctx
+    model, sol = solved_model("li_delay_dropout.thm2", "paper")
+    expected = lower_bound(model, sol)
+    seen = []
+    stop = threading.Event()
+
+    def prove_meanwhile():
+        while not stop.is_set():
+            with ball_precision(PRECISION):
+                seen.append(ctx.prec)
+
+    prover = threading.Thread(target=prove_meanwhile)
+    prover.start()
+    try:
+        pending = PendingBound(model, sol).result()
+    finally:
+        stop.set()
+        prover.join()
+    assert seen and set(seen) == {PRECISION}
+    assert pending.proved and expected.proved
+    assert pending.lower == expected.lower and pending.extra_solves == expected.extra_solves
+
+
+def test_loose_bound_tries_the_other_model():
+    """zhang_quantized_loss.thm2 paper-N3: the plan keeps the conditioned model, whose proved
+    bound is 1.1 % below the optimum's level; the model solved as written holds a dual whose bound
+    is within 1e-4, and solve() reports it (the same feasible set and objective)."""
+    sol = lmidsl.solve("zhang_quantized_loss.thm2", "paper-N3")
+    b = sol.bounds
+    assert b.proved, b.why
+    optimum = sol.verdict.levels.get("optimum", sol.gamma)
+    assert b.lower_performance <= optimum
+    assert (optimum - b.lower_performance) / optimum <= 1e-4, (b.lower_performance, optimum, b.route)
+
+
+def test_design_below_the_synthesis_optimum_is_not_called_optimal():
+    """The same example: Theorem 1 certifies the recovered filter at a level below the proved lower
+    end of Theorem 2's optimum (the analysis is less conservative than the synthesis); the word is
+    'certified', not 'optimal' — the bracket bounds the synthesis SDP, not the best filter."""
+    sol = lmidsl.solve("zhang_quantized_loss.thm2", "paper-N3")
+    v = sol.verdict
+    assert v.gamma < sol.bounds.lower_performance, (v.gamma, sol.bounds.lower_performance)
+    assert v.certified and v.word == "certified", (v.word, v.why)

@@ -92,15 +92,16 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str |
     """
     plan = plan or Plan(backend, solver, options, margin)
     applied = apply_scaling(instance, scaling)
-    solution, model = plan.solve(applied.scaled)
+    solved = []
+    solution, model = plan.solve(applied.scaled, solved=solved)
     solution.scaling = applied
     solution.certify = certify
     if not (bounds and certify and solution.ok and instance.theorem.objective is not None):
         return _recover_and_certify(model, applied, solution, backoff, bounds,
                                     dict(plan=plan, certify=certify, diagnose=diagnose))
-    # the bound reads the model's dual now (a back-off or level solve replaces it) and runs on a
-    # worker thread while the design is recovered and certified
-    pending = PendingBound(model, solution)
+    # the bound reads the models' duals now (a back-off or level solve replaces them) and runs on
+    # a worker thread while the design is recovered and certified
+    pending = PendingBound(model, solution, [m for m in solved if m is not model], solution.gamma)
     final = _recover_and_certify(model, applied, solution, backoff, bounds,
                                  dict(plan=plan, certify=certify, diagnose=diagnose))
     t0 = time.perf_counter()

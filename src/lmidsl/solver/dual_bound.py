@@ -51,6 +51,7 @@ from flint import arb
 from ..numeric.proof import ball_precision
 from .backends.direct_backend import SolverCrash, clarabel_solve
 
+from .verdict import OPTIMAL_GAP, relative_gap
 from .dual_point import U, DualData, check_cone, dual_data, corrected_point, last_dual, pairing_bounds, round_down
 
 #: shifted re-solves tried: ε = SHIFT_START × the deficit of the solver's dual (in the units of
@@ -84,12 +85,14 @@ class DualBound:
     correction: float | None = None       # ‖z − z̃‖∞
     attempts: list = field(default_factory=list)   # (ε, worst λ_min) per try
     times: dict = field(default_factory=dict)
+    route: str = ""                       # the model whose dual gave it, when not the kept one
 
     def as_dict(self) -> dict:
         return {"lower": self.lower, "lower_performance": self.lower_performance, "proved": self.proved,
                 "why": self.why, "epsilon": self.epsilon, "theta": self.theta, "extra_solves": self.extra_solves,
                 "min_eigenvalue": self.min_eigenvalue, "residual": self.residual,
-                "correction": self.correction, "attempts": self.attempts, "times": self.times}
+                "correction": self.correction, "attempts": self.attempts, "times": self.times,
+                "route": self.route}
 
 
 def performance_lower(theorem, params: dict, lower: float) -> float | None:
@@ -331,24 +334,42 @@ def lower_bound(model, solution=None, tries: int = SHIFT_TRIES, primal_bounds=No
 
 
 class PendingBound:
-    """:func:`lower_bound` running on a worker thread from the end of the main solve, while the
-    pipeline recovers and certifies the design (the shifted re-solves are Clarabel calls, which
-    release the GIL; ball arithmetic takes :func:`~lmidsl.numeric.proof.ball_precision`'s lock).
-    ``result()`` waits for it; an exception in the worker is raised there."""
+    """The proved lower bound of a solve, computed on a worker thread from the end of the main
+    solve while the pipeline recovers and certifies the design (the shifted re-solves are Clarabel
+    calls, which release the GIL; ball arithmetic takes
+    :func:`~lmidsl.numeric.proof.ball_precision`'s lock).  ``result()`` waits for it; an
+    exception in the worker is raised there.
 
-    def __init__(self, model, solution, tries: int = SHIFT_TRIES):
-        job = _prepare(model, solution)          # now: the model's dual is about to be replaced
-        self._done = job if isinstance(job, DualBound) else None
+    ``others``: the other models solved on the way (as written or conditioned: the same feasible
+    set and objective in the theorem's variables, :meth:`lmidsl.solver.plan.Plan.solve`).  When the
+    kept model's bound is unproved or loose — more than
+    :data:`~lmidsl.solver.verdict.OPTIMAL_GAP` below ``level``, the optimum's level — each
+    other model's dual is tried in turn and the highest proved bound is kept: the plan's next
+    road for the bracket (zhang_quantized_loss.thm2 paper-N3: 0.148147 from the conditioned
+    model, 0.149843 from the one as written, against the level 0.149846)."""
+
+    def __init__(self, model, solution, others=(), level: float | None = None, tries: int = SHIFT_TRIES):
+        # now: a later solve on the model (back-off, level problem) replaces its dual
+        jobs = [_prepare(model, solution)] + [_prepare(m, None) for m in others]
+        self._done = None
         self._error = None
-        self._thread = None
-        if self._done is None:
-            self._thread = threading.Thread(target=self._run, args=(job, tries), daemon=True,
-                                            name="lmidsl-lower-bound")
-            self._thread.start()
+        self._thread = threading.Thread(target=self._run, args=(jobs, others, level, tries), daemon=True,
+                                        name="lmidsl-lower-bound")
+        self._thread.start()
 
-    def _run(self, job, tries):
+    def _run(self, jobs, others, level, tries):
         try:
-            self._done = _bound(job, tries, None)
+            best = None
+            for k, job in enumerate(jobs):
+                bound = job if isinstance(job, DualBound) else _bound(job, tries, None)
+                if k:
+                    bound.route = "conditioned" if others[k - 1].conditioning is not None else "as written"
+                if best is None or bound.proved and (not best.proved or bound.lower > best.lower):
+                    best = bound
+                if best.proved and best.lower_performance is not None and level is not None \
+                        and relative_gap(best.lower_performance, level) <= OPTIMAL_GAP:
+                    break
+            self._done = best
         except BaseException as exc:      # re-raised in the caller's thread by result()
             self._error = exc
 
@@ -482,6 +503,11 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
             if out.proved:
                 break                          # a smaller shift did not improve: keep the bound
             eaten += b.cone.worst <= -0.3 * eps * scale
+            if eaten >= 2 and other is None:
+                # twice the correction ate the shift on the last support: a larger ε is eaten too
+                # (zhang_quantized_loss.thm1 paper-N3-printed-shift: λ_min ≈ −3ε at every ε)
+                out.why = "the exact correction eats every shift (λ_min ≈ −ε); " + out.why.split("; ")[-1]
+                break
             if other is not None and eaten >= 2:
                 # twice the correction ate the shift (λ_min ≈ −ε/2, growing with ε): this support
                 # drops entries the shifted duals need, or keeps ones they cannot have; the other

@@ -79,10 +79,12 @@ class Plan:
         return solve_model(model, solver, **{**options, **extra})
 
     # -- the optimum --------------------------------------------------------------------------
-    def solve(self, instance, restore_margin: bool = False, model=None):
+    def solve(self, instance, restore_margin: bool = False, model=None, solved: list | None = None):
         """(solution, model) of ``instance``: steps 1–3 of the module docstring.  ``model``: a
         compiled model of the plan's backend to update to ``instance`` instead of compiling it
-        as written (a bisection re-solves one compiled model)."""
+        as written (a bisection re-solves one compiled model).  ``solved``: a list that receives
+        the models solved as written and conditioned (the one not kept still holds its dual: a
+        second proved lower bound when the kept model's is loose)."""
         model_class = get_backend(self.backend)
         if model is not None:
             model.update(instance)
@@ -92,10 +94,13 @@ class Plan:
             plain = model_class(instance, margin=self.margin)
         solution = self._solve_model(plain, self.solver, restore_margin=restore_margin)
         model = plain
+        solved = [] if solved is None else solved
+        solved.append(plain)
         proposal = equilibrate(instance)
         if not proposal.trivial:
             conditioned = model_class(instance, margin=self.margin, conditioning=proposal)
             other = self._solve_model(conditioned, self.solver, restore_margin=restore_margin)
+            solved.append(conditioned)
             kept = better(solution, other)
             before, after = proposal.spread
             kept.notes.append(f"conditioning (coefficient spread 2^{before:.0f} -> 2^{after:.0f}): as written "
