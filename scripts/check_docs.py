@@ -118,7 +118,7 @@ def bound_reason(why: str) -> str:
     for key, words in (("did not solve", "the shifted problem did not solve"),
                        ("not proved PSD", "a dual block not proved PSD"),
                        ("left no dual", "no dual: the optimum came from another route"),
-                       ("non-decreasing", "the performance is not monotone in the objective"),
+                       ("monotone", "the performance is not monotone in the objective"),
                        ("not computed", "not computed")):
         if key in why:
             return words
@@ -140,9 +140,11 @@ def bounds_table(sources: Sources) -> str:
         gap = "—" if lower is None or upper is None else f"{max(upper - lower, 0.0) / abs(upper):.1e}"
         lo = "—" if lower is None else directed(lower, 8, True)
         hi = "—" if upper is None else directed(upper, 8, False)
-        proved_lower = "yes" if b.get("lower_proved") else f"no ({bound_reason(b.get('why', ''))})"
-        lines.append(f"| `{r['theorem']}` | {r['example']} | {word} | {lo} | {hi} | {gap} | {proved_lower} | "
-                     f"{'yes' if b.get('upper_proved') else 'no'} |")
+        dual = "upper" if b.get("maximised") else "lower"
+        proof = {end: "yes" if b.get(f"{end}_proved") else
+                 (f"no ({bound_reason(b.get('why', ''))})" if end == dual else "no") for end in ("lower", "upper")}
+        lines.append(f"| `{r['theorem']}` | {r['example']} | {word} | {lo} | {hi} | {gap} | {proof['lower']} | "
+                     f"{proof['upper']} |")
     return "\n".join(lines) + "\n"
 
 

@@ -156,6 +156,11 @@ def test_performance_mapping_is_monotone_and_rounded_down():
     assert performance_lower(brl, {}, -1e-9) == 0.0
     sf = get_theorem("textbook.hinf_sf_ct")
     assert performance_lower(sf, {}, 1.5) == 1.5
+    # min −ν with performance ν: objective ≥ −2 proves ν ≤ 2 (an upper bound, rounded up)
+    from lmidsl.solver.dual_bound import performance_bound
+    value, side = performance_bound(get_theorem("textbook.kyp_pr_ct"), {}, -2.0)
+    assert side == "upper" and 2.0 <= value < 2.0 + 1e-14
+    assert performance_lower(get_theorem("textbook.kyp_pr_ct"), {}, -2.0) is None
 
 
 def test_feasibility_problem_has_no_bound():
@@ -303,3 +308,46 @@ def test_design_below_the_synthesis_optimum_is_not_called_optimal():
     v = sol.verdict
     assert v.gamma < sol.bounds.lower_performance, (v.gamma, sol.bounds.lower_performance)
     assert v.certified and v.word == "certified", (v.word, v.why)
+
+
+def _passivity_index(d, discrete):
+    """½ min over the frequency axis of λ_min(G + Gᴴ) (the input-feedforward passivity index of a
+    stable system): a 20,001-point grid, refined at its minimum by a bounded scalar search."""
+    from scipy.optimize import minimize_scalar
+    A, B, C, D = (np.array(d[k], dtype=float) for k in "ABCD")
+    n = A.shape[0]
+
+    def half_min_eig(w):
+        s = np.exp(1j * w) if discrete else 1j * w
+        G = C @ np.linalg.solve(s * np.eye(n) - A, B) + D
+        return 0.5 * float(np.linalg.eigvalsh(G + G.conj().T)[0])
+
+    grid = np.linspace(0.0, np.pi, 20001) if discrete else np.concatenate([[0.0], np.logspace(-4, 4, 20001)])
+    values = np.array([half_min_eig(w) for w in grid])
+    k = int(np.argmin(values))
+    found = minimize_scalar(half_min_eig, bounds=(grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]),
+                            method="bounded", options={"xatol": 1e-14})
+    best = min(float(values.min()), float(found.fun))
+    if not discrete:
+        best = min(best, 0.5 * float(np.linalg.eigvalsh(D + D.T)[0]))      # ω → ∞
+    return best
+
+
+@pytest.mark.parametrize("time", TIMES)
+def test_maximised_performance_bracket_contains_the_frequency_domain_index(time):
+    """textbook.kyp_pr (max ν written min −ν): the dual bound is the *upper* end of ν's bracket,
+    the proved point the lower end; the passivity index computed on the frequency axis lies in
+    [lower, upper] (within the grid's accuracy), on the gallery example and on 4 more systems
+    (passive and not: D shifted by 3, 1, 0, −1)."""
+    from lmidsl.theorems.textbook.kyp import passive_example
+    tid = f"textbook.kyp_pr_{'ct' if time == 'continuous' else 'dt'}"
+    cases = [passive_example(31, time, shift=3.0)] + [passive_example(40 + k, time, shift=s)
+                                                       for k, s in enumerate((3.0, 1.0, 0.0, -1.0))]
+    for d in cases:
+        sol = lmidsl.solve(tid, data=d)
+        box = sol.verdict.bracket
+        index = _passivity_index(d, time == "discrete")
+        assert box["maximised"] and box["lower_proved"] and box["upper_proved"], box
+        assert box["lower"] <= index + 1e-9 * max(1.0, abs(index)), (box, index)
+        assert index <= box["upper"] + 1e-9 * max(1.0, abs(index)), (box, index)
+        assert (box["upper"] - box["lower"]) / max(1.0, abs(index)) <= 1e-4, box

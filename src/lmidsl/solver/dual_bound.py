@@ -52,7 +52,7 @@ from ..numeric.proof import ball_precision
 from .backends.direct_backend import SolverCrash, clarabel_solve
 
 from .verdict import OPTIMAL_GAP, relative_gap
-from .dual_point import U, DualData, check_cone, dual_data, corrected_point, last_dual, pairing_bounds, round_down
+from .dual_point import U, DualData, check_cone, dual_data, corrected_point, last_dual, pairing_bounds, round_down, round_up
 
 #: shifted re-solves tried: ε = SHIFT_START × the deficit of the solver's dual (in the units of
 #: the solver's objective), then × SHIFT_GROWTH while the shifted dual is not proved PSD (÷ 30 when
@@ -76,7 +76,10 @@ class DualBound:
     """A lower bound on the objective, proved or not (``why``)."""
 
     lower: float | None = None            # proved lower bound on the objective (e.g. γ²)
-    lower_performance: float | None = None  # the headline performance at ``lower`` (e.g. γ)
+    lower_performance: float | None = None  # the performance at ``lower`` (e.g. γ): a proved lower
+                                            # bound on the best performance (an increasing map)
+    upper_performance: float | None = None  # ... a proved upper bound on it when the performance
+                                            # decreases with the objective (a maximisation: min −ν)
     proved: bool = False
     why: str = ""
     epsilon: float = 0.0                  # the dual shift that gave the bound (0: the solver's dual)
@@ -90,38 +93,72 @@ class DualBound:
     route: str = ""                       # the model whose dual gave it, when not the kept one
 
     def as_dict(self) -> dict:
-        return {"lower": self.lower, "lower_performance": self.lower_performance, "proved": self.proved,
+        return {"lower": self.lower, "lower_performance": self.lower_performance,
+                "upper_performance": self.upper_performance, "proved": self.proved,
                 "why": self.why, "epsilon": self.epsilon, "theta": self.theta, "extra_solves": self.extra_solves,
                 "min_eigenvalue": self.min_eigenvalue, "residual": self.residual,
                 "correction": self.correction, "attempts": self.attempts, "times": self.times,
                 "route": self.route}
 
+    def gap_to(self, level: float | None) -> float | None:
+        """How far the optimum's ``level`` is from the proved performance bound, relatively (≥ 0
+        when consistent; negative: the level is beyond the bound); None without a proved bound."""
+        if level is None or not self.proved:
+            return None
+        if self.lower_performance is not None:
+            return relative_gap(self.lower_performance, level)
+        if self.upper_performance is not None:
+            return -relative_gap(self.upper_performance, level)
+        return None
 
-def performance_lower(theorem, params: dict, lower: float) -> float | None:
-    """The headline performance at objective value ``lower``, rounded down, when the theorem's
-    performance is a non-decreasing function of its objective (√g, g, c·g with c ≥ 0); else None."""
+
+def performance_bound(theorem, params: dict, lower: float) -> tuple[float, str] | None:
+    """The headline performance at objective value ``lower`` and which side of the best
+    performance it bounds: ("lower", value rounded down) when the performance is a non-decreasing
+    function of the objective (√g, g, c·g with c ≥ 0), ("upper", value rounded up) when it is
+    non-increasing (a maximisation written min −ν with performance ν); None when neither is
+    shown.  A performance that is a variable of the objective is solved for (ν = −level)."""
     if theorem.performance is None or theorem.objective is None:
         return None
     perf, obj = theorem.performance[1], theorem.objective
     with ball_precision(128):
         if perf == obj:
-            return lower
+            return lower, "lower"
         if perf == sp.sqrt(obj):
-            return round_down(float(arb(lower).sqrt().lower())) if lower > 0 else 0.0
+            return (round_down(float(arb(lower).sqrt().lower())) if lower > 0 else 0.0), "lower"
         level = sp.Symbol("level_", real=True)
         expr = perf.xreplace({obj: level})
+        unknown = [s for s in expr.free_symbols - {level} if s.name not in params]
+        if len(unknown) == 1 and unknown[0] in obj.free_symbols:
+            solved = sp.solve(sp.Eq(obj, level), unknown[0])
+            if len(solved) != 1:
+                return None
+            expr = expr.xreplace({unknown[0]: solved[0]})
         free = expr.free_symbols - {level}
         values = {s: params[s.name] for s in free if s.name in params}
         if set(values) != free:
             return None
         expr = expr.xreplace(values)
         derivative = sp.diff(expr, level)
-        if not (derivative.is_nonnegative or sp.simplify(derivative).is_nonnegative):
+        if derivative.is_nonnegative or sp.simplify(derivative).is_nonnegative:
+            side = "lower"
+        elif derivative.is_nonpositive or sp.simplify(derivative).is_nonpositive:
+            side = "upper"
+        else:
             return None
-        value = complex(sp.N(expr.xreplace({level: max(lower, 0.0)}), 30))
+        value = complex(sp.N(expr.xreplace({level: max(lower, 0.0) if side == "lower" else lower}), 30))
         if value.imag != 0 or not math.isfinite(value.real):
             return None
-        return round_down(value.real * (1 - 1e-15) if value.real > 0 else value.real * (1 + 1e-15), 4)
+        v = value.real
+        if side == "lower":
+            return round_down(v * (1 - 1e-15) if v > 0 else v * (1 + 1e-15), 4), side
+        return round_up(v * (1 + 1e-15) if v > 0 else v * (1 - 1e-15), 4), side
+
+
+def performance_lower(theorem, params: dict, lower: float) -> float | None:
+    """The proved lower bound on the performance at objective ``lower`` (an increasing map), or None."""
+    found = performance_bound(theorem, params, lower)
+    return found[0] if found is not None and found[1] == "lower" else None
 
 
 class _ShiftedProblem:
@@ -368,8 +405,8 @@ class PendingBound:
                     bound.route = "conditioned" if others[k - 1].conditioning is not None else "as written"
                 if best is None or bound.proved and (not best.proved or bound.lower > best.lower):
                     best = bound
-                if best.proved and best.lower_performance is not None and level is not None \
-                        and relative_gap(best.lower_performance, level) <= OPTIMAL_GAP:
+                gap = best.gap_to(level)
+                if gap is not None and gap <= OPTIMAL_GAP:
                     break
             self._done = best
         except BaseException as exc:      # re-raised in the caller's thread by result()
@@ -527,9 +564,11 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
         if race is not None:
             race.thread.join()                # (not needed: proved on the first shift)
     if out.proved:
-        out.lower_performance = performance_lower(job.theorem, job.params, out.lower)
+        found = performance_bound(job.theorem, job.params, out.lower)
+        if found is not None:
+            setattr(out, f"{found[1]}_performance", found[0])
     out.times["total"] = time.perf_counter() - t0
     return out
 
 
-__all__ = ["DualBound", "lower_bound", "PendingBound", "performance_lower"]
+__all__ = ["DualBound", "lower_bound", "PendingBound", "performance_bound", "performance_lower"]

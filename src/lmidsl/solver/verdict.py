@@ -97,7 +97,8 @@ class Verdict:
         hi = "?" if b["upper"] is None else f"{b['upper']:.10g}"
         proved = [w for w, p in (("lower", b["lower_proved"]), ("upper", b["upper_proved"])) if p]
         state = "proved" if len(proved) == 2 else (f"{proved[0]} end proved" if proved else "not proved")
-        why = f" (lower bound: {b['why']})" if b["why"] and not b["lower_proved"] else ""
+        dual = "upper" if b.get("maximised") else "lower"
+        why = f" ({dual} bound: {b['why']})" if b["why"] and not b[f"{dual}_proved"] else ""
         return f"LMI optimum ({self.quantity or 'objective'}) in [{lo}, {hi}], {state}{why}"
 
 
@@ -160,19 +161,25 @@ def decide(solution) -> Verdict:
         what = "every LMI proved at the returned point; the design has no analysis counterpart"
     else:
         what = "every LMI proved at the returned point"
-    if box is not None and box["lower_proved"] and headline is not None and box["lower"] is not None:
-        gap = relative_gap(box["lower"], headline)
+    maximised = bool(box and box["maximised"])
+    dual_end = None if box is None else box["upper" if maximised else "lower"]
+    if box is not None and box["upper_proved" if maximised else "lower_proved"] and headline is not None \
+            and dual_end is not None:
+        # how far the headline is from the proved dual end, towards the worse side
+        gap = -relative_gap(dual_end, headline) if maximised else relative_gap(dual_end, headline)
         where = f"the optimum is in [{box['lower']:.10g}, {box['upper']:.10g}]"
         if gap < -OPTIMAL_GAP:
-            # the analysis theorem certifies the design below the synthesis LMIs' proved optimum
+            # the analysis theorem certifies the design beyond the synthesis LMIs' proved optimum
             # (zhang_quantized_loss.thm2 paper-N3: 0.0695 against [0.14984, 0.14985]): true, and
             # not "optimal" — the bracket bounds the synthesis SDP, not the best design
-            return verdict(True, CERTIFIED, f"{what}, below the synthesis LMIs' own optimum ({where}, "
+            side = "above" if maximised else "below"
+            return verdict(True, CERTIFIED, f"{what}, {side} the synthesis LMIs' own optimum ({where}, "
                                             "proved): the analysis is less conservative than the synthesis")
         if gap <= OPTIMAL_GAP:
             return verdict(True, OPTIMAL_WORD, f"{what}; optimal within {max(gap, 0.0):.1e}: {where}, proved")
-        cost = f"; the back-off costs {gap:.1e} against the proved lower bound" if "backoff" in levels else ""
-        return verdict(True, CERTIFIED_BOUND, f"{what}; {where} (proved), {gap:.1e} above its lower end{cost}")
+        cost = f"; the back-off costs {gap:.1e} against the proved dual bound" if "backoff" in levels else ""
+        end = "below its upper end" if maximised else "above its lower end"
+        return verdict(True, CERTIFIED_BOUND, f"{what}; {where} (proved), {gap:.1e} {end}{cost}")
     bound_reason = loose_reason(solution)
     if bound_reason:
         return verdict(True, CERTIFIED_BOUND, f"{what}; a bound, not known to be the optimum: {bound_reason}")
@@ -214,21 +221,29 @@ def headline_level(solution):
 
 
 def bracket(solution) -> dict | None:
-    """The optimum's bracket: the proved lower bound (:mod:`lmidsl.solver.dual_bound`, mapped to the
-    headline quantity) and the optimum's level, proved when every LMI is proved at the optimum's
-    point (the back-off point's record keeps the optimum's proofs); None for a feasibility problem."""
+    """The optimum's bracket [lower, upper] in the headline quantity: one end is the optimum's
+    level, proved when every LMI is proved at the optimum's point (the back-off point's record keeps
+    the optimum's proofs); the other is the proved dual bound (:mod:`lmidsl.solver.dual_bound`) —
+    the lower end for a minimised performance, the upper end for a maximised one (``maximised``:
+    a performance that decreases with the objective, min −ν).  None for a feasibility problem."""
     theorem = solution.instance.theorem if solution.instance is not None else None
     if theorem is None or theorem.objective is None or not solution.ok:
         return None
-    upper = optimum_level(solution)
+    level = optimum_level(solution)
     lmis = ([r.get("proof") for r in solution.backoff.get("optimum_lmis") or []] if backed_off(solution)
             else [r.proof for r in solution.lmis])
+    point_proved = bool(lmis) and all(p == "proved" for p in lmis)
     b = solution.bounds
-    proved = bool(b is not None and b.proved and b.lower_performance is not None)
+    maximised = bool(b is not None and b.proved and b.upper_performance is not None)
+    dual = None if b is None or not b.proved else (b.upper_performance if maximised else b.lower_performance)
+    proved = dual is not None
     why = "not computed (--no-bounds, or not the direct backend)" if b is None else (
-        b.why or ("the performance is not a non-decreasing function of the objective" if not proved else ""))
-    return {"lower": b.lower_performance if proved else None, "upper": upper, "lower_proved": proved,
-            "upper_proved": bool(lmis) and all(p == "proved" for p in lmis), "why": why}
+        b.why or ("the performance is not a monotone function of the objective" if not proved else ""))
+    if maximised:
+        return {"lower": level, "upper": dual, "lower_proved": point_proved, "upper_proved": proved,
+                "why": why, "maximised": True}
+    return {"lower": dual, "upper": level, "lower_proved": proved, "upper_proved": point_proved,
+            "why": why, "maximised": False}
 
 
 def not_proved(solution) -> list[str]:
