@@ -67,8 +67,6 @@ FACE_TOLERANCE = 10.0
 #: value by more than this (relative)
 LOSS_TARGET = 1e-5
 MIN_SHIFT = 1e-9
-#: the first shift on both supports ending with λ_min below −OVERSHOT·ε stops the search
-OVERSHOT = 1.5
 
 
 @dataclass
@@ -510,13 +508,6 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
                     continue
                 # a switch to the other support resumes past its shift; none when it did not solve
                 other, raced = won, True
-                if won is not None and b is not None and b.cone.worst <= -OVERSHOT * eps * scale \
-                        and won[1].cone.worst <= -OVERSHOT * won[1].epsilon * scale:
-                    # on both supports the correction overshoots the shift (zhang_quantized_loss.thm1
-                    # paper-N3-printed-shift: λ_min ≈ −3ε and −2.6ε; a bound that later proves,
-                    # the BRL stress set's wide-scale plant: −0.5ε and −0.96ε): larger shifts too
-                    out.why = "the exact correction eats every shift (λ_min ≈ −2ε); " + out.why.split("; ")[-1]
-                    break
             if shifted is None:
                 # unbounded: a primal direction grows a block at no cost, every dual is singular
                 # there; shift on the face of the solver's dual instead
