@@ -61,8 +61,10 @@ from .dual_point import U, DualData, check_cone, dual_data, corrected_point, las
 SHIFT_TRIES = 4
 SHIFT_START = 10.0
 SHIFT_GROWTH = 4.0
-#: the face of the solver's dual is used when its deficit is at most this many times the full one
-FACE_TOLERANCE = 10.0
+#: the face of the solver's dual is shifted first when its deficit is at most this many times the
+#: full one's (li_delay_dropout.thm2: 33×, the face proves and a full shift is unbounded;
+#: wang_l2linf.cor1: 85×, the full support proves); the other support is shifted when this one fails
+FACE_TOLERANCE = 50.0
 #: once proved, a further smaller shift is tried while the bound is below the solver's own dual
 #: value by more than this (relative)
 LOSS_TARGET = 1e-5
@@ -195,7 +197,6 @@ class _Candidate:
     cone: object
     point: object
     keep: object
-    epsilon: float = 0.0     # the shift of the dual it was corrected from (0: the solver's own)
 
 
 def _candidate(data: DualData, z_svec, scale: float, keep=None) -> _Candidate | None:
@@ -206,41 +207,6 @@ def _candidate(data: DualData, z_svec, scale: float, keep=None) -> _Candidate | 
         return None
     _, high = pairing_bounds(data, point)
     return _Candidate(round_down(data.q0 - high), check_cone(data, point, keep), point, keep)
-
-
-class _Race:
-    """The first shifted solve on the support not chosen, on its own thread (see :func:`_bound`)."""
-
-    def __init__(self, job: _BoundJob, data: DualData, other: _Candidate, scale: float):
-        self.other, self.scale, self.data = other, scale, data
-        deficit = -other.cone.worst / scale if math.isfinite(other.cone.worst) else 1e-6
-        self.eps = max(SHIFT_START * deficit, MIN_SHIFT)
-        self.result, self.seconds = None, 0.0
-        failing = other.cone.failing(data.blocks)
-
-        def run():
-            t0 = time.perf_counter()
-            self.result = _solve_shifted(job.problem, data, failing, self.eps, other.keep, job.max_iter)
-            self.seconds = time.perf_counter() - t0
-
-        self.thread = threading.Thread(target=run, daemon=True, name="lmidsl-shifted-solve")
-        self.thread.start()
-
-    def finish(self, out: DualBound) -> list | None:
-        """[the other support's candidate, its shifted candidate] once the solve is done, or None
-        when the shifted problem did not solve or its correction failed."""
-        self.thread.join()
-        out.extra_solves += 1
-        out.times["shifted_solve_other_support"] = self.seconds
-        if self.result is None:
-            return None
-        b = _candidate(self.data, self.result, self.scale, self.other.keep)
-        out.attempts.append({"epsilon": self.eps, "worst": None if b is None else b.cone.worst,
-                             "face": None if self.other.keep is None else int(self.other.keep.sum())})
-        if b is None:
-            return None
-        b.epsilon = self.eps
-        return [self.other, b]
 
 
 def _vsdp(data: DualData, a: _Candidate, primal_bounds) -> float | None:
@@ -464,21 +430,12 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
         eps = max(SHIFT_START * deficit, MIN_SHIFT * max(1.0, float(np.abs(z).max())))
         face = data.support(data.from_svec(z, scale))
         pool, eaten = [a], 0
-        # the other support's first shift is solved at the same time (a thread: Clarabel releases
-        # the GIL): which support proves is not known in advance (li_delay_dropout.thm2: the face,
-        # after a full-support shift that does not move λ_min and one that is unbounded; the BRL
-        # stress set: mostly the full support)
-        race = _Race(job, data, other, scale) if other is not None else None
-        raced = False
 
         def switch(to):
-            """The other support: its candidate alone, or the race's pair (resumed past its shift)."""
+            """Shift on the other support from now on."""
             nonlocal a, pool, eps, failing, eaten
-            if isinstance(to, list):
-                a, pool, eps = to[0], to, to[-1].epsilon * SHIFT_GROWTH
-            else:
-                a, pool = to, [to]
-                eps = max(SHIFT_START * -a.cone.worst / scale, MIN_SHIFT) if math.isfinite(a.cone.worst) else eps
+            a, pool = to, [to]
+            eps = max(SHIFT_START * -a.cone.worst / scale, MIN_SHIFT) if math.isfinite(a.cone.worst) else eps
             failing, eaten = a.cone.failing(data.blocks), 0
 
         for attempt in range(tries):
@@ -492,26 +449,10 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
                 b = _candidate(data, shifted, scale, a.keep)
                 record(b, eps)
                 out.times[f"verify_shifted_{attempt}"] = time.perf_counter() - t1
-                if b is not None:
-                    b.epsilon = eps
-            if race is not None and (b is None or _combine(pool + [b]) is None):
-                won, race = race.finish(out), None    # this support failed its first shift
-                if won is not None and _combine(won) is not None:
-                    switch(won)
-                    other = None
-                    found = _combine(won)
-                    proved(found[1], won[1].epsilon)
-                    out.theta = found[0]
-                    if a.value - out.lower <= LOSS_TARGET * max(abs(a.value), 1e-300):
-                        break
-                    eps = won[1].epsilon / (SHIFT_GROWTH * 2)   # proved: a smaller shift may lose less
-                    continue
-                # a switch to the other support resumes past its shift; none when it did not solve
-                other, raced = won, True
             if shifted is None:
                 # unbounded: a primal direction grows a block at no cost, every dual is singular
                 # there; shift on the face of the solver's dual instead
-                if a.keep is None and not face.all() and (other is not None or not raced):
+                if a.keep is None and not face.all():
                     to = other if other is not None else _candidate(data, z, scale, face)
                     other = None
                     if to is not None:
@@ -552,8 +493,6 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
                 other = None
                 continue
             eps *= SHIFT_GROWTH
-        if race is not None:
-            race.thread.join()                # (not needed: proved on the first shift)
     if out.proved:
         found = performance_bound(job.theorem, job.params, out.lower)
         if found is not None:
