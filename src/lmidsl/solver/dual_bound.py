@@ -209,6 +209,22 @@ def _candidate(data: DualData, z_svec, scale: float, keep=None) -> _Candidate | 
     return _Candidate(round_down(data.q0 - high), check_cone(data, point, keep), point, keep)
 
 
+def _first_shift(job: _BoundJob, data: DualData, cand: _Candidate, scale: float, out: DualBound, record):
+    """The first shift on the support of ``cand``: [(cand, 0), (its shifted candidate, ε)], or None
+    when the shifted problem does not solve or its correction fails."""
+    deficit = -cand.cone.worst / scale if math.isfinite(cand.cone.worst) else 1e-6
+    eps = max(SHIFT_START * deficit, MIN_SHIFT)
+    t0 = time.perf_counter()
+    shifted = _solve_shifted(job.problem, data, cand.cone.failing(data.blocks), eps, cand.keep, job.max_iter)
+    out.extra_solves += 1
+    out.times["shifted_solve_other_support"] = time.perf_counter() - t0
+    if shifted is None:
+        return None
+    b = _candidate(data, shifted, scale, cand.keep)
+    record(b, eps)
+    return None if b is None else [(cand, 0.0), (b, eps)]
+
+
 def _vsdp(data: DualData, a: _Candidate, primal_bounds) -> float | None:
     """VSDP's bound q₀ − ⟨Z, S⁰⟩ + Σ_k d_k·min(0, λ_min(Z_k))·r̄_k with r̄_k ≥ λ_max(S_k) given."""
     penalty = 0.0
@@ -430,12 +446,17 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
         eps = max(SHIFT_START * deficit, MIN_SHIFT * max(1.0, float(np.abs(z).max())))
         face = data.support(data.from_svec(z, scale))
         pool, eaten = [a], 0
+        tried_other = other is None
 
         def switch(to):
-            """Shift on the other support from now on."""
+            """Shift on the other support from now on: its candidate alone, or with the shifted
+            candidate of its first try (resumed past that shift)."""
             nonlocal a, pool, eps, failing, eaten
-            a, pool = to, [to]
-            eps = max(SHIFT_START * -a.cone.worst / scale, MIN_SHIFT) if math.isfinite(a.cone.worst) else eps
+            if isinstance(to, list):
+                a, pool, eps = to[0][0], [c for c, _ in to], to[-1][1] * SHIFT_GROWTH
+            else:
+                a, pool = to, [to]
+                eps = max(SHIFT_START * -a.cone.worst / scale, MIN_SHIFT) if math.isfinite(a.cone.worst) else eps
             failing, eaten = a.cone.failing(data.blocks), 0
 
         for attempt in range(tries):
@@ -449,10 +470,29 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
                 b = _candidate(data, shifted, scale, a.keep)
                 record(b, eps)
                 out.times[f"verify_shifted_{attempt}"] = time.perf_counter() - t1
+            if not tried_other and (b is None or _combine(pool + [b]) is None):
+                # this support's first shift failed: the other support's first shift, before
+                # larger shifts here (which support proves is not known in advance: the BRL
+                # stress set mostly the full one, wang_l2linf.cor1 two-vertex the full one after
+                # a failed face)
+                tried_other = True
+                first = _first_shift(job, data, other, scale, out, record)
+                if first is not None and _combine([c for c, _ in first]) is not None:
+                    found = _combine([c for c, _ in first])
+                    switch(first)
+                    other = None
+                    proved(found[1], first[1][1])
+                    out.theta = found[0]
+                    if a.value - out.lower <= LOSS_TARGET * max(abs(a.value), 1e-300):
+                        break
+                    eps = first[1][1] / (SHIFT_GROWTH * 2)   # proved: a smaller shift may lose less
+                    continue
+                # a switch to the other support resumes past its shift; none when it did not solve
+                other = first
             if shifted is None:
                 # unbounded: a primal direction grows a block at no cost, every dual is singular
                 # there; shift on the face of the solver's dual instead
-                if a.keep is None and not face.all():
+                if a.keep is None and not face.all() and (other is not None or not tried_other):
                     to = other if other is not None else _candidate(data, z, scale, face)
                     other = None
                     if to is not None:
