@@ -56,3 +56,29 @@ def test_dangling_references_are_listed():
 def test_reproductions_md_is_the_assembly_of_its_parts():
     parts = {p: p.read_text() for p in (ROOT / "docs" / "reproductions").glob("*.md")}
     assert check_docs.assembled(parts) == (ROOT / "docs" / "reproductions.md").read_text()
+
+
+def test_bounds_table_rounds_outwards_and_swaps_ends_for_a_maximised_performance():
+    """The bracket table: the ends rounded outwards to 6 digits (the printed bracket still holds the
+    proved one), the dual end on the side the performance's direction puts it, infeasible rows with
+    their proof, feasibility rows left out, unproved dual ends with a reason category."""
+    assert check_docs.directed(0.3367396291, 6, True) == "0.336739"
+    assert check_docs.directed(0.3367405920, 6, False) == "0.336741"
+    assert check_docs.directed(-10.96267307, 6, False) == "-10.9626"
+    rows = {"rows": [
+        {"theorem": "a.min", "example": "e", "verdict": {"word": "optimal"},
+         "bounds": {"lower": 0.3367396291, "upper": 0.336740592, "lower_proved": True, "upper_proved": True,
+                    "why": "", "maximised": False}},
+        {"theorem": "a.max", "example": "e", "verdict": {"word": "optimal"},
+         "bounds": {"lower": 1.84410114, "upper": 1.84410122, "lower_proved": True, "upper_proved": True,
+                    "why": "", "maximised": True}},
+        {"theorem": "a.loose", "example": "e", "verdict": {"word": "certified"},
+         "bounds": {"lower": None, "upper": 1.27117, "lower_proved": False, "upper_proved": True,
+                    "why": "the shifted problem (ε = 2.9e-08) did not solve; dual of (10) ...", "maximised": False}},
+        {"theorem": "a.none", "example": "e", "verdict": {"word": "infeasible"}, "bounds": None},
+        {"theorem": "a.feas", "example": "e", "verdict": {"word": "certified"}, "bounds": None}]}
+    table = check_docs.bounds_table(check_docs.Sources(rows))
+    assert "| `a.min` | e | optimal | 0.336739 | 0.336741 | yes | yes |" in table
+    assert "| `a.max` | e | optimal | 1.8441 | 1.84411 | yes | yes |" in table
+    assert "| `a.loose` | e | certified | — | 1.27117 | no (the dual is not proved in the cone) | yes |" in table
+    assert "| `a.none` | e | infeasible |" in table and "a.feas" not in table
