@@ -386,8 +386,8 @@ class PendingBound:
                 if best is None or bound.proved and (not best.proved or bound.lower > best.lower):
                     best = bound
                 gap = best.gap_to(level)
-                if gap is not None and gap <= OPTIMAL_GAP:
-                    break
+                if best.proved and (gap is None or gap <= OPTIMAL_GAP):
+                    break                 # tight, or no level to be loose against
             self._done = best
         except BaseException as exc:      # re-raised in the caller's thread by result()
             self._error = exc
