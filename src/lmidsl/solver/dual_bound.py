@@ -523,7 +523,7 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
             eaten += b.cone.worst <= -0.3 * eps * scale
             if eaten >= 2 and other is None:
                 # twice the correction ate the shift on the last support: a larger ε is eaten too
-                # (zhang_quantized_loss.thm1 paper-N3-printed-shift: λ_min ≈ −3ε at every ε)
+                # (zhang_quantized_loss.thm1 paper-N2-printed-shift: λ_min ≈ −2ε at each ε)
                 out.why = "the exact correction eats every shift (λ_min ≈ −ε); " + out.why.split("; ")[-1]
                 break
             if other is not None and eaten >= 2:
