@@ -354,3 +354,16 @@ def test_maximised_performance_bracket_contains_the_frequency_domain_index(time)
         assert box["lower"] <= index + 1e-9 * max(1.0, abs(index)), (box, index)
         assert index <= box["upper"] + 1e-9 * max(1.0, abs(index)), (box, index)
         assert (box["upper"] - box["lower"]) / max(1.0, abs(index)) <= 1e-4, box
+
+
+@pytest.mark.parametrize("theorem, example", [("li_delay_dropout.thm2", "paper"), ("zhang_quantized_loss.thm2", "paper-N3")])
+def test_the_bound_does_not_change_the_answer(theorem, example):
+    """The worker thread reads the solved models and never writes them: with and without bounds,
+    the same headline, the same levels and the same recovered matrices, bit for bit."""
+    with_bounds = lmidsl.solve(theorem, example)
+    without = lmidsl.solve(theorem, example, bounds=False)
+    assert with_bounds.bounds is not None and without.bounds is None
+    assert with_bounds.verdict.gamma == without.verdict.gamma
+    assert with_bounds.verdict.levels == without.verdict.levels
+    for name, value in without.recovered.items():
+        assert np.array_equal(np.asarray(with_bounds.recovered[name]), np.asarray(value)), name
