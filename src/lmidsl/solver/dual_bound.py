@@ -35,7 +35,12 @@ so its bound is a bound on the original theorem's optimum; the objective is the 
 (``model.objective``, not the solver's rescaled one).
 
 The headline performance is mapped monotonically: γ = √g gives the lower γ = √max(lower, 0)
-(rounded down in ball arithmetic); a performance equal to the objective is the bound itself.
+(rounded down in ball arithmetic); a performance equal to the objective is the bound itself; a
+maximised performance (min −ν with performance ν) gets an *upper* bound, ν ≤ −lower (rounded up).
+
+**When.**  :class:`PendingBound` runs all this on a worker thread from the end of the main solve
+(the pipeline recovers and certifies meanwhile), and tries the other model the plan solved (as
+written or conditioned) when the kept model's bound is unproved or loose.
 """
 from __future__ import annotations
 
