@@ -336,6 +336,16 @@ def _passivity_index(d, discrete):
     return best
 
 
+def test_maximised_performance_is_oriented_without_a_bound():
+    """With --no-bounds the passivity index's proved point is still the *lower* end of its
+    bracket (ν* ≥ ν at a proved point), not an upper end: the direction is the theorem's."""
+    sol = lmidsl.solve("textbook.kyp_pr_ct", bounds=False)
+    box = sol.verdict.bracket
+    assert box["maximised"] and box["lower"] == sol.gamma and box["lower_proved"]
+    assert box["upper"] is None and not box["upper_proved"]
+    assert "[1.844101148, ?], lower end proved" in sol.verdict.bracket_line()
+
+
 @pytest.mark.parametrize("time", TIMES)
 def test_maximised_performance_bracket_contains_the_frequency_domain_index(time):
     """textbook.kyp_pr (max ν written min −ν): the dual bound is the *upper* end of ν's bracket,

@@ -21,6 +21,7 @@ singular matrix is semidefinite); otherwise it is numerical only.
 """
 from __future__ import annotations
 
+import math
 import threading
 from contextlib import contextmanager
 from functools import reduce
@@ -52,6 +53,21 @@ def ball_precision(bits: int):
             yield
         finally:
             ctx.prec = saved
+
+
+def round_down(x: float, steps: int = 2) -> float:
+    """x moved ``steps`` floats towards −∞ (a float result made a safe lower bound)."""
+    for _ in range(steps):
+        x = math.nextafter(x, -math.inf)
+    return x
+
+
+def round_up(x: float, steps: int = 2) -> float:
+    """x moved ``steps`` floats towards +∞ (a float result made a safe upper bound)."""
+    for _ in range(steps):
+        x = math.nextafter(x, math.inf)
+    return x
+
 
 PROVED = "proved"
 NUMERICAL = "numerical only"
@@ -204,4 +220,4 @@ def prove_block_matrix(evaluator_args: tuple, spec, strict: bool = True) -> tupl
 
 
 __all__ = ["PROVED", "NUMERICAL", "VIOLATED", "BallEvaluator", "negative_definite",
-           "prove_block_matrix", "decimal_ball", "PRECISION", "ball_precision"]
+           "prove_block_matrix", "decimal_ball", "PRECISION", "ball_precision", "round_down", "round_up"]

@@ -50,14 +50,12 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-import sympy as sp
-from flint import arb
 
-from ..numeric.proof import ball_precision
+from ..numeric.proof import round_down
 from .backends.direct_backend import SolverCrash, clarabel_solve
-
-from .verdict import OPTIMAL_GAP, relative_gap
-from .dual_point import U, DualData, check_cone, dual_data, corrected_point, last_dual, pairing_bounds, round_down, round_up
+from .performance import performance_bound, performance_lower
+from .verdict import OPTIMAL_GAP, dual_gap
+from .dual_point import U, DualData, check_cone, dual_data, corrected_point, last_dual, pairing_bounds
 
 #: shifted re-solves tried: ε = SHIFT_START × the deficit of the solver's dual (in the units of
 #: the solver's objective), then × SHIFT_GROWTH while the shifted dual is not proved PSD (÷ 30 when
@@ -111,59 +109,10 @@ class DualBound:
         if level is None or not self.proved:
             return None
         if self.lower_performance is not None:
-            return relative_gap(self.lower_performance, level)
+            return dual_gap(self.lower_performance, level, maximised=False)
         if self.upper_performance is not None:
-            return -relative_gap(self.upper_performance, level)
+            return dual_gap(self.upper_performance, level, maximised=True)
         return None
-
-
-def performance_bound(theorem, params: dict, lower: float) -> tuple[float, str] | None:
-    """The headline performance at objective value ``lower`` and which side of the best
-    performance it bounds: ("lower", value rounded down) when the performance is a non-decreasing
-    function of the objective (√g, g, c·g with c ≥ 0), ("upper", value rounded up) when it is
-    non-increasing (a maximisation written min −ν with performance ν); None when neither is
-    shown.  A performance that is a variable of the objective is solved for (ν = −level)."""
-    if theorem.performance is None or theorem.objective is None:
-        return None
-    perf, obj = theorem.performance[1], theorem.objective
-    with ball_precision(128):
-        if perf == obj:
-            return lower, "lower"
-        if perf == sp.sqrt(obj):
-            return (round_down(float(arb(lower).sqrt().lower())) if lower > 0 else 0.0), "lower"
-        level = sp.Symbol("level_", real=True)
-        expr = perf.xreplace({obj: level})
-        unknown = [s for s in expr.free_symbols - {level} if s.name not in params]
-        if len(unknown) == 1 and unknown[0] in obj.free_symbols:
-            solved = sp.solve(sp.Eq(obj, level), unknown[0])
-            if len(solved) != 1:
-                return None
-            expr = expr.xreplace({unknown[0]: solved[0]})
-        free = expr.free_symbols - {level}
-        values = {s: params[s.name] for s in free if s.name in params}
-        if set(values) != free:
-            return None
-        expr = expr.xreplace(values)
-        derivative = sp.diff(expr, level)
-        if derivative.is_nonnegative or sp.simplify(derivative).is_nonnegative:
-            side = "lower"
-        elif derivative.is_nonpositive or sp.simplify(derivative).is_nonpositive:
-            side = "upper"
-        else:
-            return None
-        value = complex(sp.N(expr.xreplace({level: max(lower, 0.0) if side == "lower" else lower}), 30))
-        if value.imag != 0 or not math.isfinite(value.real):
-            return None
-        v = value.real
-        if side == "lower":
-            return round_down(v * (1 - 1e-15) if v > 0 else v * (1 + 1e-15), 4), side
-        return round_up(v * (1 + 1e-15) if v > 0 else v * (1 - 1e-15), 4), side
-
-
-def performance_lower(theorem, params: dict, lower: float) -> float | None:
-    """The proved lower bound on the performance at objective ``lower`` (an increasing map), or None."""
-    found = performance_bound(theorem, params, lower)
-    return found[0] if found is not None and found[1] == "lower" else None
 
 
 class _ShiftedProblem:

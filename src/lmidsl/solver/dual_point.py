@@ -44,7 +44,7 @@ import numpy as np
 from scipy import sparse
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
-from ..numeric.proof import ball_precision
+from ..numeric.proof import ball_precision, round_down, round_up
 
 from .backends.direct_backend import psd_diagonal
 from .feasibility import compiled_lmis
@@ -58,18 +58,6 @@ def gamma(k: int) -> float:
     """2·γ_k, γ_k = k u / (1 − k u): twice Higham's bound for k rounded operations (the factor 2
     absorbs the rounding of the bound itself)."""
     return 2.0 * k * U / (1.0 - k * U)
-
-
-def round_down(x: float, steps: int = 2) -> float:
-    for _ in range(steps):
-        x = math.nextafter(x, -math.inf)
-    return x
-
-
-def round_up(x: float, steps: int = 2) -> float:
-    for _ in range(steps):
-        x = math.nextafter(x, math.inf)
-    return x
 
 
 def triu_index(d: int) -> np.ndarray:

@@ -26,6 +26,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..numeric.interconnection import design_kind
+from .performance import performance_side
 from .status import INFEASIBLE as STATUS_INFEASIBLE, MARGINAL, OPTIMAL, SOLVED
 
 OPTIMAL_WORD = "optimal"            # certified, and proved near the optimum (a dual bound)
@@ -165,8 +166,7 @@ def decide(solution) -> Verdict:
     dual_end = None if box is None else box["upper" if maximised else "lower"]
     if box is not None and box["upper_proved" if maximised else "lower_proved"] and headline is not None \
             and dual_end is not None:
-        # how far the headline is from the proved dual end, towards the worse side
-        gap = -relative_gap(dual_end, headline) if maximised else relative_gap(dual_end, headline)
+        gap = dual_gap(dual_end, headline, maximised)
         where = f"the optimum is in [{box['lower']:.10g}, {box['upper']:.10g}]"
         if gap < -OPTIMAL_GAP:
             # the analysis theorem certifies the design beyond the synthesis LMIs' proved optimum
@@ -190,9 +190,11 @@ OPTIMAL_GAP = 1e-4
 """A certified level within this relative gap of the proved lower bound is called optimal."""
 
 
-def relative_gap(lower: float, level: float) -> float:
-    """(level − lower) / |level|: how far a level is above a proved lower bound, relatively."""
-    return (level - lower) / max(abs(level), 1e-300)
+def dual_gap(dual_end: float, level: float, maximised: bool) -> float:
+    """How far ``level`` is from the proved dual end of the bracket, towards the worse side,
+    relative to |level|: (level − lower)/|level| for a minimised performance, (upper − level)/|level|
+    for a maximised one.  Negative: the level is beyond the dual bound."""
+    return ((dual_end - level) if maximised else (level - dual_end)) / max(abs(level), 1e-300)
 
 
 def backed_off(solution) -> bool:
@@ -234,7 +236,7 @@ def bracket(solution) -> dict | None:
             else [r.proof for r in solution.lmis])
     point_proved = bool(lmis) and all(p == "proved" for p in lmis)
     b = solution.bounds
-    maximised = bool(b is not None and b.proved and b.upper_performance is not None)
+    maximised = performance_side(theorem, solution.params or {}) == "upper"
     dual = None if b is None or not b.proved else (b.upper_performance if maximised else b.lower_performance)
     proved = dual is not None
     why = "not computed (--no-bounds, or not the direct backend)" if b is None else (
