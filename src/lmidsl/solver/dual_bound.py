@@ -163,19 +163,30 @@ def _candidate(data: DualData, z_svec, scale: float, keep=None) -> _Candidate | 
     return _Candidate(round_down(data.q0 - high), check_cone(data, point, keep), point, keep)
 
 
+def _shift_once(job: _BoundJob, data: DualData, blocks, eps: float, keep, scale: float, out: DualBound,
+                record, label) -> tuple[bool, _Candidate | None]:
+    """One shifted solve on the support ``keep`` and the exact correction of its dual: (whether
+    the shifted problem solved, the corrected candidate or None), counted and timed in ``out``."""
+    t0 = time.perf_counter()
+    shifted = _solve_shifted(job.problem, data, blocks, eps, keep, job.max_iter)
+    out.times[f"shifted_solve_{label}"] = time.perf_counter() - t0
+    out.extra_solves += 1
+    if shifted is None:
+        return False, None
+    t0 = time.perf_counter()
+    b = _candidate(data, shifted, scale, keep)
+    record(b, eps)
+    out.times[f"verify_shifted_{label}"] = time.perf_counter() - t0
+    return True, b
+
+
 def _first_shift(job: _BoundJob, data: DualData, cand: _Candidate, scale: float, out: DualBound, record):
     """The first shift on the support of ``cand``: [(cand, 0), (its shifted candidate, ε)], or None
     when the shifted problem does not solve or its correction fails."""
     deficit = -cand.cone.worst / scale if math.isfinite(cand.cone.worst) else 1e-6
     eps = max(SHIFT_START * deficit, MIN_SHIFT)
-    t0 = time.perf_counter()
-    shifted = _solve_shifted(job.problem, data, cand.cone.failing(data.blocks), eps, cand.keep, job.max_iter)
-    out.extra_solves += 1
-    out.times["shifted_solve_other_support"] = time.perf_counter() - t0
-    if shifted is None:
-        return None
-    b = _candidate(data, shifted, scale, cand.keep)
-    record(b, eps)
+    _, b = _shift_once(job, data, cand.cone.failing(data.blocks), eps, cand.keep, scale, out, record,
+                       "other_support")
     return None if b is None else [(cand, 0.0), (b, eps)]
 
 
@@ -414,16 +425,7 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
             failing, eaten = a.cone.failing(data.blocks), 0
 
         for attempt in range(tries):
-            t1 = time.perf_counter()
-            shifted = _solve_shifted(job.problem, data, failing, eps, a.keep, job.max_iter)
-            out.times[f"shifted_solve_{attempt}"] = time.perf_counter() - t1
-            out.extra_solves += 1
-            b = None
-            if shifted is not None:
-                t1 = time.perf_counter()
-                b = _candidate(data, shifted, scale, a.keep)
-                record(b, eps)
-                out.times[f"verify_shifted_{attempt}"] = time.perf_counter() - t1
+            solved, b = _shift_once(job, data, failing, eps, a.keep, scale, out, record, attempt)
             if not tried_other and (b is None or _combine(pool + [b]) is None):
                 # this support's first shift failed: the other support's first shift, before
                 # larger shifts here (which support proves is not known in advance: the BRL
@@ -443,7 +445,7 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
                     continue
                 # a switch to the other support resumes past its shift; none when it did not solve
                 other = first
-            if shifted is None:
+            if not solved:
                 # unbounded: a primal direction grows a block at no cost, every dual is singular
                 # there; shift on the face of the solver's dual instead
                 if a.keep is None and not face.all() and (other is not None or not tried_other):
