@@ -96,14 +96,13 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str |
     solution, model = plan.solve(applied.scaled, solved=solved)
     solution.scaling = applied
     solution.certify = certify
+    finish = dict(plan=plan, certify=certify, diagnose=diagnose)
     if not (bounds and certify and solution.ok and instance.theorem.objective is not None):
-        return _recover_and_certify(model, applied, solution, backoff, bounds,
-                                    dict(plan=plan, certify=certify, diagnose=diagnose))
+        return _recover_and_certify(model, applied, solution, backoff, bounds, finish)
     # the bound reads the models' duals now (a back-off or level solve replaces them) and runs on
     # a worker thread while the design is recovered and certified
     pending = PendingBound(model, solution, [m for m in solved if m is not model], solution.gamma)
-    final = _recover_and_certify(model, applied, solution, backoff, bounds,
-                                 dict(plan=plan, certify=certify, diagnose=diagnose))
+    final = _recover_and_certify(model, applied, solution, backoff, bounds, finish)
     t0 = time.perf_counter()
     solution.bounds = final.bounds = pending.result()
     final.times["lower_bound_wait"] = time.perf_counter() - t0
