@@ -160,7 +160,7 @@ def _candidate(data: DualData, z_svec, scale: float, keep=None) -> _Candidate | 
     if point is None:
         return None
     _, high = pairing_bounds(data, point)
-    return _Candidate(round_down(data.q0 - high), check_cone(data, point, keep), point, keep)
+    return _Candidate(round_down(round_down(data.q0 - data.q0_rad) - high), check_cone(data, point, keep), point, keep)
 
 
 def _shift_once(job: _BoundJob, data: DualData, blocks, eps: float, keep, scale: float, out: DualBound,
@@ -380,6 +380,12 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
         out.lower, out.proved, out.epsilon, out.why = value, True, eps, ""
 
     t1 = time.perf_counter()
+    unrelated = data.enclose()
+    out.times["enclosure"] = time.perf_counter() - t1
+    if unrelated:
+        out.why = unrelated
+        out.times["total"] = time.perf_counter() - t0
+        return out
     a = _candidate(data, z, scale)
     record(a, 0.0)
     other = None                                          # the support not chosen, tried second

@@ -47,6 +47,7 @@ from flint import arb, arb_mat, fmpq, fmpq_mat
 from ..numeric.proof import ball_precision, round_down, round_up
 
 from .backends.direct_backend import psd_diagonal
+from .enclosure import EnclosureUnavailable, ExactCoefficients, coefficient_bounds, radii, snapshot
 from .feasibility import compiled_lmis
 
 U = 2.0 ** -53                  # unit roundoff of double precision (round to nearest)
@@ -86,6 +87,7 @@ class Block:
     strict: bool = False
     label: str = ""
     offset: int = 0         # first unknown of this block in z
+    s0_rad: np.ndarray | None = None   # |S⁰ as written − s0| entrywise (DualData.enclose)
 
     @property
     def size(self) -> int:
@@ -171,6 +173,105 @@ class DualData:
         self.Mabs = sparse.csr_matrix((np.abs(vals), (r, cols)), shape=shape)
         self.q_used = self.q[self.columns]
         self.magnitude_ok = not np.any((np.abs(vals) > 0) & (np.abs(vals) < TINY))
+        self._snapshot = snapshot(model)
+        self._enclosed: str | None = None
+        self._exact: ExactCoefficients | None = None
+        self._exact_rows: dict = {}
+
+    # -- the problem as written ---------------------------------------------------------
+    def enclose(self) -> str:
+        """Relate the compiled coefficients to the data as written (:mod:`lmidsl.solver.enclosure`),
+        once: sets ``Mrad`` (|M as written − M| entrywise), ``q_rad``, ``q0_rad`` and each block's
+        ``s0_rad``.  Returns '' or why the proofs cannot be about the data as written (then they
+        are not made)."""
+        if self._enclosed is not None:
+            return self._enclosed
+        try:
+            bounds = coefficient_bounds(self._snapshot)
+        except EnclosureUnavailable as exc:
+            self._enclosed = f"the compiled coefficients cannot be related to the data as written ({exc})"
+            return self._enclosed
+        psd = [b for b in self.blocks if b.kind == "psd"]
+        if len(bounds.lmis) != len(psd):
+            self._enclosed = "the enclosure walked another list of LMIs than the compile"
+            return self._enclosed
+        position = np.full(self.model.space.size, -1)
+        position[self.columns] = np.arange(len(self.columns))
+        rows, cols, vals = [], [], []
+        for b, R in zip(psd, bounds.lmis):
+            rad, crad = radii(R)
+            if len(rad):
+                r = position[R.cols]
+                if np.any((r < 0) & (rad > 0)):
+                    self._enclosed = (f"LMI {b.label}: a variable the compile dropped may enter it as written "
+                                      "(a coefficient that cancels in floating point)")
+                    return self._enclosed
+                rows.append(r[r >= 0])
+                cols.append(triu_index(b.dim)[R.rows[r >= 0]] + b.offset)
+                vals.append(rad[r >= 0])
+            b.s0_rad = np.broadcast_to(crad, (b.dim, b.dim)).reshape(-1).copy()
+        for b in self.blocks:
+            if b.s0_rad is None:
+                b.s0_rad = np.zeros_like(b.s0)          # a non-negative variable: x ≥ 0, exact
+        shape = self.M.shape
+        if rows:
+            self.Mrad = sparse.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                                          shape=shape)
+            self.Mrad.data = self.Mrad.data * (1 + 1e-12)          # the sum of radii, rounded
+        else:
+            self.Mrad = sparse.csr_matrix(shape)
+        self.q_rad = np.zeros(len(self.columns))
+        self.q0_rad = 0.0
+        if bounds.objective is not None:
+            rad, crad = radii(bounds.objective)
+            if len(rad):
+                r = position[bounds.objective.cols]
+                np.add.at(self.q_rad, r[r >= 0], rad[r >= 0])
+                self.q_rad *= 1 + 1e-12
+            self.q0_rad = float(np.max(crad, initial=0.0)) * (1 + 1e-12)
+        self._enclosed = ""
+        return ""
+
+    def exact_coefficients(self) -> ExactCoefficients:
+        """The LMIs and objective as written in rational arithmetic (built once, when first asked)."""
+        if self._exact is None:
+            self._exact = ExactCoefficients(self._snapshot)
+        return self._exact
+
+    def exact_row(self, c: int):
+        """(row c of M as written — {unknown: fmpq}, q_c as written), or None (no rational
+        coefficients: ``exact_coefficients().why``).  S = −N: the unknown of entry (a, b), a ≤ b,
+        pairs with S_ab + S_ba (a < b) or S_aa."""
+        if c in self._exact_rows:
+            return self._exact_rows[c]
+        found = self.exact_coefficients().column(c)
+        if found is None:
+            return None
+        lmis, q = found
+        row = {}
+        psd = iter(lmis)
+        for b in self.blocks:
+            if b.kind != "psd":
+                hit = b.cols == c                     # x_c ≥ 0: coefficient 1, exactly
+                for e, v in zip(b.rows[hit], b.vals[hit]):
+                    row[b.offset + int(e)] = row.get(b.offset + int(e), fmpq(0)) + _fmpq(v)
+                continue
+            _add_pairing(row, -next(psd), b)
+        row = {u: v for u, v in row.items() if v != 0}
+        self._exact_rows[c] = (row, fmpq(0) if q is None else q)
+        return self._exact_rows[c]
+
+    def exact_constant(self) -> dict | None:
+        """S⁰ as written paired like a row ({unknown: fmpq}: ⟨Z, S⁰⟩ = Σ z_u s_u), or None."""
+        found = self.exact_coefficients().constant()
+        if found is None:
+            return None
+        out = {}
+        psd = iter(found[0])
+        for b in self.blocks:
+            if b.kind == "psd":
+                _add_pairing(out, -next(psd), b)
+        return out
 
     # -- clarabel's dual in these unknowns -----------------------------------------------
     def from_svec(self, z_svec: np.ndarray, scale: float = 1.0) -> np.ndarray:
@@ -231,6 +332,17 @@ class DualData:
 
 
 
+def _add_pairing(row: dict, S, b: Block) -> None:
+    """Add the pairing of a rational d×d matrix S with Z_b to ``row`` ({unknown: fmpq})."""
+    d = b.dim
+    for j in range(d):
+        for i in range(j + 1):
+            v = S[i, j] + S[j, i] if i != j else S[i, i]
+            if v != 0:
+                u = b.offset + j * (j + 1) // 2 + i
+                row[u] = row.get(u, fmpq(0)) + v
+
+
 def dual_data(model) -> tuple:
     """(DualData of a direct-backend ``model`` or None, why it cannot be used — '' when it can):
     the conic data both proofs (the dual bound, the infeasibility certificate) work on, refused for
@@ -276,28 +388,34 @@ def corrected_point(data: DualData, z0: np.ndarray, target: np.ndarray,
     ``keep`` (:meth:`DualData.support`): z is exactly 0 off the support, and D = M[:, keep]ᵀ.
     (A congruence direction Z̃ H Z̃, which keeps Z̃'s near-zero eigenvalues, was tried and fails:
     the residual has components that only those directions reach, so the system is near singular.)"""
-    M, Mabs = data.M, data.Mabs
+    if data.enclose():
+        return None                      # no proof about the data as written
+    M, Mabs, Mrad = data.M, data.Mabs, data.Mrad
+    t_rad = data.q_rad if target is data.q_used else np.zeros(len(target))
     if keep is not None:
         z0 = np.where(keep, z0, 0.0)
         mask = sparse.diags(keep.astype(float))
-        M, Mabs = (M @ mask).tocsr(), (Mabs @ mask).tocsr()
-    live = np.asarray((Mabs.sum(axis=1) > 0)).ravel()
-    if np.any(~live & (target != 0)):
+        M, Mabs, Mrad = (M @ mask).tocsr(), (Mabs @ mask).tocsr(), (Mrad @ mask).tocsr()
+    live = np.asarray(((Mabs + Mrad).sum(axis=1) > 0)).ravel()
+    if np.any(~live & ((target != 0) | (t_rad > 0))):
         return None                      # a variable in the objective and in no kept constraint
     rows = np.flatnonzero(live)
-    M, Mabs, t = M[live], Mabs[live], target[live]
-    independent = _independent_equations(data, M, t, rows, keep)
+    M, Mabs, Mrad, t, t_rad = M[live], Mabs[live], Mrad[live], target[live], t_rad[live]
+    independent = _independent_equations(data, M, target is data.q_used, rows, keep)
     if independent is None:            # no exact dependency: the balls decide on every equation
         independent = np.arange(M.shape[0])
-    M, Mabs, t, k = M[independent], Mabs[independent], t[independent], data.terms[rows[independent]]
+    M, Mabs, Mrad = M[independent], Mabs[independent], Mrad[independent]
+    t, t_rad, k = t[independent], t_rad[independent], data.terms[rows[independent]]
     kmax = int(k.max()) + 2 if len(k) else 2
     r = M @ z0 - t
-    r_rad = gamma(kmax + 1) * (Mabs @ np.abs(z0) + np.abs(t)) + TINY
+    # the equations as written: M' z = t' with |M' − M| ≤ Mrad, |t' − t| ≤ t_rad (the enclosure)
+    r_rad = gamma(kmax + 1) * (Mabs @ np.abs(z0) + np.abs(t)) + (Mrad @ np.abs(z0) + t_rad) * (1 + gamma(kmax + 2)) + TINY
     D = M.T.tocsr()
     Dabs = Mabs.T.tocsr()
     G = (M @ D).toarray()
     kd = int(np.diff(D.tocsc().indptr).max()) + 2 if D.nnz else 2
-    G_rad = gamma(max(kmax, kd) + 2) * (Mabs @ Dabs).toarray() + TINY
+    G_rad = (gamma(max(kmax, kd) + 2) * (Mabs @ Dabs).toarray()
+             + (Mrad @ Dabs).toarray() * (1 + gamma(max(kmax, kd) + 2)) + TINY)
     n = G.shape[0]
     if n == 0:
         return BallPoint(z0.copy(), np.zeros_like(z0), 0.0, 0.0)
@@ -323,14 +441,15 @@ def corrected_point(data: DualData, z0: np.ndarray, target: np.ndarray,
 DEPENDENT = 1e-11     # a pivot of the Gram matrix below this (relative) marks a dependent equation
 
 
-def _independent_equations(data: DualData, M, t: np.ndarray, rows: np.ndarray, keep) -> np.ndarray | None:
+def _independent_equations(data: DualData, M, target_is_q: bool, rows: np.ndarray, keep) -> np.ndarray | None:
     """Indices of equations (rows of M) to solve; the others must follow from them *exactly*.
 
     Variables that enter only in a fixed combination (X − B̂ on a face of the dual) make M Mᵀ
     singular.  A pivoted QR of M Mᵀ picks independent rows; each other row i is written as
     Σ_j c_j (row j) with c rounded to rationals, and the identity row_i = Σ c_j row_j,
-    t_i = Σ c_j t_j is checked in exact arithmetic on the compiled coefficients (then M z = t on
-    the independent rows implies it on row i).  None when a dependency is not exact."""
+    t_i = Σ c_j t_j is checked in exact arithmetic on the coefficients as written (then M z = t
+    on the independent rows implies it on row i; the target t is the objective's q or 0).  None
+    when a dependency is not exact."""
     from scipy.linalg import qr
 
     n = M.shape[0]
@@ -344,10 +463,13 @@ def _independent_equations(data: DualData, M, t: np.ndarray, rows: np.ndarray, k
         return np.arange(n)
     chosen, others = np.sort(order[:rank]), order[rank:]
     exact = _exact_rows(data, rows, keep)
+    if exact is None:
+        return None
+    t = [data.exact_row(int(data.columns[row]))[1] if target_is_q else fmpq(0) for row in rows]
     coef = np.linalg.lstsq(G[np.ix_(chosen, chosen)], G[np.ix_(chosen, others)], rcond=None)[0]
     for col, i in enumerate(others):
         combo = {}
-        rhs = _fmpq(t[i])
+        rhs = t[i]
         for j, c in zip(chosen, coef[:, col]):
             if abs(c) < 1e-9:
                 continue
@@ -355,29 +477,24 @@ def _independent_equations(data: DualData, M, t: np.ndarray, rows: np.ndarray, k
             cq = fmpq(f.numerator, f.denominator)
             for u, v in exact[j].items():
                 combo[u] = combo.get(u, fmpq(0)) + cq * v
-            rhs -= cq * _fmpq(t[j])
+            rhs -= cq * t[j]
         if rhs != 0 or any(combo.get(u, fmpq(0)) != v for u, v in exact[i].items()) or \
                 any(v != 0 and u not in exact[i] for u, v in combo.items()):
             return None
     return chosen
 
 
-def _exact_rows(data: DualData, rows: np.ndarray, keep) -> list[dict]:
-    """The given rows of M (positions in ``data.columns``) exactly: {unknown: fmpq}, the sums of
-    the compiled triplets, restricted to the support ``keep``."""
-    position = np.full(data.model.space.size, -1)
-    position[data.columns[rows]] = np.arange(len(rows))
-    out = [dict() for _ in rows]
-    for b in data.blocks:
-        unknown = b.unknown_of_entry()[b.rows]
-        r = position[b.cols]
-        hit = r >= 0
-        if keep is not None:
-            hit &= keep[unknown]
-        for i, u, v in zip(r[hit], unknown[hit], b.vals[hit]):
-            d = out[int(i)]
-            d[int(u)] = d.get(int(u), fmpq(0)) + _fmpq(v)
-    return [{u: v for u, v in d.items() if v != 0} for d in out]
+def _exact_rows(data: DualData, rows: np.ndarray, keep) -> list[dict] | None:
+    """The given rows of M (positions in ``data.columns``) as written, exactly: {unknown: fmpq},
+    restricted to the support ``keep``; None when there are no rational coefficients
+    (:class:`~lmidsl.solver.enclosure.ExactCoefficients`)."""
+    out = []
+    for row in rows:
+        found = data.exact_row(int(data.columns[row]))
+        if found is None:
+            return None
+        out.append(found[0] if keep is None else {u: v for u, v in found[0].items() if keep[u]})
+    return out
 
 
 def proved_min_eigenvalue(S: np.ndarray) -> float | None:
@@ -452,18 +569,21 @@ def check_cone(data: DualData, point: BallPoint, keep: np.ndarray | None = None)
 def pairing_bounds(data: DualData, point: BallPoint) -> tuple[float, float]:
     """Proved [lo, hi] ∋ ⟨Z, S⁰⟩ = Σ_k ⟨Z_k, S_k⁰⟩ over the enclosure."""
     total, err, count = 0.0, 0.0, 0
-    mids, rads, s0s = [], [], []
+    mids, rads, s0s, s0r = [], [], [], []
     for b in data.blocks:
         idx = b.unknown_of_entry()
         mids.append(point.mid[idx])
         rads.append(point.rad[idx])
         s0s.append(b.s0)
+        s0r.append(b.s0_rad if b.s0_rad is not None else np.zeros_like(b.s0))
     if not mids:
         return 0.0, 0.0
-    zm, zr, s0 = np.concatenate(mids), np.concatenate(rads), np.concatenate(s0s)
+    zm, zr, s0, s0_rad = np.concatenate(mids), np.concatenate(rads), np.concatenate(s0s), np.concatenate(s0r)
     count = len(zm) + 2
     total = float(np.dot(zm, s0))
-    err = float(np.dot(np.abs(s0), zr)) * (1 + gamma(count)) + gamma(count) * float(np.dot(np.abs(s0), np.abs(zm))) + TINY
+    # S⁰ as written is within s0_rad of the compiled s0 (DualData.enclose)
+    err = (float(np.dot(np.abs(s0) + s0_rad, zr)) + float(np.dot(s0_rad, np.abs(zm)))) * (1 + gamma(count)) \
+        + gamma(count) * float(np.dot(np.abs(s0), np.abs(zm))) + TINY
     return round_down(total - round_up(err)), round_up(total + round_up(err))
 
 
@@ -543,7 +663,13 @@ def exact_support_point(data: DualData, z0: np.ndarray, threshold: float, max_un
     matrix with a zero diagonal entry has a zero row) — the principal submatrix Z[I, I]; in a
     non-negative block the entries above the threshold.  z is the point of {z on the support :
     M z = 0} (a rational null space) nearest to z̃ in least squares, its coefficients rounded
-    to rationals; the cone and the pairing are then checked in exact arithmetic."""
+    to rationals; the cone and the pairing are then checked in exact arithmetic, with the
+    coefficients as written (:meth:`DualData.exact_row`)."""
+    if data.enclose():
+        return None
+    s0 = data.exact_constant()
+    if s0 is None or any(b.kind != "psd" and np.any(b.s0) for b in data.blocks):
+        return None
     scale = float(np.abs(z0).max()) if len(z0) else 0.0
     if scale == 0.0:
         return None
@@ -563,18 +689,13 @@ def exact_support_point(data: DualData, z0: np.ndarray, threshold: float, max_un
     support = np.array(sorted(support))
     where = np.full(data.nz, -1)
     where[support] = np.arange(len(support))
-    exact: dict = {}                    # (variable, support position) -> the exact sum of triplets
-    for b in data.blocks:
-        unknown = b.unknown_of_entry()[b.rows]
-        hit = where[unknown] >= 0
-        for c, j, v in zip(b.cols[hit], where[unknown[hit]], b.vals[hit]):
-            key = (int(c), int(j))
-            exact[key] = exact.get(key, fmpq(0)) + _fmpq(v)
-    variables = sorted({c for c, _ in exact})
-    row_of = {c: i for i, c in enumerate(variables)}
-    rows = [[fmpq(0)] * len(support) for _ in variables]
-    for (c, j), v in exact.items():
-        rows[row_of[c]][j] = v
+    # the variables whose coefficients may be non-zero on the support as written (compiled or radius)
+    touching = ((data.Mabs + data.Mrad)[:, support]).tocsr()
+    candidates = np.flatnonzero(np.diff(touching.indptr))
+    exact = _exact_rows(data, candidates, None)
+    if exact is None:
+        return None
+    rows = [[row.get(int(u), fmpq(0)) for u in support] for row in exact]
     rows = [row for row in rows if any(x != 0 for x in row)]
     basis = _rational_nullspace(rows, len(support))
     if not basis:
@@ -609,11 +730,6 @@ def exact_support_point(data: DualData, z0: np.ndarray, threshold: float, max_un
             total_trace += tr
             if b.strict:
                 strict_trace += tr
-            for a, i in enumerate(idx):
-                for c_, j in enumerate(idx):
-                    s = b.s0[i * d + j]
-                    if s != 0 and Z[a][c_] != 0:
-                        pairing += Z[a][c_] * _fmpq(s)
         else:
             for i in range(b.size):
                 v = z.get(b.offset + i)
@@ -622,8 +738,9 @@ def exact_support_point(data: DualData, z0: np.ndarray, threshold: float, max_un
                 if v < 0:
                     psd = False
                 total_trace += v
-                if b.s0[i] != 0:
-                    pairing += v * _fmpq(b.s0[i])
+    for u, v in z.items():                 # ⟨Z, S⁰⟩ as written (a non-negative block's S⁰ is 0)
+        if v != 0 and u in s0:
+            pairing += v * s0[u]
     return ExactPoint(z, psd, pairing, strict_trace, total_trace)
 
 

@@ -128,7 +128,7 @@ def _verify_balls(data: DualData, z0: np.ndarray, out: InfeasibilityCertificate)
     for keep in tries:
         point = corrected_point(data, z0, zero, keep)
         if point is None:
-            out.why = "the equality correction failed (dependent equations not exact)"
+            out.why = data.enclose() or "the equality correction failed (dependent equations not exact)"
             continue
         cone = check_cone(data, point, keep)
         if cone.worst < 0:
@@ -147,9 +147,14 @@ def _verify_balls(data: DualData, z0: np.ndarray, out: InfeasibilityCertificate)
 
 
 def _verify_exact(data: DualData, z0: np.ndarray, out: InfeasibilityCertificate) -> bool:
+    if data.enclose():
+        return False
     for threshold in THRESHOLDS:
         point = exact_support_point(data, z0, threshold)
         if point is None:
+            why = data.exact_coefficients().why
+            if why and why not in out.why:
+                out.why += f"; no exact route: {why}"
             continue
         if not point.psd:
             out.why = f"the exact point on the support (threshold {threshold:g}) is not PSD"

@@ -118,6 +118,10 @@ class BackendCompiler(ExpressionWalker):
     def block(self, rows):
         return self.model.assemble(rows)
 
+    def congruence(self, value, factor: float):
+        """A walked block times the conditioning's factor t_i t_j."""
+        return _times(value, factor)
+
 
 class CompiledModel:
     """A bound theorem compiled once for one backend; parameters can be changed and re-solved.
@@ -164,27 +168,14 @@ class CompiledModel:
         theorem = instance.theorem
         # a model that is re-solved keeps ε as a backend parameter; a one-shot model a number
         self._margin_parameter = self.new_parameter("margin", self.margin) if self.reuse else self.margin
-        for index, lmi in enumerate(theorem.lmis):
-            negative = lmi.negative_form()
-            t = [self.equilibration.row(index, i) for i in range(negative.nblocks)]
-            for scenario in scenarios(instance, lmi):  # polytope vertices x uncertainty points
-                v = scenario.vertex
-                key = (lmi.label, v, scenario.label)
-                self.current_lmi = key
-                compiler = self.compiler_class(self, v)
-                # the congruence T N T of solver/conditioning: block (i, j) times t_i t_j
-                lower = [[_times(compiler.visit(scenario.apply(b)), t[i] * t[j])
-                          for j, b in enumerate(row)] for i, row in enumerate(negative.lower)]
-                rows = [[lower[i][j] if j <= i else compiler.transpose(lower[j][i])
-                         for j in range(negative.nblocks)] for i in range(negative.nblocks)]
-                size = sum(compiler.size(s) for s in negative.sizes)
-                eps = self._margin_parameter if lmi.strict else None
-                N = self.assemble(rows)
-                self.lmi_matrices.append((key, N))
-                self._congruence[key] = np.concatenate(
-                    [np.full(compiler.size(s), t[i]) for i, s in enumerate(negative.sizes)])
-                self.constraints.append((key, self.lmi_constraint(N, size, eps)))
-        self.current_lmi = None
+        for key, lmi, negative, compiler, rows, t in self.walk_lmis(lambda v: self.compiler_class(self, v)):
+            size = sum(compiler.size(s) for s in negative.sizes)
+            eps = self._margin_parameter if lmi.strict else None
+            N = self.assemble(rows)
+            self.lmi_matrices.append((key, N))
+            self._congruence[key] = np.concatenate(
+                [np.full(compiler.size(s), t[i]) for i, s in enumerate(negative.sizes)])
+            self.constraints.append((key, self.lmi_constraint(N, size, eps)))
         objective = None
         if theorem.objective is not None:
             objective = self.compiler_class(self, None).visit(theorem.objective)
@@ -193,6 +184,27 @@ class CompiledModel:
             else objective * (1.0 / self.equilibration.objective)
         self.problem = self.make_problem(scaled, [c for _, c in self.constraints])
         self.compile_time = time.perf_counter() - t0
+
+    def walk_lmis(self, compiler_for):
+        """Every LMI at every polytope vertex and uncertainty point, walked by
+        ``compiler_for(vertex)``: yields (key, lmi, its form N ≺ 0, the compiler, the rows of
+        walked blocks, the factors t).  The congruence T N T of :mod:`lmidsl.solver.conditioning` is applied
+        (block (i, j) times t_i t_j, :meth:`BackendCompiler.congruence`), and the upper triangle
+        holds the transposes of the lower one.  The compile and the enclosure of its coefficients
+        (:mod:`lmidsl.solver.enclosure`) walk the same blocks in the same order."""
+        for index, lmi in enumerate(self.instance.theorem.lmis):
+            negative = lmi.negative_form()
+            t = [self.equilibration.row(index, i) for i in range(negative.nblocks)]
+            for scenario in scenarios(self.instance, lmi):  # polytope vertices x uncertainty points
+                key = (lmi.label, scenario.vertex, scenario.label)
+                self.current_lmi = key
+                compiler = compiler_for(scenario.vertex)
+                lower = [[compiler.congruence(compiler.visit(scenario.apply(b)), t[i] * t[j])
+                          for j, b in enumerate(row)] for i, row in enumerate(negative.lower)]
+                rows = [[lower[i][j] if j <= i else compiler.transpose(lower[j][i])
+                         for j in range(negative.nblocks)] for i in range(negative.nblocks)]
+                yield key, lmi, negative, compiler, rows, t
+        self.current_lmi = None
 
     # -- shared bookkeeping -------------------------------------------------------------
     def variable_for(self, symbol, vertex):

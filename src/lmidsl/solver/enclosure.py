@@ -1,0 +1,388 @@
+"""The compiled SDP against the SDP as written: a rigorous bound on every compiled coefficient's error.
+
+The direct backend compiles each LMI N(x) = N⁰ + Σ_c x_c N^c (and the objective) in double
+precision: the data are the doubles nearest to the decimals the user wrote, constant
+sub-expressions are folded in floating point, and every product and sum of the compiling walk is
+rounded.  The proofs of lmidsl (:mod:`lmidsl.solver.dual_bound`, :mod:`lmidsl.solver.infeasibility`)
+are about the problem *as written*: the data and parameters are the decimals the user wrote, taken
+as the rationals they denote (:func:`lmidsl.numeric.proof.decimal_ball`), like the proofs of the
+LMIs at a point.  Where a data expression cancels (``K·(a + b − c)`` with a, b, c = 0.1, 0.2, 0.3
+and K = 10²⁰ is 0 as written and about 2776 as compiled) the two problems differ by far more than
+a rounding.
+
+This module walks every LMI again, in the same order and with the same constant folding as the
+compile (:meth:`~lmidsl.solver.backends.base.CompiledModel.walk_lmis`), in a *magnitude* algebra:
+every value is a triple (B, ε, e) with, entrywise,
+
+    |ĉ − c| ≤ ε·B   and   |c| ≤ B,
+
+ĉ the compiled double, c the exact value, B ≥ 0 a matrix (or affine form, whose coefficients are
+magnitudes) and ε a scalar:
+
+* a folded constant K (data, parameters and numbers, no decision variable): its compiled double
+  K̂ and a ball enclosure of the exact value (python-flint, data as written) give
+  δ ≥ |K̂ − K| entrywise, B = |K̂| + δ and ε = max δ/B;
+* a rounded product, sum or matrix product with n terms per entry, m terms still pending per
+  coefficient (the affine algebra adds duplicate triplets later): ε ← (1 + ε₁)(1 + ε₂)(1 + γ) − 1
+  with γ ≥ γ_{nm+1} (Higham, *Accuracy and Stability of Numerical Algorithms*, §3.1, doubled),
+  B ← B₁·B₂ or B₁ + B₂ — minus signs become plus signs, so B has no cancellation;
+* the coefficients of one LMI as the proofs read them (both triangles of the symmetric pairing
+  summed, :class:`~lmidsl.solver.dual_point.DualData`) pay one more sum.
+
+The radius of a coefficient is ε·B (slightly inflated for the rounding of B itself); ε of one
+cell of a block matrix does not spread to the other cells.
+
+The rational routes (a rational dual point on a support, exact dependencies between equations)
+need the coefficients as written *exactly*: :class:`ExactCoefficients` evaluates the LMIs in
+rational arithmetic (python-flint ``fmpq_mat``, decimals as the rationals they denote) at x = 0
+and at the unit vectors of the variables asked for — the compiled N(x) is affine, so
+N^c = N(e_c) − N(0) — with the conditioning's congruence and variable scaling applied exactly.
+A parameter with an irrational value (√ of a parameter) has no such coefficients.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+from flint import arb
+
+from flint import fmpq, fmpq_mat
+
+from ..numeric.evaluate import NumericEvaluator
+from ..numeric.exact import ExactEvaluator, NotRational, to_matrix
+from ..numeric.proof import PRECISION, BallEvaluator, ball_precision, round_up
+from .backends.affine import Affine, block as affine_block
+from .backends.base import BackendCompiler, CompiledModel, classify
+
+U = 2.0 ** -53
+TINY = 2.0 ** -900
+#: relative slack for the rounding of B itself (a sum of ≤ 10⁷ non-negative terms loses less)
+B_SLACK = 1e-6
+
+
+class EnclosureUnavailable(ValueError):
+    """A constant has no ball enclosure (a function python-flint does not evaluate, a singular
+    inverse): the compiled coefficients cannot be related to the data as written."""
+
+
+def gamma(k: int) -> float:
+    """2·γ_k, γ_k = k u/(1 − k u): twice Higham's bound for k rounded operations."""
+    return 2.0 * k * U / (1.0 - k * U)
+
+
+def grow(*eps: float, k: int = 1) -> float:
+    """(Π (1 + ε_i))·(1 + 2γ_k) − 1, rounded up: the relative error after one more rounded step."""
+    out = 1.0 + gamma(k)
+    for e in eps:
+        out *= 1.0 + e
+    return round_up(out - 1.0, 4) * (1 + 8 * U)
+
+
+@dataclass
+class Mag:
+    """A value of the magnitude walk: B (≥ 0, an ndarray, float or :class:`Affine` with
+    non-negative coefficients) and ε."""
+
+    B: object
+    eps: float = 0.0
+
+    @property
+    def shape(self):
+        return getattr(self.B, "shape", ())
+
+
+def _pending(value) -> int:
+    """Terms an affine coefficient still sums (duplicate triplets), 1 for a constant."""
+    if not isinstance(value, Affine) or len(value.rows) < 2:
+        return 1
+    key = value.rows.astype(np.int64) * (int(value.cols.max()) + 1) + value.cols
+    return int(np.unique(key, return_counts=True)[1].max())
+
+
+class _Snapshot:
+    """What the walk reads of a model, fixed when the solve ended (the model may be compiled
+    again meanwhile, on another thread): its instance, conditioning and variables."""
+
+    walk_lmis = CompiledModel.walk_lmis
+    variable_for = CompiledModel.variable_for
+    _parameter_value = CompiledModel._parameter_value
+
+    def __init__(self, model):
+        self.instance = model.instance
+        self.equilibration = model.equilibration
+        self._variables = dict(model._variables)
+        self.space = getattr(model, "space", None)
+        self.current_lmi = None
+
+
+class MagnitudeWalker(BackendCompiler):
+    """The compiling walk in the magnitude algebra (module docstring): the same folding of
+    constant sub-expressions as :class:`~lmidsl.solver.backends.base.BackendCompiler`."""
+
+    def __init__(self, model, vertex):
+        super().__init__(model, vertex)
+        self.balls = BallEvaluator(model.instance.dims, model.instance.data, model.instance.params, vertex)
+
+    def _dispatch(self, expr):
+        decision, parameter = classify(expr)
+        if not decision:
+            scalar = not isinstance(expr, sp.MatrixExpr) and not expr.has(sp.MatrixSymbol)
+            if not parameter or scalar or isinstance(expr, (sp.Inverse, sp.MatPow)):
+                return self.constant(expr, parameter, scalar)
+        return super(BackendCompiler, self)._dispatch(expr)
+
+    def constant(self, expr, parameter: bool, scalar: bool) -> Mag:
+        """A folded constant: its compiled double (as the compile computes it) against its ball."""
+        model = self.model
+        if not parameter:
+            value = self.constants.visit(expr)
+        elif scalar:
+            value = model._parameter_value(expr)
+        else:
+            value = NumericEvaluator(self.dims, model.instance.data, model.instance.params, self.vertex).visit(expr)
+        try:
+            ball = self.balls.visit(expr)
+        except (ZeroDivisionError, ValueError, TypeError, KeyError, NotImplementedError) as exc:
+            raise EnclosureUnavailable(f"{self.context()}: no ball for {expr} ({type(exc).__name__}: {exc})") from None
+        compiled = np.asarray(value, dtype=float)
+        exact = np.asarray(ball, dtype=object)
+        if exact.shape != compiled.shape:
+            exact = np.broadcast_to(exact, compiled.shape)
+        delta = np.empty(compiled.shape)
+        for idx, c in np.ndenumerate(compiled):
+            e = exact[idx]
+            bound = (arb(float(c)) - (e if isinstance(e, arb) else arb(float(e)))).abs_upper()  # exact
+            delta[idx] = 0.0 if bound == 0 else round_up(float(bound), 2)
+        B = np.abs(compiled) + delta
+        B = np.where(delta > 0, B * (1 + 4 * U), B)
+        eps = float(np.max(np.where(B > 0, delta / np.where(B > 0, B, 1.0), 0.0))) if B.size else 0.0
+        eps = round_up(eps, 2) if eps else 0.0
+        return Mag(float(B) if compiled.ndim == 0 else B, eps)
+
+    # -- leaves that are not constants ------------------------------------------------
+    def variable(self, symbol):
+        value = self.model.variable_for(symbol, self.vertex)
+        factor = self.model.equilibration.variable(symbol.name)
+        return Mag(value if factor == 1.0 else factor * value)          # 1·s_X: exact
+
+    scalar_variable = variable
+
+    def identity(self, n):
+        return Mag(np.eye(n))
+
+    def zeros(self, r, c):
+        return Mag(np.zeros((r, c)))
+
+    # -- operations: minus signs become plus signs ------------------------------------
+    def add(self, a, b):
+        return Mag(a.B + b.B, grow(max(a.eps, b.eps), k=1))
+
+    subtract = add
+
+    def negate(self, a):
+        return a
+
+    def scale(self, c, a):
+        return Mag(c.B * a.B, grow(c.eps, a.eps, k=1))
+
+    def matmul(self, a, b):
+        inner = a.shape[-1] if len(a.shape) == 2 else 1
+        k = inner * max(_pending(a.B), _pending(b.B)) + 1
+        return Mag(a.B @ b.B, grow(a.eps, b.eps, k=k))
+
+    def transpose(self, a):
+        return Mag(a.B.T if len(a.shape) == 2 else a.B, a.eps)
+
+    def trace(self, a):
+        r = a.shape[0]
+        value = a.B.trace() if isinstance(a.B, Affine) else float(np.trace(a.B))
+        return Mag(value, grow(a.eps, k=r * _pending(a.B)))
+
+    def block(self, rows):
+        B = affine_block([[c.B for c in row] for row in rows])
+        return Mag(B, max(c.eps for row in rows for c in row))
+
+    def congruence(self, value, factor: float):
+        if factor == 1.0:
+            return value
+        return Mag(value.B * factor, grow(value.eps, k=1))
+
+    def inverse(self, a, expr):
+        raise EnclosureUnavailable(f"{self.context()}: the inverse of {expr} depends on a decision variable")
+
+    def _visit_Mul(self, expr):
+        values = [self.visit(a) for a in expr.args]
+        out = values[0]
+        for v in values[1:]:
+            out = self.scale(out, v)
+        return out
+
+    def _visit_Add(self, expr):
+        values = [self.visit(a) for a in expr.args]
+        out = values[0]
+        for v in values[1:]:
+            out = self.add(out, v)
+        return out
+
+    def _visit_Pow(self, expr):
+        base, exp = expr.args
+        if exp != 1:
+            raise EnclosureUnavailable(f"{self.context()}: {expr} is not affine")
+        return self.visit(base)
+
+
+def _final_eps(mag: Mag) -> float:
+    """ε after the last sum the proofs make (the duplicates of a coefficient, both triangles),
+    with the slack for the rounding of B."""
+    return grow(mag.eps, k=2 * _pending(mag.B) + 1) * (1 + B_SLACK)
+
+
+def radii(R):
+    """(radii of the coefficient triplets, radii of the constant term) of a radius form R (an
+    :class:`Affine` or a constant matrix), rounded up."""
+    vals = np.asarray(R.vals, dtype=float) if isinstance(R, Affine) else np.zeros(0)
+    const = np.asarray(R.const if isinstance(R, Affine) else R, dtype=float)
+    return (np.where(vals > 0, vals * (1 + 4 * U) + TINY, 0.0),
+            np.where(const > 0, const * (1 + 4 * U) + TINY, 0.0))
+
+
+def _radius_of_cells(rows):
+    """The radius form of a block matrix, cell by cell (ε of one cell does not spread)."""
+    return affine_block([[c.B * _final_eps(c) for c in row] for row in rows])
+
+
+@dataclass
+class CoefficientBounds:
+    """The radii of every compiled LMI (in the compile's order) and of the objective."""
+
+    lmis: list = field(default_factory=list)        # radius form per LMI instance
+    objective: object = None
+
+
+def coefficient_bounds(snapshot) -> CoefficientBounds:
+    """The magnitude walk of every LMI and of the objective of a model (its :class:`_Snapshot`):
+    the radii of the compiled coefficients against the data as written (module docstring)."""
+    out = CoefficientBounds()
+    with ball_precision(PRECISION):
+        for _, _, _, _, rows, _ in snapshot.walk_lmis(lambda v: MagnitudeWalker(snapshot, v)):
+            out.lmis.append(_radius_of_cells(rows))
+        objective = snapshot.instance.theorem.objective
+        if objective is not None:
+            mag = MagnitudeWalker(snapshot, None).visit(objective)
+            out.objective = mag.B * _final_eps(mag)
+    return out
+
+
+def decimal(x) -> fmpq:
+    """The decimal a double was written as (its shortest repr), exactly."""
+    n, d = sp.Rational(repr(float(x))).as_numer_denom()
+    return fmpq(int(n), int(d))
+
+
+def _exact_factor(x: float) -> fmpq:
+    n, d = float(x).as_integer_ratio()        # a conditioning factor: the double itself
+    return fmpq(n, d)
+
+
+class _ExactWalk(ExactEvaluator):
+    """One LMI walk in rational arithmetic: data and parameters as written, every decision
+    variable 0 except the free entry ``unit`` (an index of x), which is 1 — times the
+    variable's conditioning factor, as compiled."""
+
+    def __init__(self, snap, vertex, unit: int | None):
+        super().__init__(snap.instance.dims, self._value)
+        self.snap, self.vertex, self.unit = snap, vertex, unit
+
+    def context(self) -> str:
+        lmi = self.snap.current_lmi
+        return f"{self.snap.instance.theorem.id}: LMI {lmi[0]}" if lmi else self.snap.instance.theorem.id
+
+    def _value(self, symbol):
+        source = self.snap.instance.params if symbol.name in self.snap.instance.params else self.snap.instance.data
+        value = source[symbol.name]
+        if getattr(symbol, "per_vertex", False) and isinstance(value, list):
+            value = value[self.vertex or 0]
+        a = np.asarray(value, dtype=float)
+        if a.ndim == 0:
+            return decimal(a)
+        a = np.atleast_2d(a)
+        return fmpq_mat(a.shape[0], a.shape[1], [decimal(x) for x in a.reshape(-1)])
+
+    def variable(self, symbol):
+        v = self.snap.variable_for(symbol, self.vertex).variable
+        shape = v.shape
+        hit = self.unit is not None and v.offset <= self.unit < v.offset + v.size
+        factor = _exact_factor(self.snap.equilibration.variable(symbol.name))
+        if not shape:
+            return factor if hit else fmpq(0)
+        X = fmpq_mat(*shape)
+        if hit:
+            for r in v.basis_rows[v.basis_cols == self.unit - v.offset]:
+                X[int(r) // shape[1], int(r) % shape[1]] = factor
+        return X
+
+    scalar_variable = variable
+
+    def element(self, a, i, j, expr):
+        return a[i, j]
+
+    def congruence(self, value, factor: float):
+        return value if factor == 1.0 else to_matrix(value) * _exact_factor(factor)
+
+
+class ExactCoefficients:
+    """The compiled LMIs and objective as written, in rational arithmetic (module docstring):
+    N(0) and the coefficient N^c of every variable asked for, per LMI instance in the compile's
+    order.  ``why`` says why there are none (an irrational parameter, too many variables)."""
+
+    #: at most this many variables' coefficients (each costs one walk of every LMI)
+    MAX_COLUMNS = 600
+
+    def __init__(self, snap):
+        self.snap = snap
+        self.why = ""
+        self._columns: dict = {}
+        self._zero = self._walk(None)
+
+    def _walk(self, unit):
+        if self.why:
+            return None
+        snap = self.snap
+        try:
+            lmis = [walker.block(rows) for _, _, _, walker, rows, _ in
+                    snap.walk_lmis(lambda v: _ExactWalk(snap, v, unit))]
+            objective = snap.instance.theorem.objective
+            q = None if objective is None else _ExactWalk(snap, None, unit).visit(objective)
+        except (NotRational, ZeroDivisionError, ValueError, TypeError, KeyError) as exc:
+            self.why = f"no rational coefficients as written ({type(exc).__name__}: {exc})"
+            return None
+        return lmis, q
+
+    def constant(self):
+        """(N(0) per LMI instance, the objective's constant term), or None."""
+        return self._zero
+
+    def column(self, c: int):
+        """(N^c per LMI instance, the objective's coefficient q_c) of the free entry c of x, or None."""
+        if c not in self._columns:
+            if self._zero is None or len(self._columns) >= self.MAX_COLUMNS:
+                self.why = self.why or f"more than {self.MAX_COLUMNS} variables need rational coefficients"
+                return None
+            at = self._walk(c)
+            if at is None:
+                return None
+            zero_lmis, zero_q = self._zero
+            self._columns[c] = ([a - b for a, b in zip(at[0], zero_lmis)],
+                                None if at[1] is None else at[1] - zero_q)
+        return self._columns[c]
+
+
+def snapshot(model) -> _Snapshot:
+    """What :func:`coefficient_bounds` needs of ``model``, taken now."""
+    return _Snapshot(model)
+
+
+__all__ = ["CoefficientBounds", "EnclosureUnavailable", "ExactCoefficients", "Mag", "MagnitudeWalker",
+           "coefficient_bounds", "radii", "snapshot"]
