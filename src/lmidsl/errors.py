@@ -4,7 +4,7 @@ Every error lmidsl raises on purpose derives from :class:`LmidslError`.  Its mes
 single line that names the theorem, the LMI and the block (i, j) or the argument at fault;
 the command line prints it as ``error: <message>`` and exits with its ``exit_code``: 2 for bad
 input, 1 for a computation that ran but has no result to give (e.g. an infeasible synthesis has
-no design to simulate).
+no design to simulate), 3 for proofs that contradict each other (an internal error).
 """
 import difflib
 
@@ -42,6 +42,13 @@ class NoResultError(LmidslError):
     """The computation ran, but its verdict leaves nothing to give (infeasible, not solved)."""
 
     exit_code = 1
+
+
+class ProofConflict(LmidslError):
+    """Two proofs about the same problem contradict each other (a proved lower end above a proved
+    upper end): a bug in lmidsl, never a certificate.  Exit 3, like any internal error."""
+
+    exit_code = 3
 
 
 class Interrupted(LmidslError):

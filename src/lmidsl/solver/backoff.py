@@ -171,6 +171,7 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
         "t": t_best, "t_max": t_max, "kappa": float(k_value) if k_value is not None else None,
         "cond_before": before, "cond_after": after, "solves": solves,
         "optimum_lmis": [r.as_dict() for r in solution.lmis],
+        "objective_bounds_opt": solution.objective_bounds,
     }
     new.scaling = solution.scaling
     return new
@@ -195,6 +196,7 @@ def level_solution(model, optimum, delta: float, plan):
         "status_opt": optimum.status,
         "gamma": new.gamma, "cond_before": condition_numbers(model.instance, optimum.values),
         "cond_after": condition_numbers(model.instance, new.values), "solves": len(tried),
-        "tried": tried, "optimum_lmis": [r.as_dict() for r in optimum.lmis]}
+        "tried": tried, "optimum_lmis": [r.as_dict() for r in optimum.lmis],
+        "objective_bounds_opt": optimum.objective_bounds}
     new.scaling = optimum.scaling
     return new

@@ -27,16 +27,21 @@ qᵀx + q₀ ≥ q₀ − ⟨Z, S⁰⟩ + Σ_k d_k·min(0, λ_min(Z_k))·r̄_k (
 
 **Which problem.**  The strict LMIs enter with ε = 0 (their closure): the bound is on the
 infimum over the strict set (equal to the closure's minimum when the strict set is non-empty);
-the strictness margin of the compiled model is not in it.  The bound is proved for the SDP as
-compiled (its double-precision coefficients taken exactly).  A model compiled with conditioning
+the strictness margin of the compiled model is not in it.  A model compiled with conditioning
 (:mod:`lmidsl.solver.conditioning`: a congruence T N T with positive power-of-two T and variables
 X = s_X X̃) has the same feasible set in the original variables and the same objective values,
 so its bound is a bound on the original theorem's optimum; the objective is the theorem's own
 (``model.objective``, not the solver's rescaled one).
 
-The headline performance is mapped monotonically: γ = √g gives the lower γ = √max(lower, 0)
-(rounded down in ball arithmetic); a performance equal to the objective is the bound itself; a
-maximised performance (min −ν with performance ν) gets an *upper* bound, ν ≤ −lower (rounded up).
+The headline performance is mapped through :mod:`lmidsl.solver.performance`: a map proved
+non-decreasing on [lower, the point's objective] gives a lower bound on the performance (rounded
+down in ball arithmetic; γ = √g gives √max(lower, 0)), a map proved non-increasing (a maximised
+performance, min −ν) an upper bound (rounded up); a map not proved monotone gives none.
+
+**Which problem.**  The LMIs and the objective *as written* (:mod:`lmidsl.solver.enclosure`):
+the correction and the pairing carry the radius by which each compiled coefficient may differ
+from the one as written, so the bound holds for the data the user wrote, decimals read as the
+rationals they denote — the same problem the LMIs at the point are proved for.
 
 **When.**  :class:`PendingBound` runs all this on a worker thread from the end of the main solve
 (the pipeline recovers and certifies meanwhile), and tries the other model the plan solved (as
@@ -94,6 +99,7 @@ class DualBound:
     attempts: list = field(default_factory=list)   # (ε, worst λ_min) per try
     times: dict = field(default_factory=dict)
     route: str = ""                       # the model whose dual gave it, when not the kept one
+    mapped_upto: float | None = None      # the performance map is proved monotone on [lower, this]
 
     def as_dict(self) -> dict:
         return {"lower": self.lower, "lower_performance": self.lower_performance,
@@ -101,7 +107,7 @@ class DualBound:
                 "why": self.why, "epsilon": self.epsilon, "theta": self.theta, "extra_solves": self.extra_solves,
                 "min_eigenvalue": self.min_eigenvalue, "residual": self.residual,
                 "correction": self.correction, "attempts": self.attempts, "times": self.times,
-                "route": self.route}
+                "route": self.route, "mapped_upto": self.mapped_upto}
 
     def gap_to(self, level: float | None) -> float | None:
         """How far the optimum's ``level`` is from the proved performance bound, relatively (≥ 0
@@ -272,6 +278,7 @@ class _BoundJob:
     max_iter: int | None
     out: DualBound
     t0: float
+    upper: float | None = None       # the objective at the solve's point, rounded up (as written)
 
 
 def _prepare(model, solution) -> _BoundJob | DualBound:
@@ -300,8 +307,9 @@ def _prepare(model, solution) -> _BoundJob | DualBound:
     # main solve's iterations and some (the stress set's slowest proving one, a discrete ζ = 0.001
     # plant: 72 against 22), not Clarabel's default 200
     max_iter = 4 * int(iterations) + 40 if iterations else None
+    point = getattr(solution, "objective_bounds", None)
     return _BoundJob(data, z, model.equilibration.objective, model.problem, model.instance.theorem,
-                     dict(model.instance.params), max_iter, out, t0)
+                     dict(model.instance.params), max_iter, out, t0, None if point is None else point[1])
 
 
 def lower_bound(model, solution=None, tries: int = SHIFT_TRIES, primal_bounds=None) -> DualBound:
@@ -496,7 +504,10 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
                 continue
             eps *= SHIFT_GROWTH
     if out.proved:
-        found = performance_bound(job.theorem, job.params, out.lower)
+        # the map is proved monotone on [lower, the point's objective]: the verdict uses it only
+        # when that point is proved feasible (else [lower, ∞), verdict.bracket)
+        out.mapped_upto = job.upper
+        found = performance_bound(job.theorem, job.params, out.lower, job.upper)
         if found is not None:
             setattr(out, f"{found[1]}_performance", found[0])
     out.times["total"] = time.perf_counter() - t0

@@ -15,11 +15,14 @@ so whenever M z = q exactly, every feasible x has qᵀx + q₀ = ⟨Z, S(x)⟩ �
 alternatives).  The unknowns z are the upper triangles of the Z_k (entry (a, b), a ≤ b, at
 b(b+1)/2 + a: Clarabel's svec order without its √2) and the entries of the non-negative duals.
 
-**What is proved, and about which problem.**  The data are the compiled coefficients (the
-floats S_k^c, S_k⁰, q of the model, each computed once from the theorem's data in double
-precision): the bounds hold for the SDP as compiled, exactly.  A float dual estimate z̃ is
-corrected by z = z̃ + D w with D = Mᵀ (the minimum-norm direction) and w enclosing the exact
-solution of (M D) w = q − M z̃: M z̃ and M D are computed in floating point with the a-priori
+**What is proved, and about which problem.**  The bounds hold for the SDP *as written*: the
+theorem's data and parameters as the decimals the user wrote.  The compiled coefficients (the
+floats S_k^c, S_k⁰, q) differ from those by at most the radii of :mod:`lmidsl.solver.enclosure`
+(``Mrad``, ``s0_rad``, ``q_rad``), which the correction and the pairing carry; the rational
+routes take the coefficients as written exactly (:meth:`DualData.exact_row`).  A float dual estimate z̃ is
+corrected by z = z̃ + D w with D = Mᵀ (the compiled M: a fixed direction) and w enclosing the
+solution of (M' D) w = q' − M' z̃ for every M', q' within the radii of M, q: M z̃ and M D are
+computed in floating point with the a-priori
 rounding bounds γ_k = k u/(1 − k u) (Higham, *Accuracy and Stability of Numerical Algorithms*,
 §3.1), doubled for safety, and the linear system is solved in python-flint's ball arithmetic
 (``arb_mat.solve``), so the exact z = z̃ + D w* lies in the computed enclosure [z] and M z = q
@@ -47,8 +50,10 @@ from flint import arb, arb_mat, fmpq, fmpq_mat
 from ..numeric.proof import ball_precision, round_down, round_up
 
 from .backends.direct_backend import psd_diagonal
-from .enclosure import EnclosureUnavailable, ExactCoefficients, coefficient_bounds, radii, snapshot
+from .enclosure import (EnclosureUnavailable, ExactCoefficients, coefficient_bounds, irrational_grid, radii,
+                        snapshot)
 from .feasibility import compiled_lmis
+from ..numeric.exact import to_matrix
 
 U = 2.0 ** -53                  # unit roundoff of double precision (round to nearest)
 TINY = 2.0 ** -900              # below this a product may lose its relative error bound (underflow)
@@ -175,7 +180,7 @@ class DualData:
         self.magnitude_ok = not np.any((np.abs(vals) > 0) & (np.abs(vals) < TINY))
         self._snapshot = snapshot(model)
         self._enclosed: str | None = None
-        self._exact: ExactCoefficients | None = None
+        self._exact: dict = {}
         self._exact_rows: dict = {}
 
     # -- the problem as written ---------------------------------------------------------
@@ -232,19 +237,33 @@ class DualData:
         self._enclosed = ""
         return ""
 
-    def exact_coefficients(self) -> ExactCoefficients:
-        """The LMIs and objective as written in rational arithmetic (built once, when first asked)."""
-        if self._exact is None:
-            self._exact = ExactCoefficients(self._snapshot)
-        return self._exact
+    def exact_coefficients(self, free: dict | None = None) -> ExactCoefficients:
+        """The LMIs and objective as written in rational arithmetic (built once, when first asked);
+        ``free``: values for the derived parameters with irrational definitions (a point of
+        :meth:`identity_points`)."""
+        key = None if free is None else tuple(sorted((k, str(v)) for k, v in free.items()))
+        if key not in self._exact:
+            self._exact[key] = ExactCoefficients(self._snapshot, free)
+        return self._exact[key]
 
-    def exact_row(self, c: int):
+    def identity_points(self) -> list | None:
+        """Where an identity between coefficients as written is checked exactly: [None] (the true
+        coefficients are rational), the grid of :func:`~lmidsl.solver.enclosure.irrational_grid`
+        (irrational parameters taken as free symbols), or None (neither)."""
+        if not self.exact_coefficients().why:
+            return [None]
+        if "NotRational" not in self.exact_coefficients().why:
+            return None
+        return irrational_grid(self._snapshot) or None
+
+    def exact_row(self, c: int, free: dict | None = None):
         """(row c of M as written — {unknown: fmpq}, q_c as written), or None (no rational
-        coefficients: ``exact_coefficients().why``).  S = −N: the unknown of entry (a, b), a ≤ b,
-        pairs with S_ab + S_ba (a < b) or S_aa."""
-        if c in self._exact_rows:
-            return self._exact_rows[c]
-        found = self.exact_coefficients().column(c)
+        coefficients: ``exact_coefficients().why``); ``free`` as in :meth:`exact_coefficients`.
+        S = −N: the unknown of entry (a, b), a ≤ b, pairs with S_ab + S_ba (a < b) or S_aa."""
+        key = (c, None if free is None else tuple(sorted((k, str(v)) for k, v in free.items())))
+        if key in self._exact_rows:
+            return self._exact_rows[key]
+        found = self.exact_coefficients(free).column(c)
         if found is None:
             return None
         lmis, q = found
@@ -256,10 +275,10 @@ class DualData:
                 for e, v in zip(b.rows[hit], b.vals[hit]):
                     row[b.offset + int(e)] = row.get(b.offset + int(e), fmpq(0)) + _fmpq(v)
                 continue
-            _add_pairing(row, -next(psd), b)
+            _add_pairing(row, next(psd), b)
         row = {u: v for u, v in row.items() if v != 0}
-        self._exact_rows[c] = (row, fmpq(0) if q is None else q)
-        return self._exact_rows[c]
+        self._exact_rows[key] = (row, fmpq(0) if q is None else q)
+        return self._exact_rows[key]
 
     def exact_constant(self) -> dict | None:
         """S⁰ as written paired like a row ({unknown: fmpq}: ⟨Z, S⁰⟩ = Σ z_u s_u), or None."""
@@ -270,7 +289,7 @@ class DualData:
         psd = iter(found[0])
         for b in self.blocks:
             if b.kind == "psd":
-                _add_pairing(out, -next(psd), b)
+                _add_pairing(out, next(psd), b)
         return out
 
     # -- clarabel's dual in these unknowns -----------------------------------------------
@@ -332,15 +351,18 @@ class DualData:
 
 
 
-def _add_pairing(row: dict, S, b: Block) -> None:
-    """Add the pairing of a rational d×d matrix S with Z_b to ``row`` ({unknown: fmpq})."""
-    d = b.dim
-    for j in range(d):
-        for i in range(j + 1):
-            v = S[i, j] + S[j, i] if i != j else S[i, i]
+def _add_pairing(row: dict, cells, b: Block, sign: int = -1) -> None:
+    """Add the pairing of ``sign``·N with Z_b to ``row`` ({unknown: fmpq}), N given by its cells
+    [(row offset, column offset, fmpq_mat)]: entry (p, q) of S = −N pairs with the unknown of
+    (min(p, q), max(p, q)), so both triangles add up (S_pq + S_qp off the diagonal)."""
+    for r0, c0, C in cells:
+        C = to_matrix(C)
+        width = C.ncols()
+        for index, v in enumerate(C.entries()):
             if v != 0:
-                u = b.offset + j * (j + 1) // 2 + i
-                row[u] = row.get(u, fmpq(0)) + v
+                p, q = r0 + index // width, c0 + index % width
+                u = b.offset + max(p, q) * (max(p, q) + 1) // 2 + min(p, q)
+                row[u] = row.get(u, fmpq(0)) + (v if sign > 0 else -v)
 
 
 def dual_data(model) -> tuple:
@@ -462,35 +484,44 @@ def _independent_equations(data: DualData, M, target_is_q: bool, rows: np.ndarra
     if rank == n:
         return np.arange(n)
     chosen, others = np.sort(order[:rank]), order[rank:]
-    exact = _exact_rows(data, rows, keep)
-    if exact is None:
+    points = data.identity_points()
+    if points is None:
         return None
-    t = [data.exact_row(int(data.columns[row]))[1] if target_is_q else fmpq(0) for row in rows]
     coef = np.linalg.lstsq(G[np.ix_(chosen, chosen)], G[np.ix_(chosen, others)], rcond=None)[0]
+    combination = {}
     for col, i in enumerate(others):
-        combo = {}
-        rhs = t[i]
+        terms = []
         for j, c in zip(chosen, coef[:, col]):
-            if abs(c) < 1e-9:
-                continue
-            f = Fraction(float(c)).limit_denominator(1 << 20)
-            cq = fmpq(f.numerator, f.denominator)
-            for u, v in exact[j].items():
-                combo[u] = combo.get(u, fmpq(0)) + cq * v
-            rhs -= cq * t[j]
-        if rhs != 0 or any(combo.get(u, fmpq(0)) != v for u, v in exact[i].items()) or \
-                any(v != 0 and u not in exact[i] for u, v in combo.items()):
+            if abs(c) >= 1e-9:
+                f = Fraction(float(c)).limit_denominator(1 << 20)
+                terms.append((j, fmpq(f.numerator, f.denominator)))
+        combination[i] = terms
+    needed = sorted(set(combination) | {j for terms in combination.values() for j, _ in terms})
+    for free in points:                  # the identities at every point: then as written
+        found = _exact_rows(data, rows[needed], keep, free)
+        if found is None:
             return None
+        exact = dict(zip(needed, found))
+        t = {i: data.exact_row(int(data.columns[rows[i]]), free)[1] if target_is_q else fmpq(0) for i in needed}
+        for i, terms in combination.items():
+            combo, rhs = {}, t[i]
+            for j, cq in terms:
+                for u, v in exact[j].items():
+                    combo[u] = combo.get(u, fmpq(0)) + cq * v
+                rhs -= cq * t[j]
+            if rhs != 0 or any(combo.get(u, fmpq(0)) != v for u, v in exact[i].items()) or \
+                    any(v != 0 and u not in exact[i] for u, v in combo.items()):
+                return None
     return chosen
 
 
-def _exact_rows(data: DualData, rows: np.ndarray, keep) -> list[dict] | None:
+def _exact_rows(data: DualData, rows: np.ndarray, keep, free: dict | None = None) -> list[dict] | None:
     """The given rows of M (positions in ``data.columns``) as written, exactly: {unknown: fmpq},
     restricted to the support ``keep``; None when there are no rational coefficients
     (:class:`~lmidsl.solver.enclosure.ExactCoefficients`)."""
     out = []
     for row in rows:
-        found = data.exact_row(int(data.columns[row]))
+        found = data.exact_row(int(data.columns[row]), free)
         if found is None:
             return None
         out.append(found[0] if keep is None else {u: v for u, v in found[0].items() if keep[u]})

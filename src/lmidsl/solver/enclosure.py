@@ -21,7 +21,8 @@ magnitudes) and ε a scalar:
 
 * a folded constant K (data, parameters and numbers, no decision variable): its compiled double
   K̂ and a ball enclosure of the exact value (python-flint, data as written) give
-  δ ≥ |K̂ − K| entrywise, B = |K̂| + δ and ε = max δ/B;
+  δ ≥ |K̂ − K| entrywise, ε = ε₀ = 4u and B = max(|K̂| + δ, δ/ε₀) — an entry that cancels (as
+  written or as compiled) gets a large B, not a large ε for every entry;
 * a rounded product, sum or matrix product with n terms per entry, m terms still pending per
   coefficient (the affine algebra adds duplicate triplets later): ε ← (1 + ε₁)(1 + ε₂)(1 + γ) − 1
   with γ ≥ γ_{nm+1} (Higham, *Accuracy and Stability of Numerical Algorithms*, §3.1, doubled),
@@ -58,6 +59,8 @@ from .backends.base import BackendCompiler, CompiledModel, classify
 
 U = 2.0 ** -53
 TINY = 2.0 ** -900
+#: ε of a folded constant that differs from its value as written (B absorbs the rest)
+LEAF_EPS = 4 * U
 #: relative slack for the rounding of B itself (a sum of ≤ 10⁷ non-negative terms loses less)
 B_SLACK = 1e-6
 
@@ -115,6 +118,7 @@ class _Snapshot:
         self._variables = dict(model._variables)
         self.space = getattr(model, "space", None)
         self.current_lmi = None
+        self.decimals: dict = {}          # (name, vertex) -> the datum as written, exactly
 
 
 class MagnitudeWalker(BackendCompiler):
@@ -155,10 +159,10 @@ class MagnitudeWalker(BackendCompiler):
             e = exact[idx]
             bound = (arb(float(c)) - (e if isinstance(e, arb) else arb(float(e)))).abs_upper()  # exact
             delta[idx] = 0.0 if bound == 0 else round_up(float(bound), 2)
-        B = np.abs(compiled) + delta
-        B = np.where(delta > 0, B * (1 + 4 * U), B)
-        eps = float(np.max(np.where(B > 0, delta / np.where(B > 0, B, 1.0), 0.0))) if B.size else 0.0
-        eps = round_up(eps, 2) if eps else 0.0
+        # B ≥ |K̂| + δ and B ≥ δ/ε₀: |K̂ − K| ≤ ε₀·B with one small ε₀ — an entry that cancels as
+        # written (K̂ = 0, K = 0 ± 1e-64) or as compiled gets a larger B, not a larger ε for all
+        B = np.maximum(np.abs(compiled) + delta, delta / LEAF_EPS) * (1 + 4 * U)
+        eps = LEAF_EPS if delta.any() else 0.0
         return Mag(float(B) if compiled.ndim == 0 else B, eps)
 
     # -- leaves that are not constants ------------------------------------------------
@@ -289,17 +293,42 @@ def _exact_factor(x: float) -> fmpq:
 class _ExactWalk(ExactEvaluator):
     """One LMI walk in rational arithmetic: data and parameters as written, every decision
     variable 0 except the free entry ``unit`` (an index of x), which is 1 — times the
-    variable's conditioning factor, as compiled."""
+    variable's conditioning factor, as compiled.  ``free``: values given to the derived
+    parameters whose definitions are irrational (evaluated as free symbols)."""
 
-    def __init__(self, snap, vertex, unit: int | None):
-        super().__init__(snap.instance.dims, self._value)
-        self.snap, self.vertex, self.unit = snap, vertex, unit
+    def __init__(self, snap, vertex, unit: int | None, free: dict | None = None, memo: dict | None = None,
+                 active: str | None = None):
+        super().__init__(snap.instance.dims, self._value, free_irrational=free is not None)
+        self.snap, self.vertex, self.unit, self.free = snap, vertex, unit, free or {}
+        self.memo = {} if memo is None else memo    # (id, vertex) -> value at x = 0, every sub-tree
+        self.active = active                        # the variable of ``unit`` (None: x = 0)
+
+    def _dispatch(self, expr):
+        """At x = 0 every sub-tree is kept; at a unit vector a sub-tree without its variable has
+        its value at x = 0."""
+        key = (id(expr), self.vertex)
+        hit = self.memo.get(key)
+        if hit is not None and hit[0] is expr and (self.active is None or not _involves(expr, self.active)):
+            return hit[1]
+        value = super()._dispatch(expr)
+        if self.active is None:
+            self.memo[key] = (expr, value)
+        return value
 
     def context(self) -> str:
         lmi = self.snap.current_lmi
         return f"{self.snap.instance.theorem.id}: LMI {lmi[0]}" if lmi else self.snap.instance.theorem.id
 
     def _value(self, symbol):
+        if symbol.name in self.free:
+            return self.free[symbol.name]
+        key = (symbol.name, self.vertex if getattr(symbol, "per_vertex", False) else None)
+        cache = self.snap.decimals
+        if key not in cache:
+            cache[key] = self._decimal_value(symbol)
+        return cache[key]
+
+    def _decimal_value(self, symbol):
         source = self.snap.instance.params if symbol.name in self.snap.instance.params else self.snap.instance.data
         value = source[symbol.name]
         if getattr(symbol, "per_vertex", False) and isinstance(value, list):
@@ -332,6 +361,25 @@ class _ExactWalk(ExactEvaluator):
         return value if factor == 1.0 else to_matrix(value) * _exact_factor(factor)
 
 
+_INVOLVES: dict = {}
+
+
+def _involves(expr, name: str) -> bool:
+    """Whether ``expr`` may depend on the decision variable ``name`` (a structured variable may
+    hide any), cached by identity."""
+    key = (id(expr), name)
+    hit = _INVOLVES.get(key)
+    if hit is not None and hit[0] is expr:
+        return hit[1]
+    from ..symbolic.symbols import DECISION_TYPES, StructuredVariable
+    found = any(getattr(s, "name", None) == name or isinstance(s, StructuredVariable)
+                for s in expr.atoms(*DECISION_TYPES)) if classify(expr)[0] else False
+    if len(_INVOLVES) > 200_000:
+        _INVOLVES.clear()
+    _INVOLVES[key] = (expr, found)
+    return found
+
+
 class ExactCoefficients:
     """The compiled LMIs and objective as written, in rational arithmetic (module docstring):
     N(0) and the coefficient N^c of every variable asked for, per LMI instance in the compile's
@@ -340,32 +388,52 @@ class ExactCoefficients:
     #: at most this many variables' coefficients (each costs one walk of every LMI)
     MAX_COLUMNS = 600
 
-    def __init__(self, snap):
-        self.snap = snap
+    def __init__(self, snap, free: dict | None = None):
+        self.snap, self.free = snap, free
         self.why = ""
         self._columns: dict = {}
+        self._memo: dict = {}           # every sub-tree's value at x = 0
         self._zero = self._walk(None)
 
+    def _variable_of(self, unit: int) -> str | None:
+        for (name, _), affine in self.snap._variables.items():
+            v = affine.variable
+            if v is not None and v.offset <= unit < v.offset + v.size:
+                return name
+        return None
+
     def _walk(self, unit):
+        """(per LMI instance its cells [(row offset, column offset, value)], the objective)."""
         if self.why:
             return None
-        snap = self.snap
+        snap, free, memo = self.snap, self.free, self._memo
+        active = None if unit is None else self._variable_of(unit)
         try:
-            lmis = [walker.block(rows) for _, _, _, walker, rows, _ in
-                    snap.walk_lmis(lambda v: _ExactWalk(snap, v, unit))]
+            lmis = []
+            for _, _, _, _, rows, _ in snap.walk_lmis(lambda v: _ExactWalk(snap, v, unit, free, memo, active)):
+                cells, r0 = [], 0
+                for row in rows:
+                    c0 = 0
+                    for value in row:
+                        cells.append((r0, c0, value))
+                        c0 += to_matrix(value).ncols()
+                    r0 += to_matrix(row[0]).nrows()
+                lmis.append(cells)
             objective = snap.instance.theorem.objective
-            q = None if objective is None else _ExactWalk(snap, None, unit).visit(objective)
+            q = None if objective is None else _ExactWalk(snap, None, unit, free, memo, active).visit(objective)
         except (NotRational, ZeroDivisionError, ValueError, TypeError, KeyError) as exc:
             self.why = f"no rational coefficients as written ({type(exc).__name__}: {exc})"
             return None
         return lmis, q
 
     def constant(self):
-        """(N(0) per LMI instance, the objective's constant term), or None."""
+        """(N(0) per LMI instance as cells [(row offset, column offset, fmpq_mat)], the objective's
+        constant term), or None."""
         return self._zero
 
     def column(self, c: int):
-        """(N^c per LMI instance, the objective's coefficient q_c) of the free entry c of x, or None."""
+        """(N^c per LMI instance as its non-zero cells, the objective's coefficient q_c) of the free
+        entry c of x, or None.  A cell without c's variable is the same object as at x = 0."""
         if c not in self._columns:
             if self._zero is None or len(self._columns) >= self.MAX_COLUMNS:
                 self.why = self.why or f"more than {self.MAX_COLUMNS} variables need rational coefficients"
@@ -374,9 +442,66 @@ class ExactCoefficients:
             if at is None:
                 return None
             zero_lmis, zero_q = self._zero
-            self._columns[c] = ([a - b for a, b in zip(at[0], zero_lmis)],
-                                None if at[1] is None else at[1] - zero_q)
+            lmis = [[(r0, c0, to_matrix(v) - to_matrix(z)) for (r0, c0, v), (_, _, z) in zip(cells, zeros)
+                     if v is not z] for cells, zeros in zip(at[0], zero_lmis)]
+            self._columns[c] = (lmis, None if at[1] is None else at[1] - zero_q)
         return self._columns[c]
+
+
+def _degree(expr, symbol) -> int | None:
+    """An upper bound on the degree of ``expr`` (a scalar or matrix expression) as a polynomial in
+    ``symbol``; None when it is not a polynomial in it (an inverse or a function of it)."""
+    if expr == symbol:
+        return 1
+    if not expr.has(symbol):
+        return 0
+    args = [_degree(a, symbol) for a in expr.args]
+    if any(a is None for a in args):
+        return None
+    if isinstance(expr, (sp.Mul, sp.MatMul)):
+        return sum(args)
+    if isinstance(expr, (sp.Add, sp.MatAdd, sp.BlockMatrix, sp.BlockDiagMatrix, sp.Transpose, sp.Trace)):
+        return max(args)
+    if isinstance(expr, (sp.Pow, sp.MatPow)) and expr.args[1].is_Integer and int(expr.args[1]) >= 0:
+        return int(expr.args[1]) * args[0]
+    return None
+
+
+def irrational_grid(snap, limit: int = 64) -> list[dict] | None:
+    """Points at which the derived parameters with irrational definitions (σ = √(ξ(1 − ξ))), taken
+    as free symbols, decide a polynomial identity: d_σ + 1 distinct integers for each, d_σ the
+    degree of the LMIs and the objective in σ.  A polynomial of degree ≤ d_σ in each σ that
+    vanishes on such a grid is zero (induction on the symbols), so an identity between the
+    coefficients checked at every grid point holds at the parameters' true values.  [] when no
+    parameter is irrational; None when one is not polynomial or the grid exceeds ``limit``."""
+    from ..symbolic.symbols import DerivedParam
+
+    theorem = snap.instance.theorem
+    exprs = [b for lmi in theorem.lmis for row in lmi.negative_form().lower for b in row]
+    if theorem.objective is not None:
+        exprs.append(theorem.objective)
+    derived = {s for e in exprs for s in e.free_symbols if isinstance(s, DerivedParam)}
+    irrational = []
+    for d in sorted(derived, key=lambda s: s.name):
+        try:
+            ExactEvaluator(snap.instance.dims, lambda sym: decimal(snap.instance.params[sym.name])).visit(d.definition)
+        except NotRational:
+            irrational.append(d)
+        except (KeyError, ValueError, TypeError, ZeroDivisionError):
+            return None
+    if not irrational:
+        return []
+    degrees = []
+    for d in irrational:
+        found = [_degree(e, d) for e in exprs]
+        if any(x is None for x in found):
+            return None
+        degrees.append(max(found))
+    if math.prod(k + 1 for k in degrees) > limit:
+        return None
+    import itertools
+    return [{d.name: fmpq(v) for d, v in zip(irrational, point)}
+            for point in itertools.product(*(range(1, k + 2) for k in degrees))]
 
 
 def snapshot(model) -> _Snapshot:

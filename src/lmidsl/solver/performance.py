@@ -1,20 +1,31 @@
-"""The headline performance as a function of the theorem's objective: its direction, and its value
-at a proved bound on the objective.
+"""The headline performance as a function of the theorem's objective, proved monotone where it
+matters and evaluated in ball arithmetic.
 
-A theorem minimises an objective g and reports a performance p(g): γ = √g, g itself, c·g, or ν for
-``min −ν`` (a maximisation).  A proved lower bound g ≥ L on the optimum becomes
+A theorem minimises an objective g and reports a performance p = f(g): γ = √g, g itself, c·g, ν
+for ``min −ν`` (a maximisation), √β, 1/δ, ...  :func:`objective_map` derives f from the theorem's
+declaration (the performance with the objective replaced by the level; a performance that is a
+variable of the objective is solved for: ν = −level).  The optimum g* lies in [L, U], L a proved
+lower bound on the objective (the dual bound) and U the objective at a proved feasible point, and
 
-* p ≥ p(L) (rounded down) when p is non-decreasing in g — side ``"lower"``;
-* p ≤ p(L) (rounded up) when p is non-increasing — side ``"upper"`` (the optimum's point is then
-  the lower end of the performance's bracket, the dual bound its upper end).
+* f non-decreasing on [L, U] (side ``"lower"``): p* ∈ [f(L)↓, f(U)↑];
+* f non-increasing on [L, U] (side ``"upper"``, a maximised performance): p* ∈ [f(U)↓, f(L)↑];
 
-The direction is a property of the theorem and its parameters, known with or without a bound:
-:func:`performance_side` orients the bracket (:func:`lmidsl.solver.verdict.bracket`) and
-:func:`performance_bound` maps the dual bound (:mod:`lmidsl.solver.dual_bound`).
+(↓, ↑: the ball's lower and upper ends, rounded outwards).  Monotonicity is *proved* on the
+interval: f' is enclosed in interval arithmetic (python-flint ``arb``) on [L, U], split into pieces
+where one ball is too wide, and f must be real and finite there.  Without one of the ends the
+interval is unbounded — (−∞, U] with no lower bound, [L, ∞) with no proved point — and f must be
+continuous on it with a derivative of one sign (sympy's ``continuous_domain``,
+``is_increasing``/``is_decreasing``).  A map not proved monotone gives no bracket; nothing is
+clamped.  The one convention: γ = √g is the non-negative root, so its lower end is √max(L, 0).
+
+Everything is derived from the content of the theorem (its performance and objective
+expressions and the parameter values), never from the theorem object: a theorem changed after a
+solve (``minimize`` again in a notebook) is mapped afresh.
 """
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from functools import lru_cache
 
 import sympy as sp
@@ -23,15 +34,169 @@ from flint import arb
 from ..numeric.proof import ball_precision, round_down, round_up
 
 _LEVEL = sp.Symbol("level_", real=True)
+#: pieces of [L, U] the derivative is enclosed on, at most (split in halves while inconclusive)
+MAX_PIECES = 256
+
+
+class _NoBall(ValueError):
+    """An expression python-flint's balls do not evaluate."""
+
+
+def _ball(expr, level: arb) -> arb:
+    """``expr`` (numbers and the level only) in ball arithmetic, the level a ball."""
+    if expr == _LEVEL:
+        return level
+    if expr.is_Integer:
+        return arb(int(expr))
+    if expr.is_Rational:
+        return arb(int(expr.p)) / arb(int(expr.q))
+    if expr.is_Float:
+        return arb(str(expr))
+    if expr == sp.pi:
+        return arb.pi()
+    if expr == sp.E:
+        return arb(1).exp()
+    args = [_ball(a, level) for a in expr.args]
+    if expr.is_Add:
+        return sum(args[1:], args[0])
+    if expr.is_Mul:
+        out = args[0]
+        for a in args[1:]:
+            out = out * a
+        return out
+    if expr.is_Pow:
+        base, exponent = args
+        e = expr.args[1]
+        if e.is_Integer:
+            return base ** int(e)
+        if e == sp.Rational(1, 2):
+            return base.sqrt()
+        return (exponent * base.log()).exp()
+    functions = {sp.exp: arb.exp, sp.log: arb.log, sp.Abs: abs, sp.sin: arb.sin, sp.cos: arb.cos}
+    if expr.func in functions and len(args) == 1:
+        return functions[expr.func](args[0])
+    raise _NoBall(f"no ball rule for {expr.func.__name__}")
+
+
+def _interval(lo: float, hi: float) -> arb:
+    """A ball containing [lo, hi]."""
+    return arb(lo).union(arb(hi))
+
+
+def _finite(x: arb) -> bool:
+    return x.is_finite() and not x.is_nan() if hasattr(x, "is_nan") else x.is_finite()
+
+
+@dataclass(frozen=True)
+class ObjectiveMap:
+    """p = f(level) for a theorem's objective; ``kind`` "identity", "sqrt" (γ = √g) or "general"."""
+
+    f: sp.Expr
+    derivative: sp.Expr
+    kind: str
+
+    def side(self, lower: float | None, upper: float | None) -> str | None:
+        """"lower" (f non-decreasing), "upper" (non-increasing) proved on [lower, upper] (an end
+        None: unbounded that way), or None when not proved."""
+        if self.kind in ("identity", "sqrt"):
+            return "lower"
+        if _LEVEL not in self.derivative.free_symbols:
+            with ball_precision(128):
+                try:
+                    d = _ball(self.derivative, arb(0))
+                except _NoBall:
+                    return None
+                return "lower" if d >= 0 else ("upper" if d <= 0 else None)
+        if lower is None or upper is None or not (math.isfinite(lower) and math.isfinite(upper)):
+            return _sympy_side(self.f, lower, upper)
+        return _ball_side(self.f, self.derivative, lower, upper)
+
+    def value(self, level: float, direction: str) -> float | None:
+        """f(level) rounded ``direction`` ("down" or "up"), or None when f is not real there."""
+        if self.kind == "identity":
+            return level
+        if self.kind == "sqrt" and level <= 0:
+            return 0.0
+        with ball_precision(128):
+            try:
+                v = _ball(self.f, arb(level))
+            except (_NoBall, ZeroDivisionError, ValueError):
+                return None
+            if not _finite(v):
+                return None
+            if direction == "down":
+                return round_down(float(v.lower()))
+            return round_up(float(v.upper()))
+
+
+def _ball_side(f, derivative, lower: float, upper: float) -> str | None:
+    """The sign of f' on [lower, upper], proved piece by piece; f real and finite there."""
+    signs = set()
+    pieces = [(lower, upper)]
+    done = 0
+    with ball_precision(128):
+        while pieces:
+            a, b = pieces.pop()
+            try:
+                d = _ball(derivative, _interval(a, b))
+                v = _ball(f, _interval(a, b))
+            except (_NoBall, ZeroDivisionError, ValueError):
+                return None
+            if _finite(d) and _finite(v) and (d >= 0 or d <= 0):
+                signs.add("lower" if d >= 0 else "upper")
+                done += 1
+                if len(signs) > 1:
+                    return None
+                continue
+            if len(pieces) + done >= MAX_PIECES or not b > a:
+                return None
+            middle = a + (b - a) / 2
+            if not a < middle < b:
+                return None
+            pieces += [(a, middle), (middle, b)]
+    return signs.pop() if signs else None
+
+
+@lru_cache(maxsize=512)
+def _sympy_side(f, lower: float | None, upper: float | None) -> str | None:
+    """The sign of f' on an unbounded interval, by sympy: f continuous on all of it, then
+    ``is_increasing`` / ``is_decreasing``."""
+    lo = -sp.oo if lower is None or not math.isfinite(lower) else sp.Rational(lower)
+    hi = sp.oo if upper is None or not math.isfinite(upper) else sp.Rational(upper)
+    if not lo < hi:
+        return None
+    interval = sp.Interval(lo, hi)
+    try:
+        from sympy.calculus.util import continuous_domain
+        if continuous_domain(f, _LEVEL, interval) != interval:
+            return None
+        if sp.is_increasing(f, interval, _LEVEL):
+            return "lower"
+        if sp.is_decreasing(f, interval, _LEVEL):
+            return "upper"
+    except (NotImplementedError, TypeError, ValueError):
+        return None
+    return None
+
+
+def _params_key(params: dict) -> tuple:
+    return tuple(sorted((k, v) for k, v in params.items() if isinstance(v, (int, float))))
+
+
+def objective_map(theorem, params: dict) -> ObjectiveMap | None:
+    """The performance as a function of the objective's value (module docstring), or None (no
+    objective or performance, or a performance that is not a function of the objective alone)."""
+    if theorem is None or theorem.performance is None or theorem.objective is None:
+        return None
+    return _objective_map(theorem.performance[1], theorem.objective, _params_key(params))
 
 
 @lru_cache(maxsize=256)
-def _as_function_of_objective(theorem, params: tuple):
-    """(p as an expression in the objective's value ``level_``, side) or None when p is not shown
-    monotone in it.  A performance that is a variable of the objective is solved for (ν = −level)."""
-    if theorem.performance is None or theorem.objective is None:
-        return None
-    perf, obj = theorem.performance[1], theorem.objective
+def _objective_map(perf, obj, params: tuple) -> ObjectiveMap | None:
+    if perf == obj:
+        return ObjectiveMap(_LEVEL, sp.Integer(1), "identity")
+    if perf == sp.sqrt(obj):
+        return ObjectiveMap(sp.sqrt(_LEVEL), 1 / (2 * sp.sqrt(_LEVEL)), "sqrt")
     values = dict(params)
     expr = perf.xreplace({obj: _LEVEL})
     unknown = [s for s in expr.free_symbols - {_LEVEL} if s.name not in values]
@@ -43,61 +208,49 @@ def _as_function_of_objective(theorem, params: tuple):
     free = expr.free_symbols - {_LEVEL}
     if any(s.name not in values for s in free):
         return None
-    expr = expr.xreplace({s: values[s.name] for s in free})
-    derivative = sp.diff(expr, _LEVEL)
-    if derivative.is_nonnegative or sp.simplify(derivative).is_nonnegative:
-        return expr, "lower"
-    if derivative.is_nonpositive or sp.simplify(derivative).is_nonpositive:
-        return expr, "upper"
-    return None
-
-
-def _key(params: dict) -> tuple:
-    return tuple(sorted((k, v) for k, v in params.items() if isinstance(v, (int, float))))
-
-
-def performance_side(theorem, params: dict) -> str | None:
-    """"lower" when the performance is non-decreasing in the objective (a dual bound bounds it from
-    below), "upper" when non-increasing (a maximisation), None when neither is shown."""
-    if theorem.performance is not None and theorem.objective is not None:
-        perf, obj = theorem.performance[1], theorem.objective
-        if perf == obj or perf == sp.sqrt(obj):
-            return "lower"
-    found = _as_function_of_objective(theorem, _key(params))
-    return None if found is None else found[1]
-
-
-def performance_bound(theorem, params: dict, lower: float) -> tuple[float, str] | None:
-    """The headline performance at objective value ``lower`` and which side of the best
-    performance it bounds: ("lower", value rounded down) when the performance is a non-decreasing
-    function of the objective (√g, g, c·g with c ≥ 0), ("upper", value rounded up) when it is
-    non-increasing (a maximisation written min −ν with performance ν); None when neither is
-    shown."""
-    if theorem.performance is None or theorem.objective is None:
+    expr = expr.xreplace({s: sp.Rational(repr(float(values[s.name]))) for s in free})
+    if _LEVEL not in expr.free_symbols and expr.free_symbols:
         return None
-    perf, obj = theorem.performance[1], theorem.objective
-    with ball_precision(128):
-        if perf == obj:
-            return lower, "lower"
-        if perf == sp.sqrt(obj):
-            return (round_down(float(arb(lower).sqrt().lower())) if lower > 0 else 0.0), "lower"
-    found = _as_function_of_objective(theorem, _key(params))
+    return ObjectiveMap(expr, sp.diff(expr, _LEVEL), "general")
+
+
+def performance_side(theorem, params: dict, lower: float | None = None, upper: float | None = None) -> str | None:
+    """"lower" when the performance is proved non-decreasing in the objective on [lower, upper]
+    (a dual bound bounds it from below), "upper" when non-increasing (a maximisation), None when
+    neither is proved."""
+    found = objective_map(theorem, params)
+    return None if found is None else found.side(lower, upper)
+
+
+def performance_bound(theorem, params: dict, lower: float, upper: float | None = None) -> tuple[float, str] | None:
+    """The performance at a proved lower bound ``lower`` on the objective, and which side of the
+    optimum's performance it bounds: ("lower", f(lower)↓) when f is proved non-decreasing on
+    [lower, upper] (``upper``: the objective at a proved feasible point, or None), ("upper",
+    f(lower)↑) when non-increasing; None when neither is proved or f(lower) is not real."""
+    found = objective_map(theorem, params)
     if found is None:
         return None
-    expr, side = found
-    value = complex(sp.N(expr.xreplace({_LEVEL: max(lower, 0.0) if side == "lower" else lower}), 30))
-    if value.imag != 0 or not math.isfinite(value.real):
+    side = found.side(lower, upper)
+    if side is None:
         return None
-    v = value.real
-    if side == "lower":
-        return round_down(v * (1 - 1e-15) if v > 0 else v * (1 + 1e-15), 4), side
-    return round_up(v * (1 + 1e-15) if v > 0 else v * (1 - 1e-15), 4), side
+    value = found.value(lower, "down" if side == "lower" else "up")
+    return None if value is None else (value, side)
 
 
-def performance_lower(theorem, params: dict, lower: float) -> float | None:
+def performance_at_point(theorem, params: dict, objective: tuple[float, float], side: str) -> float | None:
+    """The optimum's end of the bracket from a proved point whose exact objective lies in
+    [objective]: f(hi)↑ for a non-decreasing f (an upper end), f(hi)↓ for a non-increasing one."""
+    found = objective_map(theorem, params)
+    if found is None:
+        return None
+    return found.value(objective[1], "up" if side == "lower" else "down")
+
+
+def performance_lower(theorem, params: dict, lower: float, upper: float | None = None) -> float | None:
     """The proved lower bound on the performance at objective ``lower`` (an increasing map), or None."""
-    found = performance_bound(theorem, params, lower)
+    found = performance_bound(theorem, params, lower, upper)
     return found[0] if found is not None and found[1] == "lower" else None
 
 
-__all__ = ["performance_side", "performance_bound", "performance_lower"]
+__all__ = ["ObjectiveMap", "objective_map", "performance_side", "performance_bound", "performance_at_point",
+           "performance_lower"]

@@ -14,7 +14,7 @@ import numpy as np
 from ..numeric.design import Design
 from ..numeric.instance import Instance
 from ..numeric.interconnection import design_kind, design_loop, loop_summary
-from ..numeric.proof import PROVED, prove_block_matrix
+from ..numeric.proof import PRECISION, PROVED, BallEvaluator, ball_precision, prove_block_matrix, round_down, round_up
 from ..numeric.evaluate import NumericEvaluator, eigenvalues, evaluate_block_matrix
 from ..symbolic.uncertainty import scenarios, spec_at
 from .status import solved
@@ -87,6 +87,7 @@ class Solution:
     certify: bool = True            # certification asked for (False: --no-certify)
     evidence: list = field(default_factory=list)   # lmidsl.certify.evidence.Evidence: claims tested independently
     bounds: object = None           # lmidsl.solver.dual_bound.DualBound: proved lower bound on the optimum
+    objective_bounds: tuple | None = None  # [lo, hi] ∋ the objective at the point, data as written (proved)
     infeasibility: object = None    # lmidsl.solver.infeasibility.InfeasibilityCertificate
 
     @property
@@ -250,6 +251,23 @@ def evaluate_performance(instance: Instance, values: dict):
     if value.imag != 0 or not np.isfinite(value.real):
         return None  # e.g. γ = √g with g < 0 at the solver's point: no real level to report
     return value.real
+
+
+def objective_enclosure(instance: Instance, values: dict) -> tuple[float, float] | None:
+    """[lo, hi] containing the theorem's objective at a point exactly (the point's doubles taken
+    exactly, the data and parameters as written), or None (no objective, or no ball for it)."""
+    objective = instance.theorem.objective
+    if objective is None:
+        return None
+    with ball_precision(PRECISION):
+        try:
+            value = BallEvaluator(instance.dims, values, instance.params).visit(objective)
+        except (ZeroDivisionError, ValueError, TypeError, KeyError):
+            return None
+        value = np.asarray(value, dtype=object).reshape(-1)[0]
+        if not value.is_finite():
+            return None
+        return round_down(float(value.lower())), round_up(float(value.upper()))
 
 
 def evaluate_reported(instance: Instance, values: dict) -> dict:

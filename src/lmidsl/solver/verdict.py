@@ -26,7 +26,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..numeric.interconnection import design_kind
-from .performance import performance_side
+from ..errors import ProofConflict
+from .performance import performance_at_point, performance_bound, performance_side
 from .status import INFEASIBLE as STATUS_INFEASIBLE, MARGINAL, OPTIMAL, SOLVED
 
 OPTIMAL_WORD = "optimal"            # certified, and proved near the optimum (a dual bound)
@@ -169,6 +170,9 @@ def decide(solution) -> Verdict:
         gap = dual_gap(dual_end, headline, maximised)
         where = f"the optimum is in [{box['lower']:.10g}, {box['upper']:.10g}]"
         if gap < -OPTIMAL_GAP:
+            if not distinct_analysis(solution):
+                raise ProofConflict(f"{theorem.id}: the level {headline!r} is proved beyond the proved dual end "
+                                    f"{dual_end!r} of the same problem: a bug in lmidsl, not a certificate")
             # the analysis theorem certifies the design beyond the synthesis LMIs' proved optimum
             # (zhang_quantized_loss.thm2 paper-N3: 0.0695 against [0.14984, 0.14985]): true, and
             # not "optimal" — the bracket bounds the synthesis SDP, not the best design
@@ -197,6 +201,15 @@ def dual_gap(dual_end: float, level: float, maximised: bool) -> float:
     return ((dual_end - level) if maximised else (level - dual_end)) / max(abs(level), 1e-300)
 
 
+def distinct_analysis(solution) -> bool:
+    """A distinct analysis theorem certified a recovered design (the only way a headline can lie
+    beyond the synthesis LMIs' own proved optimum)."""
+    theorem = solution.instance.theorem if solution.instance is not None else None
+    analysis = solution.analysis
+    return bool(theorem is not None and theorem.recovery and analysis is not None and analysis.passed
+                and analysis.theorem != theorem.id)
+
+
 def backed_off(solution) -> bool:
     """The point is a back-off point (its record keeps the optimum's level and proofs)."""
     return "gamma" in (solution.backoff or {})
@@ -223,29 +236,59 @@ def headline_level(solution):
 
 
 def bracket(solution) -> dict | None:
-    """The optimum's bracket [lower, upper] in the headline quantity: one end is the optimum's
-    level, proved when every LMI is proved at the optimum's point (the back-off point's record keeps
-    the optimum's proofs); the other is the proved dual bound (:mod:`lmidsl.solver.dual_bound`) —
-    the lower end for a minimised performance, the upper end for a maximised one (``maximised``:
-    a performance that decreases with the objective, min −ν).  None for a feasibility problem."""
+    """The optimum's bracket [lower, upper] in the headline quantity, both ends about the problem
+    as written (:mod:`lmidsl.solver.enclosure`), mapped through the performance proved monotone
+    on the interval between them (:mod:`lmidsl.solver.performance`).
+
+    One end is the optimum's point: proved when every LMI is proved there (the back-off point's
+    record keeps the optimum's proofs and objective), its level f(objective) rounded outwards from
+    the point's objective enclosed in balls.  The other is the proved dual bound
+    (:mod:`lmidsl.solver.dual_bound`) mapped through f — the lower end for a non-decreasing f, the
+    upper end for a non-increasing one (``maximised``: min −ν, √β, 1/δ).  Without a direction
+    proved on that interval neither end is placed.  A proved lower end above a proved upper end is
+    a :class:`~lmidsl.errors.ProofConflict`.  None for a feasibility problem."""
     theorem = solution.instance.theorem if solution.instance is not None else None
     if theorem is None or theorem.objective is None or not solution.ok:
         return None
+    params = solution.params or {}
     level = optimum_level(solution)
     lmis = ([r.get("proof") for r in solution.backoff.get("optimum_lmis") or []] if backed_off(solution)
             else [r.proof for r in solution.lmis])
     point_proved = bool(lmis) and all(p == "proved" for p in lmis)
+    point = solution.backoff.get("objective_bounds_opt") if backed_off(solution) else solution.objective_bounds
+    at_point = point if point_proved and point is not None else None
     b = solution.bounds
-    maximised = performance_side(theorem, solution.params or {}) == "upper"
-    dual = None if b is None or not b.proved else (b.upper_performance if maximised else b.lower_performance)
-    proved = dual is not None
-    why = "not computed (--no-bounds, or not the direct backend)" if b is None else (
-        b.why or ("the performance is not a monotone function of the objective" if not proved else ""))
-    if maximised:
-        return {"lower": level, "upper": dual, "lower_proved": point_proved, "upper_proved": proved,
-                "why": why, "maximised": True}
-    return {"lower": dual, "upper": level, "lower_proved": proved, "upper_proved": point_proved,
-            "why": why, "maximised": False}
+    lower = b.lower if b is not None and b.proved else None
+    side = performance_side(theorem, params, lower, None if at_point is None else at_point[1])
+    dual, why = None, ""
+    if b is None:
+        why = "not computed (--no-bounds, or not the direct backend)"
+    elif not b.proved:
+        why = b.why
+    elif side is None:
+        why = (f"{theorem.performance[0] if theorem.performance else 'the performance'} is not proved monotone "
+               "in the objective between the dual bound and the point")
+    else:
+        found = performance_bound(theorem, params, lower, None if at_point is None else at_point[1])
+        dual = found[0] if found is not None and found[1] == side else None
+        why = "" if dual is not None else "the performance is not real at the dual bound"
+    if side is None:
+        return {"lower": None, "upper": None, "lower_proved": False, "upper_proved": False,
+                "why": why, "maximised": False}
+    if at_point is not None:
+        end = performance_at_point(theorem, params, at_point, side)
+        level = end if end is not None else level
+        point_proved = end is not None
+    maximised = side == "upper"
+    box = ({"lower": level, "upper": dual, "lower_proved": point_proved, "upper_proved": dual is not None,
+            "why": why, "maximised": True} if maximised else
+           {"lower": dual, "upper": level, "lower_proved": dual is not None, "upper_proved": point_proved,
+            "why": why, "maximised": False})
+    if box["lower_proved"] and box["upper_proved"] and box["lower"] > box["upper"]:
+        raise ProofConflict(f"{theorem.id}: the proved lower end {box['lower']!r} of the optimum's bracket is above "
+                            f"its proved upper end {box['upper']!r} ({'the point' if maximised else 'the dual bound'} "
+                            f"against {'the dual bound' if maximised else 'the point'}): a bug in lmidsl, not a certificate")
+    return box
 
 
 def not_proved(solution) -> list[str]:

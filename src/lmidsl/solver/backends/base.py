@@ -21,7 +21,7 @@ import sympy as sp
 
 from ...numeric.instance import Instance
 from ...numeric.evaluate import NumericEvaluator
-from ..solution import Solution, evaluate_performance, lmi_certificate
+from ..solution import Solution, evaluate_performance, lmi_certificate, objective_enclosure
 from ..conditioning import Equilibration
 from ..status import solved
 from ...symbolic.parameter_values import parameter_value
@@ -328,6 +328,7 @@ class CompiledModel:
             solution.congruence = self._congruence
             solution.lmis = lmi_certificate(instance, point, congruence=self._congruence)
             solution.gamma = evaluate_performance(instance, point)
+            solution.objective_bounds = objective_enclosure(instance, point)
             if solution.gamma is None and instance.theorem.performance is not None:
                 solution.notes.append(f"{instance.theorem.performance[0]} is not real at the returned "
                                       f"point ({instance.theorem.performance[1]} with a negative radicand)")
