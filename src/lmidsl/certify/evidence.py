@@ -16,6 +16,8 @@ theorem that declares its system states a claim that can be tested without its L
 A value beyond the claimed level (relative tolerance :data:`TOLERANCE`: the norm's own accuracy,
 far below any solver's) **refutes** the claim: the verdict is "refuted", the point and its value
 are shown.  Evidence that does not refute is evidence, not proof (the grid may miss the worst α).
+A computation that fails or gives a value that is not finite for a stable system is "evidence
+unavailable", never a refutation.
 """
 from __future__ import annotations
 
@@ -116,7 +118,7 @@ def claim_evidence(solution, level: float | None) -> list[Evidence]:
             found = test()
         except Exception as exc:    # python-control refusing a system is no evidence either way
             found = Evidence("independent norm", level, None, False,
-                             f"could not be computed: {type(exc).__name__}: {exc}")
+                             f"evidence unavailable: {type(exc).__name__}: {exc}")
         if found is not None:
             out.append(found)
     return out

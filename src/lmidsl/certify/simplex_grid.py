@@ -89,7 +89,8 @@ def at(vertex_systems: list, alphas: tuple) -> dict:
 
 # -- measures ------------------------------------------------------------------------------------
 def measure_value(system: dict, measure: str, time: str) -> float:
-    """The measure of one system (see the module docstring); +∞ for a norm of an unstable one."""
+    """The measure of one system (see the module docstring); +∞ for a norm of an unstable one;
+    ArithmeticError when the norm of a stable one does not come out finite."""
     A = np.atleast_2d(system["A"])
     eig = np.linalg.eigvals(A)
     abscissa, radius = float(np.max(eig.real)), float(np.max(np.abs(eig)))
@@ -103,9 +104,12 @@ def measure_value(system: dict, measure: str, time: str) -> float:
     B, C = np.atleast_2d(system["B"]), np.atleast_2d(system["C"])
     D = np.atleast_2d(system.get("D", np.zeros((C.shape[0], B.shape[1]))))
     sys = control.ss(A, B, C, D, 0 if time == "continuous" else True)
-    if measure == "hinf":
-        return float(control.norm(sys, "inf", tol=1e-10))
-    return float(control.norm(sys, 2))
+    value = float(control.norm(sys, "inf", tol=1e-10)) if measure == "hinf" else float(control.norm(sys, 2))
+    if not np.isfinite(value):
+        # a stable system has a finite norm: an infinite one is a failed computation (slycot on
+        # a weakly driven mode at −1e-9), not evidence
+        raise ArithmeticError(f"python-control's {measure} norm of a stable system came out {value}")
+    return value
 
 
 def _moves(sizes: tuple) -> list:

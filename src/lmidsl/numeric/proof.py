@@ -139,6 +139,10 @@ class BallEvaluator(ExpressionWalker):
     def scale(self, c, a):
         return c * np.asarray(a, dtype=object)
 
+    def trace(self, a):
+        a = np.atleast_2d(np.asarray(a, dtype=object))
+        return sum((a[i, i] for i in range(1, a.shape[0])), a[0, 0])     # a ball, not a float
+
     def _visit_Number(self, expr):
         if isinstance(expr, sp.Rational):
             return arb(int(expr.p)) / arb(int(expr.q))

@@ -132,6 +132,8 @@ class PicosModel(CompiledModel):
         return picos.block(rows)
 
     def lmi_constraint(self, N, size, eps):
+        if not _is_picos(N):                   # a block without a decision variable: a constant LMI
+            N = picos.Constant(np.atleast_2d(np.asarray(N, dtype=float)))
         try:
             return N << (-eps * np.eye(size) if eps is not None else np.zeros((size, size)))
         except ValueError as exc:
