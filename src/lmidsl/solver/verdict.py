@@ -130,7 +130,8 @@ def decide(solution) -> Verdict:
         proof = solution.infeasibility
         if proof is not None and proof.proved:
             why = (f"infeasible, proved: a theorem-of-alternatives certificate (Z ⪰ 0, Z ≠ 0, "
-                   f"tr(F_i Z) = 0, tr(F_0 Z) ≥ 0) verified {'exactly' if proof.route == 'exact' else 'in ball arithmetic'}")
+                   f"tr(F_i Z) = 0, tr(F_0 Z) ≥ 0) verified {'exactly' if proof.route == 'exact' else 'in ball arithmetic'}"
+                   " for the data as written")
             return verdict(False, INFEASIBLE, why, [why])
         if solution.status == STATUS_INFEASIBLE:
             why = ("feasp finds no strictly feasible point; infeasibility not proved"
