@@ -220,3 +220,21 @@ def test_random_theorems_never_prove_beyond_the_exact_optimum(b, shift, slope, c
     box = sol.verdict.bracket
     if box is not None:
         _contains(box, slope * (shift + b * b))
+
+
+def test_an_indexed_theorem_changed_after_a_solve_gets_a_new_member():
+    """The member built for some sizes is not reused once the template gains an LMI."""
+    from lmidsl import He
+    thm = Theorem("adv.indexed", time="continuous")
+    n = thm.dim("n")
+    M = thm.index_set("modes")
+    i = M.indices("i")
+    A = thm.data("A", n, n, over=M)
+    Y = thm.var("Y", n, kind="symmetric", over=M)
+    thm.lmi("(1)", [[He(A[i] * Y[i])]], forall=i)
+    inputs = {"modes": [{"A": [[-1.0]]}, {"A": [[-2.0]]}]}
+    first = thm.specialise(inputs)
+    thm.lmi("(2)", [[Y[i]]], sense=">", forall=i)
+    second = thm.specialise(inputs)
+    assert second is not first
+    assert len(second.lmis) == 2 * len(first.lmis)

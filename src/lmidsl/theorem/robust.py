@@ -190,9 +190,10 @@ class RobustTheorem(Theorem):
     def member(self, sizes: tuple, degree: int, polya: int) -> Theorem:
         """The coefficient theorem for these sizes and degrees (built once, cached)."""
         key = (tuple(sizes), int(degree), int(polya))
-        if key not in self._members:
-            self._members[key] = self._expand(*key)
-        return self._members[key]
+        stamp = key + (self.fingerprint(),)          # a changed declaration expands afresh
+        if stamp not in self._members:
+            self._members[stamp] = self._expand(*key)
+        return self._members[stamp]
 
     def _expand(self, sizes: tuple, degree: int, polya: int) -> Theorem:
         m = Theorem.__new__(Theorem)

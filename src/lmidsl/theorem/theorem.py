@@ -286,10 +286,19 @@ class Theorem:
         if not self.index_sets:
             return self
         sizes = _ix.sizes_from_inputs(self, inputs)
-        key = tuple(sorted(sizes.items()))
+        key = (tuple(sorted(sizes.items())), self.fingerprint())
         if key not in self._members:
             self._members[key] = _ix.build_member(self, sizes)
         return self._members[key]
+
+    def fingerprint(self) -> tuple:
+        """What a derived object (a member, a map of the objective) depends on, by content or by
+        the identity of immutable parts: a theorem changed after a solve (another ``minimize``, one
+        more LMI, a new recovery) gets a new fingerprint, so nothing built from it is reused."""
+        return (tuple(id(l) for l in self.lmis), self.objective, self.performance,
+                tuple(self.var_decl), tuple(self.data_decl), tuple(self.param_decl), tuple(self.derived_decl),
+                tuple((k, v) for k, v in self.recovery.items()), len(self.recovery_steps),
+                len(self.assumptions), tuple(self.index_sets), tuple(self.indexed_decl))
 
     def inputs_for(self, inputs: dict) -> dict:
         """The inputs in this theorem's own names (a member of an indexed theorem flattens
