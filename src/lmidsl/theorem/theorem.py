@@ -265,15 +265,16 @@ class Theorem:
 
     def coefficients(self, name: str, over, *, structure: str | None = None,
                      latex: str | None = None, matrix_latex: str | None = None,
-                     description: str = ""):
+                     description: str = "", diagonal: str = "given"):
         """Declare a matrix of scalar coefficients over an index set, used as ``Pi[i, j]``; bound
         as one N×N datum whose ``structure`` ('generator', 'stochastic', 'nonnegative') is
-        checked at bind time; ``latex`` names the entries (π → π_ij), ``matrix_latex`` the
-        matrix (Π)."""
+        checked at bind time; ``diagonal="complete"``: the diagonal completes each row
+        (π_ii = −Σ_{j≠i} π_ij, :mod:`lmidsl.theorem.structure`); ``latex`` names the entries
+        (π → π_ij), ``matrix_latex`` the matrix (Π)."""
         self._check_new(name)
         if not isinstance(over, _ix.IndexSet):
             raise TheoremDefinitionError(f"{self.id}: coefficients {name}: over must be an index set")
-        family = _ix.CoefficientFamily(self, name, over, structure, latex, description)
+        family = _ix.CoefficientFamily(self, name, over, structure, latex, description, diagonal)
         self.coefficient_decl[name] = family
         symbol = self._describe(DataMatrix(f"{name}#matrix", over.size, over.size, self.id),
                                 matrix_latex or name, description)
