@@ -566,12 +566,15 @@ class Theorem:
             check_conformance(expr, where=f"{self.id}: linearisation of {name}")
             self.linearisation[name] = expr
 
-    def certified_by(self, theorem, design: tuple, gamma_tolerance: float = 1e-3, criterion: str = "level"):
+    def certified_by(self, theorem, design: tuple, gamma_tolerance: float = 1e-3,
+                     criterion: str | None = None):
         """Name the analysis theorem (a :class:`Theorem`, or the id of one in another file) that
         certifies the recovered ``design`` matrices, which it takes as data.  ``criterion``:
-        "level" (the analysis certifies the synthesis γ within ``gamma_tolerance``) or "feasible"
-        (a stabilisation design: the analysis LMIs proved with the design fixed, no level)."""
-        if criterion not in ("level", "feasible"):
+        "level" (the analysis certifies the synthesis γ within ``gamma_tolerance``), "feasible"
+        (a stabilisation design: the analysis LMIs proved with the design fixed, no level), or
+        None (default): inferred from the analysis theorem — "feasible" when it is a feasibility
+        problem, "level" when it minimises (:func:`lmidsl.certify.analysis.certificate_criterion`)."""
+        if criterion not in (None, "level", "feasible"):
             raise TheoremDefinitionError(f"{self.id}: certified_by: criterion must be 'level' or 'feasible'")
         target = theorem if isinstance(theorem, Theorem) else None
         self.analysis = AnalysisLink(theorem.id if target is not None else str(theorem), tuple(design),
