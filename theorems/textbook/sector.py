@@ -13,7 +13,7 @@ upper end (:func:`lmidsl.solver.verdict.bracket`).
   k* = 1/δ* = −1 / min_ω Re G(jω) (when that minimum is negative): the check is a frequency
   sweep (python-control).
 * ``textbook.saturated_ellipsoid`` — ẋ = Ax + B sat(Kx), one input, K given.  Hu, Lin & Chen,
-  Automatica 38(2):351–359, 2002, Thm 1 (the auxiliary feedback H, Y = HQ): the ellipsoid
+  Automatica 38(2):351–359, 2002 (the auxiliary feedback H, Y = HQ): the ellipsoid
   E = {xᵀQ⁻¹x ≤ 1} is contractively invariant if there are Q ≻ 0, Y with
   He(AQ + BKQ) ≺ 0, He(AQ + BY) ≺ 0 (the two vertices of the saturation's convex hull) and
   [[1, Y], [Yᵀ, Q]] ⪰ 0 (|Hx| ≤ 1 on E).  max β with Q ⪰ βI: the ball of radius √β lies in E,
@@ -52,7 +52,7 @@ circle_sector.example("third-order", {
 
 saturated_ellipsoid = Theorem(
     "textbook.saturated_ellipsoid", "Largest ball in an invariant ellipsoid of a saturated feedback",
-    Source("Hu, Lin & Chen 2002", "Thm 1 (auxiliary feedback H, Y = HQ), one input", HLC),
+    Source("Hu, Lin & Chen 2002", "the auxiliary-feedback condition (H, Y = HQ), one input", HLC),
     time="continuous",
     description="max radius √β over Q ⪰ βI, Y with He(AQ + BKQ) ≺ 0, He(AQ + BY) ≺ 0, "
                 "[[1, Y], [Yᵀ, Q]] ⪰ 0: the ball of radius √β lies in a contractively invariant ellipsoid")
