@@ -11,14 +11,17 @@ papers print only the off-diagonal rates and let the diagonal complete the row,
 π_ii = −Σ_{j≠i} π_ij (p_ii = 1 − Σ_{j≠i} p_ij): declared in the theorem
 (``thm.coefficients(..., structure="generator", diagonal="complete")``) or given with the data
 (``"Pi": {"matrix": [[...]], "diagonal": "complete"}``), the diagonal entries given are replaced by
-the completion (the off-diagonal entries are never changed, and no number is changed without
-that declaration).
+the completion (the off-diagonal entries are never changed, no number is changed without that
+declaration, and a diagonal entry that changes is reported: an :class:`~lmidsl.errors.LmidslWarning`,
+one line on the command line).
 """
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
-from ..errors import InputError, TheoremDefinitionError
+from ..errors import InputError, LmidslWarning, TheoremDefinitionError
 
 STRUCTURES = ("generator", "stochastic", "nonnegative", None)
 DIAGONALS = ("given", "complete")
@@ -68,7 +71,14 @@ def check_structure(M: np.ndarray, structure, diagonal: str, where: str) -> np.n
     """The matrix to use: completed when declared, then checked; errors name the entry or the
     row (1-based), the value and the tolerance, and the fix when a row sum is off."""
     if diagonal == "complete":
-        M = complete_diagonal(M, structure)
+        given, M = M, complete_diagonal(M, structure)
+        change = np.abs(np.diag(M) - np.diag(given))
+        if change.max(initial=0.0) > row_tolerance(M):      # said, never silent
+            i = int(change.argmax())
+            warnings.warn(LmidslWarning(
+                f"{where}: the diagonal completes each row (declared): {int((change > 0).sum())} diagonal "
+                f"entries replaced, the largest change at ({i + 1}, {i + 1}): {given[i, i]:.6g} -> {M[i, i]:.6g}"),
+                stacklevel=2)
     if structure is None:
         return M
     n = M.shape[0]
