@@ -18,8 +18,10 @@ from .delay import THEOREMS as _DELAY
 from .h2_of import THEOREMS as _H2_OF
 from .mixed import THEOREMS as _MIXED
 from .hpd import THEOREMS as _HPD
+from .sector import THEOREMS as _SECTOR
+from .lpv import THEOREMS as _LPV
 
 THEOREMS = [*_BRL, *_HINF_SF, *_HINF_OF, *_HINF_FILTER, *_H2, *_KYP, *_REGIONS, *_POLYTOPIC,
-            *_MARKOV, *_FUZZY, *_SWITCHED, *_DELAY, *_H2_OF, *_MIXED, *_HPD]
+            *_MARKOV, *_FUZZY, *_SWITCHED, *_DELAY, *_H2_OF, *_MIXED, *_HPD, *_SECTOR, *_LPV]
 
 __all__ = ["THEOREMS"]

@@ -112,6 +112,15 @@ def objective_level(theorem, gamma: float) -> float | None:
     return float(roots[0]) if roots else None
 
 
+def certificate_criterion(link, analysis) -> str:
+    """The criterion declared on the link, else the analysis theorem's own: "feasible" for a
+    feasibility problem (its LMIs proved with the design fixed), "level" for a minimisation (its
+    level must meet the synthesis level)."""
+    if link.criterion is not None:
+        return link.criterion
+    return "feasible" if analysis.objective is None else "level"
+
+
 def analysis_theorem_for(instance: Instance):
     """The analysis counterpart of ``instance.theorem``; for a family (:mod:`lmidsl.theorem.family`), the
     member matching the instance (its data names may depend on the family index)."""
@@ -129,9 +138,10 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
     ``backend`` and ``solver``)."""
     plan = plan or Plan(backend, solver)
     link = instance.theorem.analysis
-    if link.criterion == "feasible":      # a stabilisation design: no level to meet
-        synthesis_gamma = None
     analysis = analysis_theorem_for(instance)
+    criterion = certificate_criterion(link, analysis)
+    if criterion == "feasible":      # a stabilisation design: no level to meet
+        synthesis_gamma = None
     vertices = range(instance.nvertices) if instance.nvertices > 1 else [None]
     gammas, statuses, lmis, methods, minima, reports, solvers, scalings, reported = [], [], [], [], [], [], [], [], []
     for v in vertices:
@@ -169,5 +179,5 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
                                minimum=minimum, feasp=reports,
                                solvers=sorted(set(solvers)),
                                reported=reported[0] if len(reported) == 1 else {},
-                               criterion=link.criterion,
+                               criterion=criterion,
                                coverage="vertex-wise" if len(gammas) > 1 else "system")

@@ -5,6 +5,7 @@ import os
 import shutil
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 from ..errors import InputError, LmidslError
@@ -39,23 +40,27 @@ def register(sub):
 
 
 def compile_pdf(tex_path: Path) -> Path:
-    """Run pdflatex on ``tex_path`` in its folder; the PDF path, or a one-line error."""
+    """Run pdflatex on a copy of ``tex_path`` in a folder of its own (its .aux and .log there), so
+    that no file beside the document is read or touched but the PDF; the PDF path, or a one-line
+    error (the log kept in that folder)."""
     exe = shutil.which("pdflatex")
     if exe is None:
         raise PdflatexMissing(
             f"--pdf: pdflatex is not installed (apt-get install texlive-latex-base); "
             f"the LaTeX source is in {tex_path}")
+    work = Path(tempfile.mkdtemp(prefix="lmidsl-pdflatex-"))    # the document is self-contained
+    shutil.copyfile(tex_path, work / tex_path.name)
     proc = subprocess.run([exe, "-interaction=nonstopmode", "-halt-on-error", tex_path.name],
-                          cwd=tex_path.parent, capture_output=True, text=True,
-                          stdin=subprocess.DEVNULL)
-    pdf = tex_path.with_suffix(".pdf")
-    if proc.returncode != 0 or not pdf.exists():
+                          cwd=work, capture_output=True, text=True, stdin=subprocess.DEVNULL)
+    built = work / tex_path.with_suffix(".pdf").name
+    if proc.returncode != 0 or not built.exists():
         lines = proc.stdout.splitlines()
         first = next((i for i, line in enumerate(lines) if line.startswith("!")), None)
         detail = " ".join(lines[first:first + 2]) if first is not None else "no PDF produced"
-        raise LmidslError(f"pdflatex failed on {tex_path}: {detail} (see {tex_path.with_suffix('.log')})")
-    for suffix in (".aux", ".log"):
-        tex_path.with_suffix(suffix).unlink(missing_ok=True)
+        raise LmidslError(f"pdflatex failed on {tex_path}: {detail} (see {work / tex_path.with_suffix('.log').name})")
+    pdf = tex_path.with_suffix(".pdf")
+    shutil.move(str(built), str(pdf))
+    shutil.rmtree(work, ignore_errors=True)
     return pdf
 
 

@@ -14,6 +14,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..pipeline import make_instance
+from ..render.report import performance_label
 from ..render.table import format_matrix, format_table
 from ..render.terminal import echo, is_terminal, wrap
 from ..studies.bmi import successive_lmi
@@ -57,7 +58,8 @@ def format_successive(result, theorem_id: str) -> str:
     starts = len({s.start for s in result.history}) > 1
     rows = [([s.start] if starts else []) + [s.iteration, s.status, s.gamma, None if s.worst_eig is None
                                               else f"{s.worst_eig:.2e}"] for s in result.history]
-    lines = [format_table((["start"] if starts else []) + ["iteration", "status", "gamma", "max eig"], rows),
+    lines = [format_table((["start"] if starts else []) + ["iteration", "status", performance_label(theorem_id),
+                                                           "max eig"], rows),
              "", wrap(f"stopped: {result.stop_reason}")]
     best = result.best
     if best is None:

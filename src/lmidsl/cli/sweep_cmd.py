@@ -6,6 +6,7 @@ from pathlib import Path
 from ..errors import InputError
 from ..render.figures import sweep_figure
 from ..render.progress import Progress
+from ..render.report import performance_label
 from ..render.table import format_table
 from ..render.terminal import wrap
 from ..studies.store import ensure_writable_dir
@@ -47,12 +48,12 @@ def format_sweep(result, out=None) -> str:
     table = []
     if len(result.points) <= MAX_ROWS:
         rows = [[*(p.params[n] for n in names), p.status, p.gamma, p.worst_eig] for p in result.points]
-        table.append(format_table([*names, "status", "gamma", "max eig"], rows))
+        table.append(format_table([*names, "status", performance_label(result.theorem), "max eig"], rows))
     lines = []
     ok = [p.gamma for p in result.points if p.gamma is not None]
     lines.append(f"{result.theorem}: {len(result.points)} points, {len(ok)} solved, "
                  f"{result.certified_count()} certified (every LMI proved at the returned point)"
-                 + (f", gamma from {min(ok):.6g} to {max(ok):.6g}" if ok else ""))
+                 + (f", {performance_label(result.theorem)} from {min(ok):.6g} to {max(ok):.6g}" if ok else ""))
     lines.append(format_timing(result.timing()))
     if result.resumed:
         lines.append(f"resumed: {result.resumed} points from {Path(out) / 'sweep.jsonl'}, "

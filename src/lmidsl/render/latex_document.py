@@ -12,6 +12,7 @@ portrait: an LMI too wide for the line is printed with named blocks and a "where
 from __future__ import annotations
 
 import re
+from types import SimpleNamespace
 
 import numpy as np
 import sympy as sp
@@ -20,7 +21,7 @@ from .latex import (equation_tag, grouped_display, latex_of,
                     printer_for, lmi_where, name_to_latex, with_vertex_index)
 from .latex_layout import choose_letter, definition, lmi_layout
 from .latex_text import latex_matrix, latex_number, tex_text
-from .robust_latex import robust_conditions_latex
+from .robust_latex import as_stated, domain_latex, robust_conditions_latex, robust_where, scheduled_name
 from ..symbolic.symbols import DiagonalVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable
 from ..errors import InputError, LmidslError, did_you_mean
 from ..theorem.registry import get_theorem, linked_analysis
@@ -153,14 +154,20 @@ def lmi_snippet(theorem, label: str, **settings) -> str:
     if isinstance(theorem, str):
         theorem = get_theorem(theorem)
     lmi = _find_lmi(theorem, label)
+    robust = bool(getattr(theorem, "simplices", None))      # stated once in α: render/robust_latex.py
+    if robust:
+        lmi = as_stated(lmi)
     body, where = lmi_parts(theorem, lmi, settings)
     key = re.sub(r"[^A-Za-z0-9]+", "-", f"{theorem.id}-{lmi.label}").strip("-")
     out = [f"% {theorem.id} {lmi.label} (lmidsl latex {theorem.id} --lmi \"{lmi.label}\"; needs amsmath)",
            "\\begin{equation}", body, f"\\label{{{key}}}", "\\end{equation}"]
     vertex = r"for every vertex $i = 1, \dots, N$" if lmi.per_vertex else ""
-    if where:
+    extra = []
+    if robust:
+        vertex, extra = robust_where(theorem)
+    if where or extra:
         out.append((vertex + ", " if vertex else "") + "where")
-        items = [definition(name, value) for name, value in where]
+        items = [definition(name, value) for name, value in where] + extra
         out += ["\\begin{gather*}", ",\\\\\n".join(items) + ".", "\\end{gather*}"]
     elif vertex:
         out.append(vertex + ".")
@@ -286,7 +293,7 @@ def theorem_latex(theorem, solution=None, **settings) -> str:
                 text += f" The performance level is ${level} = {value}$."
         out.append(text)
     kind = _design_word(theorem)
-    if theorem.recovery:
+    if theorem.recovery or getattr(theorem, "scheduled", None):
         out.append(f"\\subsection*{{{kind.capitalize()} recovery}}\n" + _recovery_latex(theorem, printer))
     if theorem.analysis is not None:
         out.append(f"The recovered {kind} is certified by the analysis theorem "
@@ -323,7 +330,16 @@ def _recovery_latex(theorem: Theorem, printer) -> str:
                        f"({tex_text(step.factorization.name)}).")
         else:
             name = step[1]
-            formulas.append(f"{_recovery_name(theorem, name)} = {printer.doprint(theorem.recovery[name])}")
+            indexed = getattr(theorem, "indexed_recovery", {}).get(name)
+            if indexed is not None:        # K_i = W_i Y_i^{-1}, ∀ i ∈ 𝓝
+                expr, family, q = indexed
+                formulas.append(f"{printer.doprint(family[q.indices])} = {printer.doprint(expr)}"
+                                f"{printer.quantifier(SimpleNamespace(quantifier=q))}")
+            else:
+                formulas.append(f"{_recovery_name(theorem, name)} = {printer.doprint(theorem.recovery[name])}")
+    for name, expr in getattr(theorem, "scheduled", {}).items():     # K(α) = W(α) Y(α)^{-1}, ∀ α
+        formulas.append(f"{scheduled_name(theorem, name_to_latex(name))} = {printer.doprint(expr)}"
+                        f",\\quad \\forall\\, {domain_latex(theorem, rates=False)}")
     flush()
     return "\n\n".join(out)
 

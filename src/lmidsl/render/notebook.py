@@ -26,6 +26,7 @@ import numpy as np
 from ..theorem.values import LATEX_RENDERER
 from .latex import LMILatexPrinter, lmi_latex
 from .latex_text import tex_text
+from .report import performance_label
 
 #: result classes and their renderer, by (module, class name)
 HTML_RENDERERS = {
@@ -154,7 +155,8 @@ def verification_html(v) -> str:
 def sweep_html(result) -> str:
     """One row per grid point: the parameters, status, γ, largest eigenvalue, its verdict word."""
     names = list(result.grid)
-    head = "".join(f"<th>{_html.escape(h)}</th>" for h in [*names, "status", "γ", "max eig", "verdict"])
+    head = "".join(f"<th>{_html.escape(h)}</th>"
+                   for h in [*names, "status", performance_label(result.theorem), "max eig", "verdict"])
     body = "".join("<tr>" + "".join(f"<td>{_number(p.params[n], 'g')}</td>" for n in names)
                    + f"<td>{_html.escape(p.status)}</td><td>{_number(p.gamma)}</td>"
                    f"<td>{_number(p.worst_eig, '.2e')}</td><td>{_html.escape(p.verdict.word)}</td></tr>"

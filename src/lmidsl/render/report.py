@@ -4,6 +4,8 @@ from __future__ import annotations
 from ..numeric.interconnection import design_kind
 from .table import format_matrix
 from ..solver.verdict import LEVEL_NAMES, design_certified_level
+from ..errors import LmidslError
+from ..theorem.registry import get_theorem
 
 
 def headline_words(sol, verdict) -> str:
@@ -156,3 +158,12 @@ def format_verification(result) -> str:
     lines += [f"  note: {n}" for n in result.notes]
     lines.append("  verdict: " + result.verdict.line())
     return "\n".join(lines)
+
+
+def performance_label(theorem_id: str, default: str = "gamma") -> str:
+    """The theorem's own name of its performance (gamma, k, radius, nu, ...), for a column header."""
+    try:
+        theorem = get_theorem(theorem_id)
+    except LmidslError:
+        return default
+    return theorem.performance[0] if theorem.performance else default

@@ -18,7 +18,8 @@ from dataclasses import replace
 from ..symbolic.simplex import exponent_latex
 from .latex import display_lmi, grouped_display, lmi_latex, printer_for, tex_text
 
-__all__ = ["robust_statement_latex", "robust_conditions_latex", "coefficient_lmis_latex", "domain_latex"]
+__all__ = ["robust_statement_latex", "robust_conditions_latex", "coefficient_lmis_latex", "domain_latex",
+           "robust_where", "as_stated", "scheduled_name"]
 
 
 def _simplex_set(s, size: str) -> str:
@@ -32,12 +33,16 @@ def _sizes(theorem, member=None) -> list:
     return [s.size or "N" if len(theorem.simplices) == 1 else f"N_{{{k + 1}}}" for k, s in enumerate(theorem.simplices)]
 
 
-def domain_latex(theorem, member=None) -> str:
+def domain_latex(theorem, member=None, rates: bool = True) -> str:
     r"""'\alpha \in \Lambda_N' or '(\alpha, \beta) \in \Lambda_{N_1} \times \Lambda_{N_2}'."""
     sizes = _sizes(theorem, member)
     names = [s.latex for s in theorem.simplices]
     point = names[0] if len(names) == 1 else "(" + ", ".join(names) + ")"
-    return point + r" \in " + r" \times ".join(rf"\Lambda_{{{n}}}" for n in sizes)
+    out = point + r" \in " + r" \times ".join(rf"\Lambda_{{{n}}}" for n in sizes)
+    for rate in getattr(theorem, "rates", ()) if rates else ():    # rate-bounded: α̇ ∈ b·H_N
+        n = sizes[rate.simplex.index]
+        out += rf",\ \dot{{{rate.simplex.latex}}} \in {rate.latex}\,\mathcal{{H}}_{{{n}}}"
+    return out
 
 
 def _definitions(theorem, member=None) -> list[str]:
@@ -47,7 +52,7 @@ def _definitions(theorem, member=None) -> list[str]:
     out = []
     for name, decl in theorem.polynomial.items():
         lhs = decl.symbol.latex_name
-        base = name if decl.kind == "variable" else theorem.data_decl[name].symbol.name
+        base = name if decl.kind != "vertex" else theorem.data_decl[name].symbol.name
         if decl.kind == "vertex":
             if len(theorem.simplices) == 1:
                 s = theorem.simplices[0].latex
@@ -56,10 +61,19 @@ def _definitions(theorem, member=None) -> list[str]:
                 idx = ",".join(f"i_{k + 1}" for k in range(len(sizes)))
                 weights = " ".join(f"{s.latex}_{{i_{k + 1}}}" for k, s in enumerate(theorem.simplices))
                 out.append(rf"{lhs} = \sum_{{{idx}}} {weights}\, {base}_{{{idx}}}")
+        elif decl.kind == "derivative":
+            a = decl.rate.simplex.latex
+            n = sizes[decl.rate.simplex.index]
+            of = theorem.polynomial[decl.of].symbol.latex_name
+            out.append(rf"{lhs} = \sum_{{i=1}}^{{{n}}} \frac{{\partial {of}}}{{\partial {a}_i}}\, \dot{{{a}}}_i")
         else:
             degree = g if decl.degree == "degree" else str(decl.degree)
             s = ",".join(x.latex for x in decl.simplices)
             out.append(rf"{lhs} = \sum_{{|k| = {degree}}} {s}^{{k}} {base}_{{k}}")
+    for rate in getattr(theorem, "rates", ()):
+        n = sizes[rate.simplex.index]
+        out.append(rf"\mathcal{{H}}_{{{n}}} = \{{h \in \mathbb{{R}}^{{{n}}} : \textstyle\sum_i h_i = 0,\ "
+                   rf"|h_i| \le 1\}}\ (|\dot{{{rate.simplex.latex}}}_i| \le {rate.latex})")
     return out
 
 
@@ -122,6 +136,24 @@ def robust_conditions_latex(theorem, member=None) -> str:
     out.append("where\n" + grouped_display(where, end="."))
     out.append(f"${_degrees_text(theorem, member)}$.")
     return "\n\n".join(out)
+
+
+def robust_where(theorem) -> tuple[str, list[str]]:
+    r"""The quantifier ('for all $\alpha \in \Lambda_N$', with the rate set when there is one) and
+    the definitions (A(α), P(α), Ṗ, the sets) of one LMI printed alone (``latex --lmi``)."""
+    sizes = _sizes(theorem)
+    where = _definitions(theorem) + [_simplex_set(s, n) for s, n in zip(theorem.simplices, sizes)]
+    return rf"for all ${domain_latex(theorem)}$", where
+
+
+def scheduled_name(theorem, name: str) -> str:
+    """A scheduled recovery's name with its arguments: K(α)."""
+    return f"{name}({','.join(s.latex for s in theorem.simplices)})"
+
+
+def as_stated(lmi):
+    """The LMI of a robust statement as printed: once, in α (not per vertex)."""
+    return _untagged_vertex(lmi)
 
 
 def _untagged_vertex(lmi):

@@ -14,6 +14,14 @@ bound, not the optimum.  Only lmidsl's default ε (:data:`~lmidsl.solver.backend
 is reduced: a margin the caller chose (``--margin``) is honoured — kept, or raised by the
 escalation when the certificate needs it, never lowered — and flagged ``margin_limited`` when it
 sets the optimum.
+
+A non-strict LMI ``N ⪯ 0`` gets no margin, so when it is active at the optimum the solver's point
+sits on its boundary (largest eigenvalue ±1e-10) and no floating-point proof shows ``N ⪯ 0``
+there.  :func:`solve_model` then imposes that LMI with the margin too (``N ⪯ −εI``, the same
+back-off as a strict one) and re-solves: the point is strictly inside, hence provable, and the
+objective moves by about ε·tr Z — the cost, stated in ``Solution.notes``.  When even that gives no
+point (an LMI that is singular by construction), the note names the LMI and says why it cannot be
+certified at a point.
 """
 from __future__ import annotations
 
@@ -53,6 +61,8 @@ def solve_model(model, solver: str | None = None, escalate: bool = True,
     base = model.margin
     tried = [base]
     calls = _solver_call_time(solution)
+    before = model.tightened
+    solution, calls = _tighten_active_nonstrict(model, solver, solution, calls, **options)
     for factor in (MARGIN_ESCALATION if escalate else ()):
         if not solution.ok or solution.lmis_hold:
             break
@@ -73,7 +83,45 @@ def solve_model(model, solver: str | None = None, escalate: bool = True,
             + (" (certificate holds)" if solution.lmis_hold else " (certificate still fails)"))
         if restore_margin:
             model.set_margin(base)
+    if restore_margin and model.tightened != before:
+        model.tighten(before)
     return solution
+
+
+def active_nonstrict(model, solution: Solution) -> list[str]:
+    """Labels of the non-strict LMIs not shown to hold at the point (largest eigenvalue ≥ 0)."""
+    strict = {lmi.label: lmi.strict for lmi in model.instance.theorem.lmis}
+    return sorted({r.label for r in solution.lmis if r.max_eig >= 0 and not strict.get(r.label, True)
+                   and r.label not in model.tightened})
+
+
+def _tighten_active_nonstrict(model, solver, solution: Solution, calls: float, **options):
+    """Re-solve with the active non-strict LMIs imposed as ``N ⪯ −εI``; note the cost (the
+    objective's change) or, when no point results, which LMI cannot be certified and why."""
+    active = active_nonstrict(model, solution) if solution.ok else []
+    if not active:
+        return solution, calls
+    names = ", ".join(active)
+    worst = max(r.max_eig for r in solution.lmis if r.label in active)
+    model.tighten(model.tightened | set(active))
+    tight = model.solve(solver, **options)
+    calls += _solver_call_time(tight)
+    if not tight.ok:
+        model.tighten(model.tightened - set(active))
+        solution.notes.append(
+            f"the non-strict LMI {names} is active at the optimum (largest eigenvalue {worst:.1e}, on its "
+            f"boundary: no proof can show it holds there) and has no point strictly inside ({tight.status}): "
+            f"it cannot be certified at a point; declare it strict (strict=True) if the theorem allows")
+        return solution, calls
+    cost = ""
+    if solution.objective is not None and tight.objective is not None:
+        change = tight.objective - solution.objective
+        cost = (f"; cost: objective {solution.objective:.7g} -> {tight.objective:.7g} "
+                f"({change / max(abs(solution.objective), 1e-300):+.1e} relative)")
+    tight.notes.append(f"the non-strict LMI {names} is active at the optimum (largest eigenvalue "
+                       f"{worst:.1e}, on its boundary): imposed with the margin {model.margin:g} "
+                       f"(⪯ −εI) so that its point is strictly inside and provable{cost}")
+    return tight, calls
 
 
 def _reduce_margin(model, solver, solution: Solution, calls: float, restore: bool, **options):

@@ -11,9 +11,14 @@ the best grid point with Nelder–Mead on θ ↦ γ*(θ).  With ``objective="tmi
 value is the feasp t*(θ) of :mod:`lmidsl.solver.feasibility` instead (for feasibility theorems at a
 prescribed γ: θ with t*(θ) < 0 makes the LMIs strictly feasible).
 
-γ*(θ) is the solver's optimum, the infimum over the closure of the strict set; each point also
-records whether the solver's point satisfies the strict LMIs (``certified``), and the result
-keeps the best certified point apart.  Points where the solver returns no value count as +∞.
+γ*(θ) is the solver's optimum, the infimum over the closure of the strict set.  Each point is
+solved as :func:`lmidsl.solver.margin.solve_model` solves (margin escalation; a non-strict LMI
+active at the optimum imposed with the margin) and its LMIs are proved at the returned point
+(:mod:`lmidsl.numeric.proof`): ``certified`` means every LMI proved, and the result keeps the best
+certified point apart.  Points are ranked by the theorem's objective (minimised), so a performance
+that decreases with it (a sector bound k = 1/δ, a radius) is ranked best-first too; the
+performance is reported under the theorem's own name.  Points where the solver returns no value
+count as +∞.
 """
 from __future__ import annotations
 
@@ -27,7 +32,10 @@ import numpy as np
 from ..errors import InputError
 from ..numeric.instance import Instance
 from ..solver.backends import choose_backend, get_backend
+from ..numeric.proof import PROVED
 from ..solver.feasibility import DEFAULT_RADIUS, JointFeasp
+from ..solver.margin import solve_model
+from ..solver.solution import lmi_certificate
 from .parallel import Runner, Task
 
 OBJECTIVES = ("gamma", "tmin")
@@ -43,11 +51,19 @@ class SearchPoint:
     status: str = ""
     certified: bool = False
     worst_eig: float | None = None
+    objective: float | None = None     # the minimised objective (the ranking key with "gamma")
+
+    @property
+    def key(self) -> float:
+        """What is minimised: the objective (or t*); +∞ without a value."""
+        if math.isinf(self.value) or self.objective is None:
+            return self.value
+        return self.objective
 
     def as_dict(self) -> dict:
         return {"params": self.params, "value": None if math.isinf(self.value) else self.value,
-                "gamma": self.gamma, "status": self.status, "certified": self.certified,
-                "worst_eig": self.worst_eig}
+                "gamma": self.gamma, "objective": self.objective, "status": self.status,
+                "certified": self.certified, "worst_eig": self.worst_eig}
 
 
 @dataclass
@@ -60,30 +76,31 @@ class SearchResult:
     refined: SearchPoint | None = None
     refinement: dict = field(default_factory=dict)
     evaluations: list = field(default_factory=list)
+    performance: str = "gamma"     # the theorem's name of the searched value
 
     @property
     def best_grid(self) -> SearchPoint | None:
         finite = [p for p in self.grid if math.isfinite(p.value)]
-        return min(finite, key=lambda p: p.value, default=None)
+        return min(finite, key=lambda p: p.key, default=None)
 
     @property
     def best(self) -> SearchPoint | None:
         candidates = [p for p in (self.best_grid, self.refined) if p is not None and math.isfinite(p.value)]
-        return min(candidates, key=lambda p: p.value, default=None)
+        return min(candidates, key=lambda p: p.key, default=None)
 
     @property
     def best_certified(self) -> SearchPoint | None:
-        """The best point whose solver point satisfies the strict LMIs."""
+        """The best point whose LMIs are all proved at the returned point (t* < 0 for "tmin")."""
         if self.objective == "tmin":
             ok = [p for p in self.grid + self.evaluations if p.value < 0]
         else:
             ok = [p for p in self.grid + self.evaluations if p.certified and math.isfinite(p.value)]
-        return min(ok, key=lambda p: p.value, default=None)
+        return min(ok, key=lambda p: p.key, default=None)
 
     def as_dict(self) -> dict:
         pick = lambda p: None if p is None else p.as_dict()  # noqa: E731
         return {"theorem": self.theorem, "example": self.example, "objective": self.objective,
-                "names": self.names, "best": pick(self.best), "best_grid": pick(self.best_grid),
+                "performance": self.performance, "names": self.names, "best": pick(self.best), "best_grid": pick(self.best_grid),
                 "refined": pick(self.refined), "refinement": self.refinement,
                 "best_certified": pick(self.best_certified),
                 "grid": [p.as_dict() for p in self.grid],
@@ -113,9 +130,14 @@ class Evaluator:
                 t, status = self.feasp.solve(self.solver)
                 return SearchPoint(dict(params), math.inf if t is None else t, status=status,
                                    certified=t is not None and t < 0)
-            sol = self.model.solve(self.solver, **self.options)
+            sol = solve_model(self.model, self.solver, restore_margin=True, **self.options)
         value = sol.gamma if sol.ok and sol.gamma is not None else math.inf
-        return SearchPoint(dict(params), value, sol.gamma, sol.status, sol.lmis_hold, sol.worst_eig)
+        certified = False
+        if sol.ok and sol.lmis_hold:
+            proofs = lmi_certificate(instance, {**instance.data, **sol.values}, prove=True)
+            certified = bool(proofs) and all(r.proof == PROVED for r in proofs)
+        return SearchPoint(dict(params), value, sol.gamma, sol.status, certified, sol.worst_eig,
+                           sol.objective if sol.ok else None)
 
 
 class SearchTask(Task):
@@ -172,7 +194,7 @@ def refine(evaluate: Evaluator, start: SearchPoint, names: list, steps: list,
             point = evaluate(dict(zip(names, map(float, x))))
             cache[key] = point
             seen.append(point)
-        return cache[key].value
+        return cache[key].key
 
     x0 = np.array([start.params[n] for n in names], dtype=float)
     simplex = [x0] + [x0 + np.eye(len(names))[i] * steps[i] for i in range(len(names))]
@@ -185,7 +207,7 @@ def refine(evaluate: Evaluator, start: SearchPoint, names: list, steps: list,
         res = minimize(f, x0, method="Nelder-Mead", bounds=bounds,
                        options={"initial_simplex": np.array(simplex), "xatol": xatol,
                                 "fatol": 1e-7, "maxfev": maxfev})
-    best = min(seen, key=lambda p: p.value) if seen else start
+    best = min(seen, key=lambda p: p.key) if seen else start
     info = {"method": "Nelder-Mead", "nfev": len(seen), "converged": bool(res.success),
             "message": str(res.message)}
     return best, info, seen
@@ -220,7 +242,8 @@ def scalar_search(instance: Instance, axes: dict, objective: str | None = None, 
     if not points:
         raise InputError("the grid is empty")
     args = (instance, objective, backend, solver, margin, radius, options)
-    result = SearchResult(theorem.id, instance.example, objective, names)
+    result = SearchResult(theorem.id, instance.example, objective, names,
+                          performance=theorem.performance[0] if theorem.performance else "objective")
     result.grid = evaluate_grid(instance, points, args, workers, progress, scheduler)
     start = result.best_grid
     if refine_best and start is not None:
@@ -238,7 +261,7 @@ def scalar_search(instance: Instance, axes: dict, objective: str | None = None, 
 
 def format_result(result: SearchResult, top: int = 8) -> str:
     """A short text report: the best grid points, the refined point, the best certified one."""
-    value_name = "γ" if result.objective == "gamma" else "t*"
+    value_name = result.performance if result.objective == "gamma" else "t*"
 
     def line(p: SearchPoint) -> str:
         params = ", ".join(f"{k} = {v:.6g}" for k, v in p.params.items())
@@ -246,7 +269,7 @@ def format_result(result: SearchResult, top: int = 8) -> str:
         cert = "" if result.objective == "tmin" else (" certified" if p.certified else " not certified")
         return f"{value_name} = {val:<12} at {params}  ({p.status}{cert})"
 
-    ranked = sorted(result.grid, key=lambda p: p.value)
+    ranked = sorted(result.grid, key=lambda p: p.key)
     lines = [f"{result.theorem}" + (f" [{result.example}]" if result.example else "")
              + f": search over {', '.join(result.names)} ({len(result.grid)} grid points, "
              f"objective {value_name})",
@@ -258,6 +281,6 @@ def format_result(result: SearchResult, top: int = 8) -> str:
     best = result.best
     lines.append(f"  best: {line(best)}" if best is not None else "  best: no point gave a value")
     cert = result.best_certified
-    what = "certified" if result.objective == "gamma" else "strictly feasible (t* < 0)"
+    what = "certified (every LMI proved)" if result.objective == "gamma" else "strictly feasible (t* < 0)"
     lines.append(f"  best {what}: {line(cert)}" if cert is not None else f"  no {what} point")
     return "\n".join(lines)

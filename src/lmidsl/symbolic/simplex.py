@@ -44,7 +44,8 @@ from ..errors import TheoremDefinitionError
 from .walker import Walker
 
 __all__ = ["exponents", "multi_exponents", "multinomial", "HomogeneousPolynomial", "PolynomialForm",
-           "coefficient_blocks", "exponent_text", "exponent_latex", "vertex_exponents"]
+           "coefficient_blocks", "exponent_text", "exponent_latex", "vertex_exponents", "rate_vertices",
+           "time_derivative"]
 
 
 @lru_cache(maxsize=None)
@@ -337,3 +338,63 @@ def coefficient_blocks(spec, forms: dict, sizes: tuple, polya, where: str = "") 
             lower.append(cells)
         out.append((m, lower))
     return total, out
+
+
+# -- the time derivative of an HPPD matrix over a rate polytope (rate-bounded parameters) -------
+@lru_cache(maxsize=None)
+def rate_vertices(N: int) -> tuple:
+    """The vertices of H_N = {h ∈ ℝᴺ : Σ hᵢ = 0, |hᵢ| ≤ 1}, the rates α̇ of a point moving on
+    Λ_N with |α̇ᵢ| ≤ 1 (the set for the bound b is b·H_N).  A vertex has N − 1 coordinates at
+    ±1 and the last fixed by Σ hᵢ = 0: integer vectors with entries in {−1, 0, 1} (N = 2:
+    (1, −1) and (−1, 1); N = 3: the 6 permutations of (1, −1, 0))."""
+    if N < 2:
+        return ()
+    found = set()
+    for free in range(N):
+        for signs in itertools.product((1, -1), repeat=N - 1):
+            h = list(signs[:free]) + [0] + list(signs[free:])
+            h[free] = -sum(h)
+            if abs(h[free]) <= 1:
+                found.add(tuple(h))
+    # a vertex of the polytope is not a midpoint of two others (those with a free 0 may be)
+    points = sorted(found, reverse=True)
+    return tuple(p for p in points
+                 if not any(tuple((a + b) for a, b in zip(q, r)) == tuple(2 * x for x in p)
+                            for q in points for r in points if q < r and q != p and r != p))
+
+
+def time_derivative(form: HomogeneousPolynomial, simplex: int, rate: int, scale=1) -> HomogeneousPolynomial:
+    """Ṗ(α, β) = Σᵢ ∂P/∂αᵢ · α̇ᵢ with α̇ = scale·Σⱼ βⱼ hⱼ (hⱼ the vertices of
+    :func:`rate_vertices`, β ∈ Λ_M a simplex of its own at position ``rate`` of ``form.sizes``).
+
+    For P(α) = Σ_k α^k P_k homogeneous of degree g in the simplex at position ``simplex``,
+    ∂P/∂αᵢ = Σ_k kᵢ α^{k−eᵢ} P_k, so Ṗ = Σ_k Σᵢ Σⱼ kᵢ hⱼᵢ α^{k−eᵢ} βⱼ (scale·P_k): homogeneous of
+    degree g − 1 in α and 1 in β, multi-affine with the data (this is how ROLMIP writes the
+    derivative of a polynomial variable over a rate polytope).  ``scale`` (the bound b, a symbol
+    or number) multiplies every term; degree 0 in α gives the zero polynomial (a constant P)."""
+    N = form.sizes[simplex]
+    rates = rate_vertices(N)
+    if len(rates) != form.sizes[rate]:
+        raise ValueError(f"the rate simplex has {form.sizes[rate]} vertices, H_{N} has {len(rates)}")
+    degree = list(form.degree)
+    out: dict = {}
+    for k, terms in form.terms.items():
+        for i in range(N):
+            ki = k[simplex][i]
+            if not ki:
+                continue
+            lowered = list(k)
+            lowered[simplex] = tuple(x - (a == i) for a, x in enumerate(k[simplex]))
+            for j, h in enumerate(rates):
+                if not h[i]:
+                    continue
+                m = list(lowered)
+                m[rate] = tuple(x + (b == j) for b, x in enumerate(k[rate]))
+                bucket = out.setdefault(tuple(m), {})
+                for t, c in terms.items():
+                    term = t if scale == 1 else scale * t
+                    bucket[term] = bucket.get(term, 0) + c * ki * h[i]
+    if out:
+        degree[simplex] -= 1
+        degree[rate] += 1
+    return HomogeneousPolynomial(form.sizes, tuple(degree), _drop_zeros(out))

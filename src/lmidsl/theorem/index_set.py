@@ -19,7 +19,9 @@ block per instance (linear in the number of instances); no check is run again.
 
 Coefficient matrices may declare a structure checked when they are bound: ``"generator"`` (a
 transition-rate matrix: off-diagonal entries ≥ 0, rows summing to 0), ``"stochastic"`` (entries
-≥ 0, rows summing to 1), ``"nonnegative"``.
+≥ 0, rows summing to 1), ``"nonnegative"``; ``diagonal="complete"`` (or the data's
+``{"matrix": …, "diagonal": "complete"}``) lets the diagonal complete each row
+(:mod:`lmidsl.theorem.structure`).
 """
 from __future__ import annotations
 
@@ -37,9 +39,9 @@ from ..symbolic.indexed import (Coefficient, Index, IndexedData, IndexedDiagonal
                                 IndexedVariable, _IndexOp, free_indices, holds, instantiate)
 from ..symbolic.numbers import finite_matrix
 from ..symbolic.symbols import Dim
+from .structure import check_declaration, check_structure, split_value
 from .values import LMI
 
-STRUCTURES = ("generator", "stochastic", "nonnegative", None)
 
 
 class IndexSet:
@@ -112,12 +114,10 @@ class CoefficientFamily:
     """A matrix of scalar coefficients over an index set, ``Pi[i, j]``, bound as one N×N datum."""
 
     def __init__(self, theorem, name: str, index_set: IndexSet, structure: str | None,
-                 latex: str | None, description: str):
-        if structure not in STRUCTURES:
-            raise TheoremDefinitionError(f"{theorem.id}: coefficients {name}: structure must be one of "
-                                         f"{', '.join(map(str, STRUCTURES))}")
+                 latex: str | None, description: str, diagonal: str = "given"):
+        check_declaration(f"{theorem.id}: coefficients {name}", structure, diagonal)
         self.theorem, self.name, self.set = theorem, name, index_set
-        self.structure = structure
+        self.structure, self.diagonal = structure, diagonal
         self.latex = latex or name
         self.description = description
         entry = Coefficient(name, theorem.id, 1, 1)       # the entries' LaTeX name (π_ij)
@@ -129,28 +129,17 @@ class CoefficientFamily:
         return Coefficient(self.name, self.theorem.id, *idx)
 
     def check(self, value, n: int) -> np.ndarray:
-        """The bound matrix, with its shape and declared structure checked (one-line errors)."""
+        """The bound matrix, with its shape and declared structure checked (one-line errors); the
+        diagonal completed when the theorem or the data declare it (:mod:`lmidsl.theorem.structure`)."""
         where = f"{self.theorem.id}: {self.name}"
+        value, option = split_value(value, where)
         M = finite_matrix(value, where)
         if M.shape != (n, n):
             raise InputError(f"{where} is {M.shape[0]}×{M.shape[1]} but there are {n} {self.set.name}")
-        off = M[~np.eye(n, dtype=bool)]
-        tol = 1e-9 * max(1.0, np.abs(M).max())
-        if self.structure == "generator":
-            if (off < 0).any():
-                raise InputError(f"{where} must be a transition-rate generator: an off-diagonal entry is negative")
-            worst = np.abs(M.sum(axis=1)).max()
-            if worst > tol:
-                raise InputError(f"{where} must be a transition-rate generator: a row sums to "
-                                 f"{M.sum(axis=1)[np.abs(M.sum(axis=1)).argmax()]:g}, not 0")
-        elif self.structure == "stochastic":
-            if (M < 0).any():
-                raise InputError(f"{where} must be a stochastic matrix: an entry is negative")
-            if np.abs(M.sum(axis=1) - 1).max() > tol:
-                raise InputError(f"{where} must be a stochastic matrix: the rows must sum to 1")
-        elif self.structure == "nonnegative" and (M < 0).any():
-            raise InputError(f"{where} must be nonnegative")
-        return M
+        diagonal = option or self.diagonal
+        if option == "complete" and self.structure not in ("generator", "stochastic"):
+            raise InputError(f"{where}: diagonal 'complete' needs a generator or stochastic structure")
+        return check_structure(M, self.structure, diagonal, where)
 
 
 class Quantifier:
@@ -233,7 +222,7 @@ def sizes_from_inputs(template, inputs: dict) -> dict:
         if not found:
             for coef in template.coefficient_decl.values():
                 if coef.set is M and coef.name in inputs:
-                    found = len(inputs[coef.name])
+                    found = len(split_value(inputs[coef.name], f"{template.id}: {coef.name}")[0])
                     break
         if not found and M.size.name in inputs:
             found = int(inputs[M.size.name])

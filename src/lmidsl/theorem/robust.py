@@ -26,6 +26,17 @@ A product of simplices (``thm.simplex("alpha", size="Na")``, ``thm.simplex("beta
 size="Nb")``) takes its sizes from parameters; the vertex data are then listed at the
 Na·Nb product vertices (first simplex slowest) and are multi-affine in (α, β).
 
+**Rate-bounded parameters** (continuous-time LPV systems, α = α(t)): ``rate =
+thm.rate(alpha, bound="b")`` declares |α̇ᵢ(t)| ≤ b (b a parameter), i.e. α̇ ∈ b·H_N with
+H_N = {h : Σ hᵢ = 0, |hᵢ| ≤ 1}, a polytope written as the convex combinations Σⱼ βⱼ hⱼ of its
+vertices, β ∈ Λ_M a simplex of its own; ``dP = thm.derivative(P, rate)`` is
+Ṗ(α, α̇) = Σᵢ ∂P/∂αᵢ α̇ᵢ (:func:`lmidsl.symbolic.simplex.time_derivative`), to be written in an
+LMI as any matrix (``He(P * A) + dP``).  The member then expands over Λ_N × Λ_M, but data and
+variables stay functions of α alone (degree 0 in β: no product-vertex duplication), and only
+the LMIs that contain a derivative get one coefficient LMI per β-monomial.  A gain that
+depends on α, K(α) = W(α)Y(α)⁻¹, is declared with :meth:`RobustTheorem.recover_scheduled` and
+evaluated at a given α after the solve (:func:`lmidsl.certify.rate_bounded.scheduled`).
+
 Theorem files and the member never mention α at compile time; the member's ``robust``
 attribute (:class:`RobustMember`) says where it came from (the statement, sizes, degrees, the
 polynomial forms), for printing and for the grid evidence (:mod:`lmidsl.certify.simplex_grid`).
@@ -40,7 +51,7 @@ import sympy as sp
 from ..errors import InputError, TheoremDefinitionError
 from ..symbolic.blocks import BlockMatrixSpec
 from ..symbolic.simplex import (HomogeneousPolynomial, coefficient_blocks, exponent_latex, exponent_text,
-                                multi_exponents, vertex_exponents)
+                                multi_exponents, rate_vertices, time_derivative, vertex_exponents)
 from ..symbolic.symbols import DataMatrix
 from .theorem import Theorem
 from .values import LMI
@@ -60,17 +71,30 @@ class Simplex:
     index: int
 
 
+@dataclass(frozen=True)
+class Rate:
+    """A bound |α̇ᵢ| ≤ b on the rate of the simplex ``simplex``: α̇ ∈ b·H_N (``bound`` names the
+    parameter b)."""
+
+    simplex: Simplex
+    bound: str
+    latex: str
+    index: int
+
+
 @dataclass
 class PolynomialDecl:
     """A declaration that depends on α: vertex data (degree 1 in every simplex) or an HPPD
     variable of degree ``degree`` (an int, or the name of the degree parameter)."""
 
     symbol: object
-    kind: str                 # "vertex" or "variable"
+    kind: str                 # "vertex", "variable" or "derivative" (of ``of`` over ``rate``)
     simplices: tuple
     degree: object = 1
     var_kind: str = "full"
     shape: tuple = ()
+    of: str | None = None     # a derivative: the HPPD variable differentiated
+    rate: Rate | None = None  # a derivative: the rate bound of its simplex
 
 
 @dataclass
@@ -86,6 +110,7 @@ class RobustMember:
     coefficients: dict = field(default_factory=dict)   # statement LMI label -> [(exponent, member label)]
     lmi_degree: dict = field(default_factory=dict)     # statement LMI label -> degree per simplex (before Pólya)
     coefficient_vars: dict = field(default_factory=dict)  # HPPD variable -> {exponent: coefficient symbol}
+    rate_sizes: tuple = ()                       # vertices of each rate simplex (after the simplices)
 
 
 class RobustTheorem(Theorem):
@@ -95,6 +120,8 @@ class RobustTheorem(Theorem):
         super().__init__(id, title, source, **options)
         self.options = options
         self.simplices: list[Simplex] = []
+        self.rates: list[Rate] = []
+        self.scheduled: dict = {}
         self.polynomial: dict[str, PolynomialDecl] = {}
         self._members: dict = {}
         self.param("degree", latex="g", domain=(0, MAX_DEGREE), default=degree,
@@ -162,6 +189,50 @@ class RobustTheorem(Theorem):
                                                (rows, rows if cols is None else cols))
         return symbol
 
+    def rate(self, simplex: Simplex, *, bound: str = "b", latex: str | None = None,
+             default: float | None = None) -> Rate:
+        """Declare the rate bound |α̇ᵢ(t)| ≤ b of a time-varying α (b: a parameter named ``bound``,
+        declared here).  For one scheduling parameter θ ∈ [θ₁, θ₂] with vertices A₁ = A(θ₁),
+        A₂ = A(θ₂): α₂ = (θ − θ₁)/(θ₂ − θ₁), and |θ̇| ≤ ν is b = ν/(θ₂ − θ₁)."""
+        if not isinstance(simplex, Simplex) or simplex not in self.simplices:
+            raise TheoremDefinitionError(f"{self.id}: rate: the first argument is a simplex of thm.simplex()")
+        if any(r.simplex == simplex for r in self.rates):
+            raise TheoremDefinitionError(f"{self.id}: the rate of {simplex.name} is declared twice")
+        self.param(bound, latex=latex or "b", domain=(0, 1e6), default=default,
+                   description=f"bound on the rates |d{simplex.name}_i/dt|")
+        rate = Rate(simplex, bound, latex or "b", len(self.rates))
+        self.rates.append(rate)
+        return rate
+
+    def derivative(self, variable, rate: Rate, *, name: str | None = None, latex: str | None = None):
+        """Ṗ(α, α̇) = Σᵢ ∂P/∂αᵢ α̇ᵢ of an HPPD variable P over the rate polytope of ``rate``: a
+        matrix to write in an LMI (``He(P * A) + dP``), expanded by
+        :func:`lmidsl.symbolic.simplex.time_derivative`."""
+        decl = self.polynomial.get(getattr(variable, "name", None))
+        if decl is None or decl.kind != "variable" or not isinstance(rate, Rate) or rate not in self.rates:
+            raise TheoremDefinitionError(f"{self.id}: derivative: takes an HPPD variable (var(..., over=alpha)) "
+                                         f"and a rate of thm.rate()")
+        if rate.simplex not in decl.simplices:
+            raise TheoremDefinitionError(f"{self.id}: derivative: {variable.name} does not depend on "
+                                         f"{rate.simplex.name}")
+        name = name or f"d{variable.name}"
+        s = rate.simplex.latex
+        latex = latex or rf"\dot{{{variable.name}}}({s},\dot{{{s}}})"
+        symbol = super().var(name, *decl.shape, kind=decl.var_kind, latex=latex,
+                             description=f"time derivative of {variable.name} along the rates |d{rate.simplex.name}/dt| ≤ {rate.bound}")
+        self.polynomial[name] = PolynomialDecl(symbol, "derivative", decl.simplices, decl.degree, decl.var_kind,
+                                               decl.shape, of=variable.name, rate=rate)
+        return symbol
+
+    def recover_scheduled(self, **formulas):
+        """Recoveries that depend on α (K(α) = W(α)Y(α)⁻¹ with W, Y HPPD): checked for shapes like
+        any recovery, kept in α, and evaluated at a given α after the solve
+        (:func:`lmidsl.certify.rate_bounded.scheduled`)."""
+        for key, expr in formulas.items():
+            self._check_new(key)
+            self.scheduled[key] = expr
+        return tuple(formulas.values()) if len(formulas) > 1 else next(iter(formulas.values()))
+
     # -- members -----------------------------------------------------------------------------
     def sizes_for(self, inputs: dict) -> tuple:
         """The number of vertices of each simplex for these inputs."""
@@ -198,7 +269,7 @@ class RobustTheorem(Theorem):
     def _expand(self, sizes: tuple, degree: int, polya: int) -> Theorem:
         m = Theorem.__new__(Theorem)
         m.__dict__.update({k: v for k, v in self.__dict__.items()
-                           if k not in ("_members", "options", "simplices", "polynomial")})
+                           if k not in ("_members", "options", "simplices", "polynomial", "rates")})
         m.family = self
         m.var_decl, m.lmis = {}, []
         m.param_decl = dict(self.param_decl)
@@ -212,8 +283,13 @@ class RobustTheorem(Theorem):
         forms, aliases, coefficient_vars = {}, {}, {}
         vertex_exps = vertex_exponents(sizes)
         nsimplex = len(sizes)
+        rate_sizes = tuple(len(rate_vertices(sizes[r.simplex.index])) for r in self.rates)
+        all_sizes = tuple(sizes) + rate_sizes
+        still = tuple((0,) * M for M in rate_sizes)       # degree 0 in every rate simplex
         for name, decl in self.polynomial.items():
             symbol = decl.symbol
+            if decl.kind == "derivative":
+                continue
             if decl.kind == "vertex":
                 members = {}
                 for v, e in enumerate(vertex_exps):
@@ -224,8 +300,9 @@ class RobustTheorem(Theorem):
                     a.latex_name = tex
                     a.description = f"vertex {v + 1} of {name}"
                     aliases[alias] = (name, v)
-                    members[e] = a
-                forms[symbol] = HomogeneousPolynomial.from_coefficients(members, sizes, (1,) * nsimplex)
+                    members[tuple(e) + still] = a
+                forms[symbol] = HomogeneousPolynomial.from_coefficients(members, all_sizes,
+                                                                        (1,) * nsimplex + (0,) * len(rate_sizes))
             else:
                 g = degree if decl.degree == "degree" else decl.degree
                 degrees = tuple(g if s in decl.simplices else 0 for s in self.simplices)
@@ -240,22 +317,32 @@ class RobustTheorem(Theorem):
                                                 + (f": {base.description}" if base.description else ""))
                     coefficients[k] = c
                 coefficient_vars[name] = coefficients
-                forms[symbol] = HomogeneousPolynomial.from_coefficients(coefficients, sizes, degrees)
+                forms[symbol] = HomogeneousPolynomial.from_coefficients(
+                    {tuple(k) + still: c for k, c in coefficients.items()}, all_sizes,
+                    degrees + (0,) * len(rate_sizes))
+        for name, decl in self.polynomial.items():
+            if decl.kind == "derivative":
+                bound = self.param_decl[decl.rate.bound].symbol
+                forms[decl.symbol] = time_derivative(forms[self.polynomial[decl.of].symbol],
+                                                     decl.rate.simplex.index, nsimplex + decl.rate.index, bound)
         for name, decl in self.var_decl.items():
             if name not in self.polynomial:
                 m.var_decl[name] = decl
-        info = RobustMember(self, tuple(sizes), degree, polya, forms, aliases)
+        info = RobustMember(self, tuple(sizes), degree, polya, forms, aliases, rate_sizes=rate_sizes)
         symbols = set(forms)
         for lmi in self.lmis:
             if not (lmi.symbols() & symbols):
                 m.lmis.append(lmi)
                 continue
             where = f"{self.id}: LMI {lmi.label}"
-            total, coefficients = coefficient_blocks(lmi.spec, forms, tuple(sizes), polya, where=where)
-            info.lmi_degree[lmi.label] = tuple(t - polya for t in total)
+            multiplier = (polya,) * nsimplex + (0,) * len(rate_sizes)   # affine in β: no Pólya there
+            total, coefficients = coefficient_blocks(lmi.spec, forms, all_sizes, multiplier, where=where)
+            info.lmi_degree[lmi.label] = tuple(t - d for t, d in zip(total, multiplier))
             labels = []
             for exponent, lower in coefficients:
-                label = f"{lmi.label} α^{exponent_text(exponent)}"
+                label = f"{lmi.label} α^{exponent_text(exponent[:nsimplex])}"
+                if any(total[nsimplex:]):
+                    label += f" β^{exponent_text(exponent[nsimplex:])}"
                 coefficient = LMI(label, BlockMatrixSpec(lower, lmi.spec.sizes, "lower"), lmi.sense,
                                   lmi.strict, f"coefficient of α^{exponent_text(exponent)} of {lmi.label}")
                 coefficient.per_vertex = False
@@ -282,12 +369,13 @@ class RobustTheorem(Theorem):
         of :meth:`Theorem.lmi`, every block must be polynomial in α (no inverse or function of
         an α-dependent matrix), checked now on a one-vertex domain."""
         lmi = super().lmi(label, rows, **kwargs)
+        count = len(self.simplices) + len(self.rates)
         forms = {d.symbol: HomogeneousPolynomial.from_coefficients(
-                     {tuple((1,) for _ in self.simplices): d.symbol}, (1,) * len(self.simplices),
-                     (1,) * len(self.simplices)) for d in self.polynomial.values()}
+                     {tuple((1,) for _ in range(count)): d.symbol}, (1,) * count,
+                     (1,) * count) for d in self.polynomial.values()}
         if forms and lmi.symbols() & set(forms):
             try:
-                coefficient_blocks(lmi.spec, forms, (1,) * len(self.simplices), 0, where=f"{self.id}: LMI {label}")
+                coefficient_blocks(lmi.spec, forms, (1,) * count, 0, where=f"{self.id}: LMI {label}")
             except TheoremDefinitionError:
                 self.lmis.remove(lmi)
                 raise
@@ -323,4 +411,4 @@ def vertex_matrices(instance, name: str) -> list:
     return list(value) if isinstance(value, list) else [value]
 
 
-__all__ = ["RobustTheorem", "RobustMember", "Simplex", "vertex_matrices"]
+__all__ = ["RobustTheorem", "RobustMember", "Simplex", "Rate", "vertex_matrices"]

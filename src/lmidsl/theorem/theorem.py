@@ -265,15 +265,16 @@ class Theorem:
 
     def coefficients(self, name: str, over, *, structure: str | None = None,
                      latex: str | None = None, matrix_latex: str | None = None,
-                     description: str = ""):
+                     description: str = "", diagonal: str = "given"):
         """Declare a matrix of scalar coefficients over an index set, used as ``Pi[i, j]``; bound
         as one N×N datum whose ``structure`` ('generator', 'stochastic', 'nonnegative') is
-        checked at bind time; ``latex`` names the entries (π → π_ij), ``matrix_latex`` the
-        matrix (Π)."""
+        checked at bind time; ``diagonal="complete"``: the diagonal completes each row
+        (π_ii = −Σ_{j≠i} π_ij, :mod:`lmidsl.theorem.structure`); ``latex`` names the entries
+        (π → π_ij), ``matrix_latex`` the matrix (Π)."""
         self._check_new(name)
         if not isinstance(over, _ix.IndexSet):
             raise TheoremDefinitionError(f"{self.id}: coefficients {name}: over must be an index set")
-        family = _ix.CoefficientFamily(self, name, over, structure, latex, description)
+        family = _ix.CoefficientFamily(self, name, over, structure, latex, description, diagonal)
         self.coefficient_decl[name] = family
         symbol = self._describe(DataMatrix(f"{name}#matrix", over.size, over.size, self.id),
                                 matrix_latex or name, description)
@@ -574,12 +575,15 @@ class Theorem:
             check_conformance(expr, where=f"{self.id}: linearisation of {name}")
             self.linearisation[name] = expr
 
-    def certified_by(self, theorem, design: tuple, gamma_tolerance: float = 1e-3, criterion: str = "level"):
+    def certified_by(self, theorem, design: tuple, gamma_tolerance: float = 1e-3,
+                     criterion: str | None = None):
         """Name the analysis theorem (a :class:`Theorem`, or the id of one in another file) that
         certifies the recovered ``design`` matrices, which it takes as data.  ``criterion``:
-        "level" (the analysis certifies the synthesis γ within ``gamma_tolerance``) or "feasible"
-        (a stabilisation design: the analysis LMIs proved with the design fixed, no level)."""
-        if criterion not in ("level", "feasible"):
+        "level" (the analysis certifies the synthesis γ within ``gamma_tolerance``), "feasible"
+        (a stabilisation design: the analysis LMIs proved with the design fixed, no level), or
+        None (default): inferred from the analysis theorem — "feasible" when it is a feasibility
+        problem, "level" when it minimises (:func:`lmidsl.certify.analysis.certificate_criterion`)."""
+        if criterion not in (None, "level", "feasible"):
             raise TheoremDefinitionError(f"{self.id}: certified_by: criterion must be 'level' or 'feasible'")
         target = theorem if isinstance(theorem, Theorem) else None
         self.analysis = AnalysisLink(theorem.id if target is not None else str(theorem), tuple(design),

@@ -179,7 +179,7 @@ class AnalysisLink:
     design: tuple
     gamma_tolerance: float = 1e-3
     target: Any = None
-    criterion: str = "level"     # "level": the analysis certifies γ; "feasible": its LMIs hold (stabilisation)
+    criterion: str | None = None  # "level": the analysis certifies γ; "feasible": its LMIs hold; None: inferred
 
 
 @dataclass

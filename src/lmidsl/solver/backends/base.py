@@ -142,6 +142,7 @@ class CompiledModel:
     mutable_parameters = True
     solved_once = False      # whether the last solve returned a point (values() reads it)
     folded_parameters = False  # a parameter inside an inverse was compiled as a number
+    tightened: frozenset = frozenset()  # non-strict LMIs imposed with the margin (tighten())
 
     def __init__(self, instance: Instance, margin: float | None = None, reuse: bool = False,
                  conditioning: Equilibration | None = None):
@@ -170,7 +171,7 @@ class CompiledModel:
         self._margin_parameter = self.new_parameter("margin", self.margin) if self.reuse else self.margin
         for key, lmi, negative, compiler, rows, t in self.walk_lmis(lambda v: self.compiler_class(self, v)):
             size = sum(compiler.size(s) for s in negative.sizes)
-            eps = self._margin_parameter if lmi.strict else None
+            eps = self._margin_parameter if lmi.strict or lmi.label in self.tightened else None
             N = self.assemble(rows)
             self.lmi_matrices.append((key, N))
             self._congruence[key] = np.concatenate(
@@ -239,6 +240,13 @@ class CompiledModel:
             return
         self.margin = float(margin)
         self.set_parameter(self._margin_parameter, self.margin)
+
+    def tighten(self, labels) -> None:
+        """Impose the non-strict LMIs ``labels`` as ``N ⪯ −εI`` too, and compile again: a
+        non-strict LMI active at the optimum leaves the solver's point on its boundary, where no
+        proof can show ``N ⪯ 0`` (:func:`lmidsl.solver.margin.solve_model`)."""
+        self.tightened = frozenset(labels)
+        self._compile()
 
     def update(self, instance: Instance) -> None:
         """Take new parameter values (same data and dimensions) without recompiling (unless a
