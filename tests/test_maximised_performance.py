@@ -4,8 +4,8 @@ against independent judges, and the bracket oriented as for a maximum.
 Judges: the circle criterion's k* = −1/min_ω Re G(jω) from python-control's frequency response
 (dense grid, refined by scipy); the invariant ellipsoid of the saturated feedback by simulating
 the nonlinear system (scipy) from points on the certified ball: V = xᵀQ⁻¹x never increases and
-x → 0.  The bracket's orientation depends on the performance map of issue 33
-(src/lmidsl/solver/performance.py): marked xfail until that fix is merged.
+x → 0.  The bracket is oriented by the performance map proved monotone
+(src/lmidsl/solver/performance.py): the point is the lower end, the dual bound the upper one.
 """
 from __future__ import annotations
 
@@ -17,10 +17,6 @@ from scipy.optimize import minimize_scalar
 
 import lmidsl
 from lmidsl.theorems.textbook import sector
-
-ISSUE_33 = pytest.mark.xfail(reason="issue 33: the performance map (solver/performance.py) does not yet "
-                             "know that 1/δ and √β decrease with the objective", strict=False)
-
 
 def sector_bound(data):
     G = control.ss(data["A"], data["B"], data["C"], data["D"])
@@ -65,7 +61,6 @@ def test_saturated_ellipsoid_radius_by_simulation(ellipsoid):
         assert V[0] <= 1 + 1e-6 and np.all(np.diff(V) <= 1e-9) and np.linalg.norm(sol.y[:, -1]) < 1e-3
 
 
-@ISSUE_33
 @pytest.mark.parametrize("which", ["circle", "ellipsoid"])
 def test_the_bracket_reads_as_a_maximum(which, request):
     sol = request.getfixturevalue(which)
@@ -73,5 +68,9 @@ def test_the_bracket_reads_as_a_maximum(which, request):
     assert b["maximised"] and b["lower_proved"]
     assert b["lower"] == pytest.approx(sol.verdict.levels["optimum"], rel=1e-9)
     assert b["upper"] is None or b["upper"] >= b["lower"]
+    if which == "circle":                     # the frequency sweep's k* lies inside a proved bracket
+        k_star = sector_bound(sector.circle_sector.examples["third-order"].data)
+        assert b["lower"] <= k_star * (1 + 1e-9)
+        assert not b["upper_proved"] or b["upper"] >= k_star * (1 - 1e-6)
     line = sol.verdict.bracket_line()
     assert "upper end proved" not in line and "not a monotone function" not in line
