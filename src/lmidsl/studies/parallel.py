@@ -170,6 +170,34 @@ FORKSERVER_PRELOAD = ["distributed.nanny", "distributed.worker", "lmidsl.studies
 FORKSERVER_ENV = {"OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
 
 
+def warm_up(theorems: bool = False) -> None:
+    """Make this process ready to solve: lmidsl's solving modules imported
+    (:data:`FORKSERVER_PRELOAD`), the BLAS and OpenMP pools at one thread (threadpoolctl, when it
+    is installed: for a worker started without Dask's nanny, which otherwise sets
+    ``OMP_NUM_THREADS=1`` and its kin before the worker imports numpy), and with ``theorems`` the
+    theorem files read (``reproduce`` looks theorems up by id on the workers)."""
+    import importlib
+
+    for name in FORKSERVER_PRELOAD:
+        importlib.import_module(name)
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:
+        pass
+    else:
+        threadpool_limits(1)
+    if theorems:
+        from ..theorem.registry import all_theorems
+        all_theorems()
+
+
+def dask_setup(server=None) -> None:
+    """Dask's preload hook: ``dask worker ADDRESS --preload lmidsl.studies.parallel`` gives a
+    worker that has imported lmidsl and read the theorem files before its first task
+    (:func:`warm_up`); ``lmidsl cluster start`` starts its workers so."""
+    warm_up(theorems=True)
+
+
 def local_start_method() -> str:
     """How a LocalCluster starts its worker processes: ``forkserver`` unless
     ``LMIDSL_DASK_START`` says ``spawn`` or ``fork``.
@@ -341,6 +369,13 @@ class Runner:
             self.close()
             raise InputError(f"--scheduler {self.scheduler}: no worker joined within {WORKER_TIMEOUT} s "
                              f"(start some with `dask worker {self.scheduler}`)") from None
+        try:
+            self._client.run(warm_up)     # every worker ready before the first task
+        except Exception as exc:      # a worker without lmidsl: one line, before any task
+            self.close()
+            reason = " ".join(str(exc).split())[:160] or type(exc).__name__
+            raise InputError(f"--scheduler {self.scheduler}: a worker cannot import lmidsl ({reason}); "
+                             f"every worker needs this lmidsl installed (docs/performance.md)") from None
         return self
 
     def _start_local(self) -> None:
