@@ -8,6 +8,8 @@ from __future__ import annotations
 import sys
 
 from ..errors import InputError
+from ..studies import cluster
+from ..studies.parallel import usable_cores
 from .common import positive_int, print_json
 
 ORDER = 90
@@ -28,9 +30,6 @@ def register(sub):
 
 
 def run(args):
-    from ..studies import cluster
-    from ..studies.parallel import usable_cores
-
     if args.action == "start":
         record = cluster.start(args.workers or usable_cores(), args.host, args.port, args.state)
         if args.json:

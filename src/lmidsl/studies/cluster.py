@@ -21,6 +21,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..theorem.index import cache_dir
+from .parallel import _probe_scheduler
 from .store import atomic_write_text
 
 #: seconds ``start`` waits for the scheduler's address and then for every worker
@@ -127,7 +128,6 @@ def status(state=None) -> dict | None:
     record = read_state(state)
     if record is None:
         return None
-    from .parallel import _probe_scheduler
     try:
         _probe_scheduler(record["address"], seconds=3)
     except InputError:
@@ -144,7 +144,6 @@ def stop(state=None) -> dict | None:
     record = read_state(state)
     if record is None:
         return None
-    from .parallel import _probe_scheduler
     try:
         _probe_scheduler(record["address"], seconds=3)
         from distributed import Client

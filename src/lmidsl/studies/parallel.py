@@ -39,6 +39,7 @@ import uuid
 
 from ..errors import InputError
 from ..symbolic.symbols import metadata_snapshot, restore_metadata
+from ..theorem.registry import all_theorems
 
 #: tasks set up and kept per process (each may hold a compiled model)
 CACHE_SIZE = 4
@@ -187,7 +188,6 @@ def warm_up(theorems: bool = False) -> None:
     else:
         threadpool_limits(1)
     if theorems:
-        from ..theorem.registry import all_theorems
         all_theorems()
 
 
