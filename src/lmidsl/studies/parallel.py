@@ -10,10 +10,14 @@ theorem built in Python, not in any file, travels too, with the symbols' metadat
 :class:`Runner` chooses where the items run:
 
 * ``workers`` 1 (the default) and no ``scheduler``: in this process, in order;
-* ``workers`` N > 1: a ``LocalCluster`` of N processes with one thread each, started for the run
-  and closed after it;
-* ``scheduler`` ADDRESS: an existing cluster (``dask scheduler`` and ``dask worker``); every
-  worker must import this lmidsl, and a theorem given by id must be in the workers' registry.
+* ``workers`` N > 1: this process solves the first items; a ``LocalCluster`` of N processes with
+  one thread each is started (in the background) only once the items left would pay for its
+  start (:data:`START_COST`), this process solving items until its workers have joined, and it
+  is closed after the run;
+* ``scheduler`` ADDRESS: an existing cluster (``dask scheduler`` and ``dask worker``, or
+  ``lmidsl cluster start``: :mod:`lmidsl.studies.cluster`); every worker must import this
+  lmidsl (:func:`warm_up` runs on each first; ``--preload lmidsl.studies.parallel`` does it when
+  the worker starts), and a theorem given by id must be in the workers' registry.
 
 Results come back as they finish (``distributed.as_completed``); at most two tasks per worker
 thread are in flight, so a grid of 10⁵ points does not sit in the scheduler at once; items are
