@@ -434,9 +434,15 @@ class Runner:
 
     def _worth_starting(self, remaining: int, per_item: float | None) -> bool:
         """Start a local cluster once the items left, at the mean time of those solved here,
-        would take longer than :data:`START_COST` plus their time on ``workers`` processes:
-        ``remaining · t · (1 − 1/workers) > START_COST`` (before any is timed: not yet)."""
-        return per_item is not None and remaining * per_item * (1 - 1 / self.workers) > START_COST
+        would take longer than its start plus their time on ``workers`` processes:
+        ``remaining · t · (1 − 1/workers) > START_COST · max(1, load / cores)`` (before any item
+        is timed: not yet).  On a machine whose run queue is longer than its cores the workers'
+        imports get only a share of a core, so their start costs that much longer (measured:
+        25 s at load 18 on 2 cores, 2–3 s idle)."""
+        if per_item is None:
+            return False
+        crowding = max(1.0, os.getloadavg()[0] / usable_cores()) if hasattr(os, "getloadavg") else 1.0
+        return remaining * per_item * (1 - 1 / self.workers) > START_COST * crowding
 
     def __exit__(self, *exc) -> None:
         self.close()
@@ -598,7 +604,7 @@ def format_stats(stats: dict) -> str:
         return ""
     if not stats["cluster_started"]:
         return (f"parallel: all {stats['items_here']} items solved in this process (workers would not "
-                f"have paid for their start-up, about {START_COST:g} s)")
+                f"have paid for their start-up)")
     first = stats["first_worker_joined"]
     gap, per_task = stats["gap_per_task"], stats["main_cpu_per_task"]
     parts = [f"parallel: {stats['items_here']} items here while workers started"
