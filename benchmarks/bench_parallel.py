@@ -1,26 +1,28 @@
-"""Scale-out of ``lmidsl sweep``: 1 worker, 2 Dask workers, and a plain process-pool loop.
+"""Scale-out of ``lmidsl sweep``: the fixed cost and the efficiency of Dask against a plain
+process pool.
 
 The sweep is seed 001's (docs/reproductions/001.md): ``li_delay_dropout.thm2 --example paper``
-over ξ1 × ξ2 = (0.05:0.95:N)², N = 19 by default.  Each run is a fresh process, timed from the
+over ξ1 × ξ2 = (0.05:0.95:G)², G = 19 by default.  Each run is a fresh process, timed from the
 outside (wall time, start-up and imports included), interleaved, medians over ``--runs``:
 
-* ``serial``: ``lmidsl sweep ... --workers 1`` (one process, one compiled model);
-* ``dask-2``: ``lmidsl sweep ... --workers 2`` (a Dask LocalCluster of two processes, each
-  compiling once; points stream back and are stored as they finish);
-* ``pool-2``: the reference a user would write: ``concurrent.futures.ProcessPoolExecutor`` of
-  two forked processes, each compiling the same model once in its initializer, ``map`` over
-  the points (this file, ``--reference-pool``).
+* ``serial``: ``lmidsl sweep ... --workers 1`` (one process, one compiled model): N = 1 of Dask;
+* ``dask-N``: ``lmidsl sweep ... --workers N`` (this process solves points while the local
+  cluster starts, then N worker processes, each compiling once; points stored as they finish);
+* ``pool-N``: the floor a user would write: ``concurrent.futures.ProcessPoolExecutor`` of N
+  forked processes, each compiling the model once in its initializer, ``map`` over the points
+  (this file, ``--reference-pool``); ``pool-1`` is its N = 1.
 
-Printed per variant: wall time, speedup over ``serial``, and overheads relative to the solver
-time (``solver call``, the solver with its cvxpy interface, as the sweep records per point):
+N runs over 1, 2, 4, ... up to the usable cores (``--workers`` caps it).  Printed: per variant
+the wall time, the efficiency wall(1) / (N · wall(N)) against its own family's N = 1, overheads
+relative to the solver time, and for Dask what the run measured of itself (points solved in the
+main process, tail idle, the gap between tasks on a worker, the main process's CPU per task);
+per family the least-squares fit wall = a + b / N: ``a`` the fixed cost (start-up, imports,
+compile, close, and what does not parallelise), ``b`` the parallel work.  ``--small`` adds the
+2×2 sweep, serial against 2 workers (target: no slower than serial + 1 s).
 
-* ``in-point``: Σ(point total − solver call) / Σ solver call — parameter update, reading the
-  values, the certificate (the sweep's own per-point overhead);
-* ``end-to-end``: (wall × workers − Σ solver call) / Σ solver call — everything else, start-up,
-  compile, proofs, scheduling and idle workers included.
-
-Usage: ``python benchmarks/bench_parallel.py [--grid 19] [--runs 5] [--workers 2]``; quick:
-``--grid 7 --runs 3``.  Nothing here is asserted; the machine's load is printed with the numbers.
+Usage: ``python benchmarks/bench_parallel.py [--grid 19] [--runs 3] [--workers 2] [--small]``;
+quick: ``--grid 7 --runs 2``.  Nothing here is asserted; the machine's load is printed with the
+numbers (on a shared machine, read ratios measured in one run, not absolute times).
 """
 from __future__ import annotations
 
@@ -83,61 +85,116 @@ def _pool_solve(params):
     return _POOL["solve"](params)
 
 
-def run_once(variant: str, n: int, workers: int) -> dict:
+def run_once(variant: str, n: int, workers: int, grid: list[str] | None = None) -> dict:
+    argv = command(variant, n, workers) if grid is None else \
+        [sys.executable, "-m", "lmidsl", "sweep", THEOREM, "--example", EXAMPLE, *grid,
+         "--workers", str(workers), "--json"]
     t0 = time.perf_counter()
-    proc = subprocess.run(command(variant, n, workers), cwd=ROOT, capture_output=True, text=True)
+    proc = subprocess.run(argv, cwd=ROOT, capture_output=True, text=True)
     wall = time.perf_counter() - t0
     if proc.returncode not in (0, 1):
         raise SystemExit(f"{variant} failed ({proc.returncode}): {proc.stderr.strip()[-500:]}")
-    points = json.loads(proc.stdout)["points"]
+    result = json.loads(proc.stdout)
+    points = result["points"]
     calls = sum(p["solver_call"] or 0.0 for p in points)
     totals = sum(p["total"] for p in points)
     used = 1 if variant == "serial" else workers
     return {"wall": wall, "points": len(points), "solver_call": calls,
             "in_point": (totals - calls) / calls, "end_to_end": (wall * used - calls) / calls,
             "per_point_call": calls / len(points), "prove": sum(p.get("prove_time", 0.0) for p in points),
-            "gammas": [p["gamma"] for p in points]}
+            "gammas": [p["gamma"] for p in points], "verdicts": [p.get("verdict") for p in points],
+            "parallel": result.get("parallel", {})}
+
+
+def fit(walls: dict) -> tuple[float, float]:
+    """Least squares of wall(N) = a + b / N over the N measured: (a, b)."""
+    import numpy as np
+
+    ns = sorted(walls)
+    if len(ns) < 2:
+        return float("nan"), float("nan")
+    design = np.array([[1.0, 1.0 / n] for n in ns])
+    (a, b), *_ = np.linalg.lstsq(design, np.array([walls[n] for n in ns]), rcond=None)
+    return float(a), float(b)
+
+
+def worker_counts(cap: int) -> list[int]:
+    """1, 2, 4, ... up to ``cap`` (and ``cap`` itself)."""
+    ns, n = [], 1
+    while n < cap:
+        ns.append(n)
+        n *= 2
+    return ns + [cap]
 
 
 def machine() -> str:
     model = next((line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
                   if line.startswith("model name")), "unknown CPU")
     load = " ".join(f"{x:.1f}" for x in os.getloadavg())
-    return f"{os.cpu_count()} CPUs ({model}); load average {load}"
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    return f"{cores} usable CPUs ({model}); load average {load}"
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--grid", type=int, default=19, help="points per axis (19: seed 001's sweep)")
-    parser.add_argument("--runs", type=int, default=5, help="interleaved runs per variant (median)")
-    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--runs", type=int, default=3, help="interleaved runs per variant (median)")
+    parser.add_argument("--workers", type=int, help="the largest N (default: the usable cores)")
+    parser.add_argument("--small", action="store_true", help="also the 2x2 sweep, serial and 2 workers")
     parser.add_argument("--reference-pool", type=int, metavar="W", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.reference_pool:
         print(json.dumps(reference_pool(args.reference_pool, args.grid)))
         return
-    variants = ["serial", f"dask-{args.workers}", f"pool-{args.workers}"]
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    ns = worker_counts(args.workers or max(2, cores))
+    variants = ["serial"] + [f"dask-{n}" for n in ns if n > 1] + [f"pool-{n}" for n in ns]
     print(f"{THEOREM} [{EXAMPLE}] sweep {args.grid}x{args.grid} = {args.grid ** 2} points, "
           f"{args.runs} interleaved run(s); {machine()}", flush=True)
     runs: dict = {v: [] for v in variants}
     for r in range(args.runs):
-        order = variants[r % 3:] + variants[:r % 3]          # rotate: no variant always first
-        for v in order:
-            runs[v].append(run_once(v, args.grid, args.workers))
+        k = r % len(variants)
+        for v in variants[k:] + variants[:k]:             # rotate: no variant always first
+            n = 1 if v == "serial" else int(v.split("-")[1])
+            runs[v].append(run_once(v.split("-")[0] if v != "serial" else v, args.grid, n))
             print(f"  run {r + 1} {v:8s} {runs[v][-1]['wall']:8.2f} s", file=sys.stderr, flush=True)
     med = {v: {k: statistics.median(x[k] for x in runs[v]) for k in
                ("wall", "in_point", "end_to_end", "per_point_call", "prove")} for v in variants}
-    print(f"{'variant':9s} {'wall s':>8s} {'speedup':>8s} {'solver call/pt ms':>18s} "
+    families = {"dask": {1: med["serial"]["wall"], **{n: med[f"dask-{n}"]["wall"] for n in ns if n > 1}},
+                "pool": {n: med[f"pool-{n}"]["wall"] for n in ns}}
+    print(f"{'variant':9s} {'wall s':>8s} {'effic.':>7s} {'solver call/pt ms':>18s} "
           f"{'in-point ovh':>13s} {'end-to-end ovh':>15s} {'proofs s':>9s}")
     for v in variants:
         m = med[v]
-        print(f"{v:9s} {m['wall']:8.2f} {med['serial']['wall'] / m['wall']:8.2f} "
-              f"{1e3 * m['per_point_call']:18.1f} {100 * m['in_point']:12.1f}% "
-              f"{100 * m['end_to_end']:14.1f}% {m['prove']:9.2f}")
-    reference = runs["serial"][0]["gammas"]
-    worst = max(abs(a - b) for v in variants for x in runs[v] for a, b in zip(x["gammas"], reference)
+        family, n = ("dask", 1) if v == "serial" else (v.split("-")[0], int(v.split("-")[1]))
+        eff = families[family][1] / (n * m["wall"])
+        print(f"{v:9s} {m['wall']:8.2f} {100 * eff:6.1f}% {1e3 * m['per_point_call']:18.1f} "
+              f"{100 * m['in_point']:12.1f}% {100 * m['end_to_end']:14.1f}% {m['prove']:9.2f}")
+    for family, walls in families.items():
+        a, b = fit(walls)
+        print(f"fit {family}: wall = a + b/N with a = {a:.2f} s (fixed cost), b = {b:.2f} s "
+              f"({1e3 * b / args.grid ** 2:.1f} ms a point), over N = {sorted(walls)}")
+    for v in variants:
+        for x in runs[v]:
+            if x["parallel"]:
+                from lmidsl.studies.parallel import format_stats
+                print(f"{v}: {format_stats(x['parallel'])}")
+    reference = runs["serial"][0]
+    same = all(x["gammas"] == reference["gammas"] and x["verdicts"] == reference["verdicts"]
+               for v in variants if not v.startswith("pool") for x in runs[v])
+    worst = max(abs(a - b) for v in variants for x in runs[v] for a, b in zip(x["gammas"], reference["gammas"])
                 if a is not None and b is not None)
-    print(f"largest |γ - γ serial| over every run: {worst:.2e}; machine after: {machine()}")
+    print(f"every point's γ and verdict identical to serial on Dask: {same}; largest |γ - γ serial| "
+          f"(pool included): {worst:.2e}")
+    if args.small:
+        grid = ["--grid", "xi1=0.3,0.6", "--grid", "xi2=0.3,0.6"]
+        small = {1: [], 2: []}
+        for r in range(args.runs):
+            for w in ((1, 2) if r % 2 == 0 else (2, 1)):
+                small[w].append(run_once("small", 2, w, grid)["wall"])
+        s1, s2 = (statistics.median(small[w]) for w in (1, 2))
+        print(f"2x2 sweep: serial {s1:.2f} s, 2 workers {s2:.2f} s: {s2 - s1:+.2f} s (target <= +1 s)")
+    print(f"machine after: {machine()}")
 
 
 if __name__ == "__main__":

@@ -9,6 +9,7 @@ from ..render.progress import Progress
 from ..render.report import performance_label
 from ..render.table import format_table
 from ..render.terminal import wrap
+from ..studies.parallel import format_stats
 from ..studies.store import ensure_writable_dir
 from ..studies.sweep import MAX_POINTS, format_timing, parse_grid, sweep
 from .common import (add_output_arguments, add_parallel_arguments, add_solve_arguments, instance_spec,
@@ -55,6 +56,8 @@ def format_sweep(result, out=None) -> str:
                  f"{result.certified_count()} certified (every LMI proved at the returned point)"
                  + (f", {performance_label(result.theorem)} from {min(ok):.6g} to {max(ok):.6g}" if ok else ""))
     lines.append(format_timing(result.timing()))
+    if result.parallel:
+        lines.append(format_stats(result.parallel))
     if result.resumed:
         lines.append(f"resumed: {result.resumed} points from {Path(out) / 'sweep.jsonl'}, "
                      f"{result.solved} solved now")

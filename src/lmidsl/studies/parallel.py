@@ -10,10 +10,14 @@ theorem built in Python, not in any file, travels too, with the symbols' metadat
 :class:`Runner` chooses where the items run:
 
 * ``workers`` 1 (the default) and no ``scheduler``: in this process, in order;
-* ``workers`` N > 1: a ``LocalCluster`` of N processes with one thread each, started for the run
-  and closed after it;
-* ``scheduler`` ADDRESS: an existing cluster (``dask scheduler`` and ``dask worker``); every
-  worker must import this lmidsl, and a theorem given by id must be in the workers' registry.
+* ``workers`` N > 1: this process solves the first items; a ``LocalCluster`` of N processes with
+  one thread each is started (in the background) only once the items left would pay for its
+  start (:data:`START_COST`), this process solving items until its workers have joined, and it
+  is closed after the run;
+* ``scheduler`` ADDRESS: an existing cluster (``dask scheduler`` and ``dask worker``, or
+  ``lmidsl cluster start``: :mod:`lmidsl.studies.cluster`); every worker must import this
+  lmidsl (:func:`warm_up` runs on each first; ``--preload lmidsl.studies.parallel`` does it when
+  the worker starts), and a theorem given by id must be in the workers' registry.
 
 Results come back as they finish (``distributed.as_completed``); at most two tasks per worker
 thread are in flight, so a grid of 10⁵ points does not sit in the scheduler at once; items are
@@ -31,6 +35,7 @@ import multiprocessing
 from multiprocessing import forkserver
 import os
 import signal
+import socket
 import sys
 import threading
 import time
@@ -38,6 +43,7 @@ import uuid
 
 from ..errors import InputError
 from ..symbolic.symbols import metadata_snapshot, restore_metadata
+from ..theorem.registry import all_theorems
 
 #: tasks set up and kept per process (each may hold a compiled model)
 CACHE_SIZE = 4
@@ -51,6 +57,10 @@ CONNECT_TIMEOUT = 10
 #: the wall time a scheduler has to answer who it is (:func:`_probe_scheduler`)
 PROBE_TIMEOUT = 5
 WORKER_TIMEOUT = 60
+#: the wall time a local cluster is taken to cost before it helps (its scheduler, the fork
+#: server's imports, forking and joining the workers: 1–3 s on 2 cores): a run whose items left
+#: would gain less from the workers stays in this process (:meth:`Runner._worth_starting`)
+START_COST = 2.0
 
 _CACHE: collections.OrderedDict = collections.OrderedDict()
 
@@ -83,12 +93,13 @@ def worker_state(task: Task):
     return state
 
 
-def run_batch(task: Task, items: list) -> tuple[list, float]:
-    """The results of ``items`` on this worker's state of ``task``, and the seconds they took."""
+def run_batch(task: Task, items: list) -> tuple[list, tuple]:
+    """The results of ``items`` on this worker's state of ``task``, and ``(worker, start, end)``:
+    who ran them and when (this worker's clock; the set-up, once per worker, before ``start``)."""
     apply = worker_state(task)
-    t0 = time.perf_counter()
+    start = time.time()
     results = [apply(item) for item in items]
-    return results, time.perf_counter() - t0
+    return results, (f"{socket.gethostname()}:{os.getpid()}", start, time.time())
 
 
 class Results:
@@ -162,6 +173,33 @@ FORKSERVER_PRELOAD = ["distributed.nanny", "distributed.worker", "lmidsl.studies
 #: Clarabel, which allocates and frees its KKT system at every solve, was 2.5 % slower with it
 #: (seed 001's model, 95 points on 2 workers, twice: 208.3 / 204.4 ms against 202.4 / 199.1 ms)
 FORKSERVER_ENV = {"OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
+
+
+def warm_up(theorems: bool = False) -> None:
+    """Make this process ready to solve: lmidsl's solving modules imported
+    (:data:`FORKSERVER_PRELOAD`), the BLAS and OpenMP pools at one thread (threadpoolctl, when it
+    is installed: for a worker started without Dask's nanny, which otherwise sets
+    ``OMP_NUM_THREADS=1`` and its kin before the worker imports numpy), and with ``theorems`` the
+    theorem files read (``reproduce`` looks theorems up by id on the workers)."""
+    import importlib
+
+    for name in FORKSERVER_PRELOAD:
+        importlib.import_module(name)
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:
+        pass
+    else:
+        threadpool_limits(1)
+    if theorems:
+        all_theorems()
+
+
+def dask_setup(server=None) -> None:
+    """Dask's preload hook: ``dask worker ADDRESS --preload lmidsl.studies.parallel`` gives a
+    worker that has imported lmidsl and read the theorem files before its first task
+    (:func:`warm_up`); ``lmidsl cluster start`` starts its workers so."""
+    warm_up(theorems=True)
 
 
 def local_start_method() -> str:
@@ -287,7 +325,13 @@ class Runner:
         with Runner(workers=2) as runner:
             for index, result in runner.map(task, items):
                 ...
-    """
+
+    A local cluster starts in the background (its scheduler and client in a thread, its workers
+    forked by the fork server as soon as they can): meanwhile this process solves items itself
+    (the *local lane*), and it goes on doing so while fewer than ``workers`` worker threads have
+    joined, so that this process and the workers together never use more than ``workers`` cores.
+    A 4-point sweep is then done before its workers are up and costs no more than a serial one.
+    ``stats`` (after a run): what the run measured of itself (:func:`format_stats`)."""
 
     def __init__(self, workers: int | None = None, scheduler: str | None = None):
         check_workers(workers, scheduler)
@@ -295,6 +339,10 @@ class Runner:
         self.scheduler = scheduler or None
         self._cluster = self._client = None
         self._streams: list = []      # the open result generators, closed before the client
+        self._starter = self._start_error = self._config = None
+        self._entered = 0.0
+        self._launched = False
+        self.stats: dict = {}
 
     @property
     def parallel(self) -> bool:
@@ -306,19 +354,12 @@ class Runner:
         return f"{self.workers} Dask worker processes (LocalCluster)" if self.parallel else "serial"
 
     def __enter__(self) -> "Runner":
+        self._entered = time.monotonic()
         if not self.parallel:
             return self
-        from distributed import Client, LocalCluster
         if self.scheduler is None:
-            import dask
-            with dask.config.set({"distributed.worker.multiprocessing-method": local_start_method(),
-                                  **WORKER_CONFIG}), \
-                    _workers_ignore_ctrl_c():
-                self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
-                                             silence_logs=logging.CRITICAL, env=WORKER_ENV,
-                                             **dashboard_options())
-            self._client = Client(self._cluster, set_as_default=False)
-            return self
+            return self               # started by map when the work needs it (_worth_starting)
+        from distributed import Client
         _check_address(self.scheduler)
         _probe_scheduler(self.scheduler)
         try:
@@ -332,7 +373,76 @@ class Runner:
             self.close()
             raise InputError(f"--scheduler {self.scheduler}: no worker joined within {WORKER_TIMEOUT} s "
                              f"(start some with `dask worker {self.scheduler}`)") from None
+        try:
+            self._client.run(warm_up)     # every worker ready before the first task
+        except Exception as exc:      # a worker without lmidsl: one line, before any task
+            self.close()
+            reason = " ".join(str(exc).split())[:160] or type(exc).__name__
+            raise InputError(f"--scheduler {self.scheduler}: a worker cannot import lmidsl ({reason}); "
+                             f"every worker needs this lmidsl installed (docs/performance.md)") from None
         return self
+
+    def _start_local(self) -> None:
+        """Start a ``LocalCluster`` of ``workers`` processes.  With the fork server (the default)
+        its scheduler and client start in a thread and its workers join as they come up (the
+        fork server ignores SIGINT, which its workers inherit); with ``spawn`` or ``fork``
+        here, all at once, with SIGINT ignored while they start."""
+        import dask
+        self._launched = True
+        start_local_workers_early(self.workers, None)
+        method = local_start_method()
+        self._config = dask.config.set({"distributed.worker.multiprocessing-method": method, **WORKER_CONFIG})
+        self._config.__enter__()                   # nannies read it when they start: kept until close
+        if method == "forkserver":
+            self._starter = threading.Thread(target=self._start_cluster, args=(0,), daemon=True,
+                                             name="lmidsl-cluster-start")
+            self._starter.start()
+            return
+        with _workers_ignore_ctrl_c():
+            self._start_cluster(self.workers)
+        if self._start_error is not None:
+            raise self._start_error
+
+    def _start_cluster(self, first: int) -> None:
+        """The cluster with ``first`` workers started at once, and the client; then scaled to
+        ``workers`` (in the background).  An error is kept for :meth:`_live` to raise."""
+        from distributed import Client, LocalCluster
+        try:
+            cluster = LocalCluster(n_workers=first, threads_per_worker=1, processes=True,
+                                   silence_logs=logging.CRITICAL, env=WORKER_ENV, **dashboard_options())
+            try:
+                client = Client(cluster, set_as_default=False)
+                if first < self.workers:
+                    cluster.scale(self.workers)
+            except BaseException:
+                cluster.close()
+                raise
+            self._cluster, self._client = cluster, client
+        except BaseException as exc:        # reported by the thread that uses the cluster
+            self._start_error = exc
+
+    def _live(self, threads: int):
+        """The client and the worker threads joined so far (``threads``: the last count), once
+        the cluster is up; ``(None, 0)`` while it starts."""
+        if self._start_error is not None:
+            error, self._start_error = self._start_error, None
+            raise error
+        client = self._client
+        if client is None:
+            return None, 0
+        return client, (threads if threads >= self.workers and not self.scheduler else self._threads())
+
+    def _worth_starting(self, remaining: int, per_item: float | None) -> bool:
+        """Start a local cluster once the items left, at the mean time of those solved here,
+        would take longer than its start plus their time on ``workers`` processes:
+        ``remaining · t · (1 − 1/workers) > START_COST · max(1, load / cores)`` (before any item
+        is timed: not yet).  On a machine whose run queue is longer than its cores the workers'
+        imports get only a share of a core, so their start costs that much longer (measured:
+        25 s at load 18 on 2 cores, 2–3 s idle)."""
+        if per_item is None:
+            return False
+        crowding = max(1.0, os.getloadavg()[0] / usable_cores()) if hasattr(os, "getloadavg") else 1.0
+        return remaining * per_item * (1 - 1 / self.workers) > START_COST * crowding
 
     def __exit__(self, *exc) -> None:
         self.close()
@@ -341,6 +451,10 @@ class Runner:
         for stream in self._streams:  # runs their `finally` (cancel) while the client still lives
             stream.close()
         self._streams = []
+        self._entered = 0.0
+        if self._starter is not None:     # at most the scheduler's start (< 1 s): workers are scaled
+            self._starter.join()          # in the background and closed with the cluster
+            self._starter = None
         for thing in (self._client, self._cluster):
             if thing is not None:
                 try:
@@ -348,30 +462,37 @@ class Runner:
                 except Exception:        # closing after an interrupt: nothing left to save
                     pass
         self._client = self._cluster = None
+        if self._config is not None:
+            self._config.__exit__(None, None, None)
+            self._config = None
 
     def _threads(self) -> int:
-        return max(1, sum(self._client.nthreads().values())) if self._client is not None else 1
+        return max(0, sum(self._client.nthreads().values())) if self._client is not None else 0
 
     def map(self, task: Task, items: list) -> Results:
         """``(index, result)`` for each of ``items``: in order when serial, as they finish else."""
         items = list(items)
         if not self.parallel:
             return Results(((i, worker_state(task)(item)) for i, item in enumerate(items)), len(items))
-        if self._client is None:
+        if not self._entered:
             raise RuntimeError("Runner.map outside its `with` block")
         stream = self._dask_map(task, items)
         self._streams.append(stream)
         return Results(stream, len(items))
 
     def _dask_map(self, task: Task, items: list):
+        """The items on the cluster, and in this process while the cluster is short of workers
+        (:class:`Runner`); batches by guided self-scheduling (the module doc)."""
         from distributed import as_completed
 
-        client = self._client
-        shared = client.scatter(task, broadcast=True, hash=False)
         queue = collections.deque(enumerate(items))
-        batch, threads, checked = 1, self._threads(), time.monotonic()
+        client = shared = finished = None
+        batch, threads, checked = 1, 0, 0.0
         indices: dict = {}
-        finished = as_completed(loop=client.loop)
+        meter = _Meter(self._entered)
+        local_lane = self.scheduler is None
+        if not local_lane:
+            self._launched = True
 
         def submit() -> None:
             while queue and len(indices) < 2 * threads:
@@ -382,18 +503,119 @@ class Runner:
                 finished.add(future)
 
         try:
-            submit()
-            for future in finished:
-                results, seconds = future.result()
+            while queue or indices:
+                if local_lane and not self._launched and self._worth_starting(len(queue), meter.per_item()):
+                    self._start_local()
+                now = time.monotonic()
+                if self._launched and now - checked > (2.0 if threads >= self.workers else 0.05):
+                    client, threads = self._live(threads)
+                    checked = now
+                    if threads:
+                        meter.joined(threads)
+                if threads and finished is None:
+                    shared = client.scatter(task, broadcast=True, hash=False)
+                    finished = as_completed(loop=client.loop)
+                if finished is not None:
+                    submit()
+                if queue and local_lane and threads < self.workers and \
+                        not (finished is not None and finished.has_ready()):
+                    index, item = queue.popleft()
+                    yield index, meter.local(task, item)
+                    continue
+                if finished is None:
+                    time.sleep(0.01)      # no worker yet, and the local lane is closed
+                    continue
+                future = next(finished)
+                results, (worker, start, end) = future.result()
                 done = indices.pop(future)
-                per_item = seconds / max(1, len(done))
+                meter.task(worker, start, end, len(done))
+                per_item = (end - start) / max(1, len(done))
                 batch = max(1, min(MAX_BATCH, int(TARGET_TASK_SECONDS / max(per_item, 1e-6))))
-                if time.monotonic() - checked > 2:        # an adaptive cluster may have grown
-                    threads, checked = self._threads(), time.monotonic()
                 yield from zip(done, results)
-                submit()
         finally:
-            _cancel_quietly(client, list(indices) + [shared])
+            self.stats = meter.summary(self.workers if not self.scheduler else threads, self._launched)
+            if client is not None:
+                _cancel_quietly(client, list(indices) + ([shared] if shared is not None else []))
+
+
+class _Meter:
+    """What a parallel run measures of itself: items solved here (the local lane) and on the
+    workers, tasks, the workers' intervals (their own clocks), this process's CPU time apart
+    from the local lane, and when the first worker joined.
+
+    * *tail idle*: Σ over workers of (last end of any worker − that worker's last end): the
+      worker time lost at the end of the run;
+    * *gap per task*: the mean time a worker waited between two consecutive tasks (its own
+      clock): the scheduler's per-task cost as a worker sees it (at most two tasks per worker
+      thread are in flight, so a worker whose next task is queued waits only for Dask);
+    * *main CPU per task*: this process's CPU (client, and a local cluster's scheduler; storing
+      and progress of the caller included) per task."""
+
+    def __init__(self, entered: float):
+        self.entered = entered
+        self.started = time.monotonic()
+        self.cpu0 = time.process_time()
+        self.local_cpu = self.local_wall = 0.0
+        self.items_local = self.items_remote = self.tasks = 0
+        self.first_worker = None
+        self.intervals: dict = collections.defaultdict(list)
+
+    def joined(self, threads: int) -> None:
+        if self.first_worker is None:
+            self.first_worker = time.monotonic() - self.entered
+
+    def local(self, task: Task, item):
+        cpu, wall = time.process_time(), time.perf_counter()
+        result = worker_state(task)(item)
+        self.local_cpu += time.process_time() - cpu
+        self.local_wall += time.perf_counter() - wall
+        self.items_local += 1
+        return result
+
+    def per_item(self) -> float | None:
+        """The mean wall time of an item solved here (None before the first)."""
+        return self.local_wall / self.items_local if self.items_local else None
+
+    def task(self, worker: str, start: float, end: float, items: int) -> None:
+        self.tasks += 1
+        self.items_remote += items
+        self.intervals[worker].append((start, end))
+
+    def summary(self, slots: int, started: bool) -> dict:
+        wall = time.monotonic() - self.started
+        main_cpu = time.process_time() - self.cpu0 - self.local_cpu
+        ends = {w: max(e for _, e in spans) for w, spans in self.intervals.items()}
+        last = max(ends.values(), default=0.0)
+        gaps = [b[0] - a[1] for spans in self.intervals.values()
+                for a, b in zip(sorted(spans), sorted(spans)[1:])]
+        busy = sum(e - s for spans in self.intervals.values() for s, e in spans)
+        return {"workers": slots, "cluster_started": started, "items_here": self.items_local, "items_on_workers": self.items_remote,
+                "tasks": self.tasks, "wall": wall,
+                "first_worker_joined": self.first_worker,
+                "worker_busy": busy,
+                "tail_idle": sum(last - e for e in ends.values()),
+                "gap_per_task": sum(max(0.0, g) for g in gaps) / len(gaps) if gaps else None,
+                "main_cpu": main_cpu, "main_cpu_per_task": main_cpu / self.tasks if self.tasks else None}
+
+
+def format_stats(stats: dict) -> str:
+    """One line of a parallel run's own measurements (:class:`_Meter`)."""
+    if not stats:
+        return ""
+    if not stats["cluster_started"]:
+        return (f"parallel: all {stats['items_here']} items solved in this process (workers would not "
+                f"have paid for their start-up)")
+    first = stats["first_worker_joined"]
+    gap, per_task = stats["gap_per_task"], stats["main_cpu_per_task"]
+    parts = [f"parallel: {stats['items_here']} items here while workers started"
+             + (f" (first joined after {first:.1f} s)" if first is not None else " (none joined)"),
+             f"{stats['items_on_workers']} on workers in {stats['tasks']} tasks",
+             f"tail idle {stats['tail_idle']:.2f} worker-s of {stats['worker_busy']:.1f} busy"]
+    if gap is not None:
+        parts.append(f"{gap * 1e3:.1f} ms between tasks")
+    if per_task is not None:
+        parts.append(f"this process {stats['main_cpu']:.2f} s CPU ({per_task * 1e3:.1f} ms a task)")
+    return "; ".join(parts)
 
 
 def _cancel_quietly(client, futures: list) -> None:

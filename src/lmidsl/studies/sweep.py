@@ -31,8 +31,7 @@ from ..solver.solution import evaluate_performance, lmi_certificate
 from ..solver.backends import choose_backend, get_backend
 from .. import __version__
 from ..errors import InputError, Interrupted, LmidslWarning, NoResultError
-from .parallel import (Runner, Task, check_workers, items_as_finished, start_local_workers_early,
-                       worker_state)
+from .parallel import Runner, Task, check_workers, items_as_finished, worker_state
 from .store import JsonLinesStore, atomic_path, atomic_write_text, strict_json
 from ..numeric.scaling import apply_scaling
 
@@ -129,6 +128,7 @@ class SweepResult:
     labels: dict = field(default_factory=dict)   # parameter name → LaTeX name (figure axes)
     resumed: int = 0                             # points taken from the store (--resume)
     solved: int = 0                              # points solved by this run
+    parallel: dict = field(default_factory=dict)  # a parallel run's own measurements (studies.parallel)
 
     @classmethod
     def from_dict(cls, d: dict) -> "SweepResult":
@@ -159,6 +159,7 @@ class SweepResult:
                 "timing": self.timing(), "proved_points": self.certified_count(),
                 "verdict": self.verdict.as_dict(),
                 "resumed": self.resumed, "solved": self.solved,
+                **({"parallel": self.parallel} if self.parallel else {}),
                 "points": [p.as_dict() for p in self.points]}
 
     @property
@@ -214,7 +215,6 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
     """
     backend = choose_backend(backend, solver)
     check_workers(workers, scheduler)
-    start_local_workers_early(workers, scheduler)
     size = grid_size(grids)
     if size > max_points:
         raise InputError(f"--grid: {size} points exceed the maximum of {max_points} "
@@ -276,6 +276,7 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
             where = (f"; they are in {jsonl.path} (run again with --resume to go on)" if jsonl is not None
                      else " and lost (give --out DIR to keep them)")
             raise Interrupted(f"sweep interrupted after {len(done)} of {len(combos)} points{where}") from None
+        result.parallel = runner.stats
         result.points = [done[combo] for combo in combos]
     finally:
         if jsonl is not None:
