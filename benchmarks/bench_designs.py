@@ -138,6 +138,11 @@ def rejudged(row: dict, by_name: dict) -> dict:
     headline = re.search(r"^\w[\w ]* at \w+ = ([-0-9.e+]+):", row.get("verdict") or "")
     if headline:                      # the headline level (the delivered design's), as the verdict says
         row["level"] = float(headline.group(1))
+    if row["truth"] in ("design", "near_unstabilisable") and row.get("certified") is not None:
+        judged, claim = row.get("judged"), row.get("level")
+        meets = judged is not None and claim is not None and np.isfinite(judged) and judged <= claim * (1 + TOL)
+        row.update(confirmed=bool(row["certified"] and meets), false_certified=bool(row["certified"] and not meets),
+                   false_negative=bool(not row["certified"] and meets))
     if optimum and row.get("level") is not None and row.get("certified") and row["truth"] in ("norm", "design"):
         row["over"] = row["level"] / optimum - 1
     return row
