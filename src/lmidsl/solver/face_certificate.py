@@ -42,12 +42,23 @@ fails the exact check — it never makes a certificate."""
 
 
 def _rational(x: float, denominator: int):
-    """The nearest fraction with denominator ≤ ``denominator``, or None when it is farther than
-    0.5/√denominator."""
-    f = Fraction(float(x)).limit_denominator(denominator)
-    if abs(float(f) - x) > 0.5 / denominator ** 0.5:
-        return None
-    return fmpq(f.numerator, f.denominator)
+    """The simplest fraction within 0.5/√denominator of x (the first continued-fraction
+    convergent that close, its denominator ≤ ``denominator``), or None: noise of 1e-4 in an
+    entry whose true value is 0 or 1/3 rounds to 0 or 1/3, not to a nearby fraction /1024."""
+    tol = 0.5 / denominator ** 0.5
+    h0, h1, k0, k1 = 0, 1, 1, 0          # convergents h/k
+    rest = Fraction(float(x))
+    while True:
+        a = rest.numerator // rest.denominator
+        h0, h1, k0, k1 = h1, a * h1 + h0, k1, a * k1 + k0
+        if k1 > denominator:
+            return None
+        if abs(h1 / k1 - x) <= tol:
+            return fmpq(h1, k1)
+        frac = rest - a
+        if frac == 0:
+            return None
+        rest = 1 / frac
 
 
 def _face(Z: np.ndarray, rank_tol: float, denominator: int):
