@@ -92,3 +92,14 @@ def test_nearly_unstabilisable_plant_is_never_proved_infeasible():
     assert M.rank() == len(A)
     sol = lmidsl.solve("textbook.hinf_sf_ct", data=data)
     assert not (sol.infeasibility is not None and sol.infeasibility.proved), sol.infeasibility
+
+
+@pytest.mark.slow
+def test_output_feedback_with_a_hidden_unreachable_mode_is_proved_infeasible():
+    """H∞ output feedback on the same hidden unstabilisable plant (Clarabel's default settings
+    stall on the alternative SDP; the patient estimate and the rational face prove it)."""
+    from designs import _unstabilisable_cases
+
+    case = next(c for c in _unstabilisable_cases() if c["name"] == "hinf_of_ct/unstabilisable-61")
+    sol = lmidsl.solve(case["theorem"], data={k: np.asarray(v).tolist() for k, v in case["data"].items()})
+    assert sol.infeasibility is not None and sol.infeasibility.proved, (sol.verdict, sol.infeasibility)

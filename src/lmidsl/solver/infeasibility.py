@@ -40,7 +40,9 @@ from .face_certificate import DENOMINATORS, exact_face_point
 from .dual_point import (DualData, check_cone, dual_data, corrected_point, exact_support_point, last_dual,
                          pairing_bounds, round_down, svec_diagonal, U)
 
-THRESHOLDS = (1e-3, 1e-5, 1e-7)      # supports tried by the exact route (relative to max |z|)
+THRESHOLDS = (1e-3, 1e-5, 1e-7)
+PATIENT = {"max_iter": 500, "static_regularization_constant": 1e-7}
+"""Clarabel settings of the last alternative-SDP estimate."""      # supports tried by the exact route (relative to max |z|)
 
 
 @dataclass
@@ -200,6 +202,9 @@ def prove_infeasible(model, shifts=(0.0, 1e-6, 1e-4)) -> InfeasibilityCertificat
         estimates.append(("solver", lambda z=z: z))
     for shift in shifts:
         estimates.append(("alternative", lambda s=shift: alternative_estimate(model, data, s)))
+    # Clarabel's defaults stall ("InsufficientProgress") on the alternative SDP of output feedback
+    # with an unreachable unstable mode; more iterations and a smaller regularisation solve it
+    estimates.append(("alternative", lambda: alternative_estimate(model, data, 0.0, PATIENT)))
     for k, (source, make) in enumerate(estimates):
         t1 = time.perf_counter()
         found = make()
