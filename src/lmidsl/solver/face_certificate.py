@@ -28,7 +28,7 @@ from fractions import Fraction
 import numpy as np
 from flint import fmpq
 
-from .dual_point import DualData, ExactPoint, _fmpq, _rational_nullspace, exact_psd
+from .dual_point import DualData, ExactPoint, _exact_rows, _fmpq, _rational_nullspace, exact_psd
 
 DENOMINATORS = (2 ** 10, 10 ** 6, 2 ** 30)
 """Bounds on the denominators tried when rounding a face vector to a rational one."""
@@ -87,14 +87,45 @@ def _face(Z: np.ndarray, rank_tol: float, denominator: int):
     return cols
 
 
+def _unknown_entries(b) -> list:
+    """(unknown, i, j) of a PSD block's unknowns: entry (i, j), i ≤ j (triu order)."""
+    return [(b.offset + j * (j + 1) // 2 + i, i, j) for j in range(b.dim) for i in range(j + 1)]
+
+
+def _constant(data: DualData) -> dict:
+    """S⁰ paired like a row of M, {unknown: fmpq} (the unknown of (i, j), i < j, pairs with
+    S⁰_ij + S⁰_ji): the data as written where :class:`DualData` knows them (``exact_constant``),
+    else the compiled constants."""
+    exact = getattr(data, "exact_constant", None)
+    if exact is not None:
+        return exact()
+    out = {}
+    for b in data.blocks:
+        if b.kind == "psd":
+            S = b.s0.reshape(b.dim, b.dim)
+            for u, i, j in _unknown_entries(b):
+                v = _fmpq(S[i, j]) + (_fmpq(S[j, i]) if i != j else 0)
+                if v != 0:
+                    out[u] = v
+        else:
+            for i in range(b.dim):
+                if b.s0[i] != 0:
+                    out[b.offset + i] = _fmpq(b.s0[i])
+    return out
+
+
 def exact_face_point(data: DualData, z0: np.ndarray, rank_tol: float = 1e-3,
                      denominator: int = DENOMINATORS[0]) -> ExactPoint | None:
     """An exact z with Z_k = V_k S_k V_kᵀ, M z = 0 (module docstring), or None (no rational face,
-    too large, or no non-zero solution)."""
+    no exact coefficients, too large, or no non-zero solution).  The equalities are the rows of
+    M as :func:`lmidsl.solver.dual_point._exact_rows` gives them ({unknown: coefficient})."""
+    enclose = getattr(data, "enclose", None)
+    if enclose is not None and enclose():
+        return None
     scale = float(np.abs(z0).max()) if len(z0) else 0.0
     if scale == 0.0 or sum(len(b.vals) for b in data.blocks) > MAX_TRIPLETS:
         return None
-    faces, unknowns = [], 0          # per block: (V columns, first unknown) ; nonneg: kept entries
+    faces, unknowns = [], 0          # per block: (V columns | kept entries, first unknown of s)
     for b in data.blocks:
         part = b.matrix(z0)
         if b.kind == "psd":
@@ -109,36 +140,35 @@ def exact_face_point(data: DualData, z0: np.ndarray, rank_tol: float = 1e-3,
             unknowns += len(keep)
     if unknowns == 0:
         return None
-    pairs = {}                       # per psd block: list of (a, b) for its unknowns
-
-    def coefficient(V, a, c, i, j):
-        """∂Z[i, j] / ∂s_ac for Z = V S Vᵀ, s_ac = S[a, c] = S[c, a]."""
-        if a == c:
-            return V[a][i] * V[a][j]
-        return V[a][i] * V[c][j] + V[c][i] * V[a][j]
-
-    rows: dict = {}                  # variable -> {unknown: exact coefficient}
+    pairs = {k: [(a, c) for c in range(len(f)) for a in range(c + 1)]
+             for k, (b, (f, _)) in enumerate(zip(data.blocks, faces)) if b.kind == "psd"}
+    # z_u as a linear map of s: {unknown u: {s index: exact coefficient}}
+    lift: dict = {}
     for k, b in enumerate(data.blocks):
         face, first = faces[k]
         if b.kind == "psd":
-            d = b.dim
-            pairs[k] = [(a, c) for c in range(len(face)) for a in range(c + 1)]
-            for r, col, v in zip(b.rows, b.cols, b.vals):
-                i, j = divmod(int(r), d)
-                vq = _fmpq(v)
-                row = rows.setdefault(int(col), {})
-                for u, (a, c) in enumerate(pairs[k]):
-                    x = coefficient(face, a, c, i, j)
+            for u, i, j in _unknown_entries(b):
+                terms = {}
+                for t, (a, c) in enumerate(pairs[k]):
+                    x = face[a][i] * face[a][j] if a == c else face[a][i] * face[c][j] + face[c][i] * face[a][j]
                     if x != 0:
-                        row[first + u] = row.get(first + u, fmpq(0)) + vq * x
+                        terms[first + t] = x
+                if terms:
+                    lift[u] = terms
         else:
-            where = {e: first + t for t, e in enumerate(face)}
-            for r, col, v in zip(b.rows, b.cols, b.vals):
-                if int(r) in where:
-                    row = rows.setdefault(int(col), {})
-                    row[where[int(r)]] = row.get(where[int(r)], fmpq(0)) + _fmpq(v)
-    dense = [[row.get(u, fmpq(0)) for u in range(unknowns)] for row in rows.values()]
-    dense = [row for row in dense if any(x != 0 for x in row)]
+            for t, e in enumerate(face):
+                lift[b.offset + e] = {first + t: fmpq(1)}
+    exact_rows = _exact_rows(data, np.arange(len(data.columns)), None)
+    if exact_rows is None:
+        return None
+    dense = []
+    for row in exact_rows:
+        eq = {}
+        for u, v in row.items():
+            for t, x in lift.get(u, {}).items():
+                eq[t] = eq.get(t, fmpq(0)) + v * x
+        if any(x != 0 for x in eq.values()):
+            dense.append([eq.get(t, fmpq(0)) for t in range(unknowns)])
     basis = _rational_nullspace(dense, unknowns)
     if not basis:
         return None
@@ -149,19 +179,20 @@ def exact_face_point(data: DualData, z0: np.ndarray, rank_tol: float = 1e-3,
             V = np.array([[float(x) for x in col] for col in face]).T
             pinv = np.linalg.pinv(V)
             S = pinv @ b.matrix(z0) @ pinv.T
-            for u, (a, c) in enumerate(pairs[k]):
-                target[first + u] = S[a, c]
+            for t, (a, c) in enumerate(pairs[k]):
+                target[first + t] = S[a, c]
         elif b.kind != "psd":
             part = b.matrix(z0)
             for t, e in enumerate(face):
                 target[first + t] = part[e]
     B = np.array([[float(x) for x in v] for v in basis]).T
     coef, *_ = np.linalg.lstsq(B, target / scale, rcond=None)
-    point = _judge(data, faces, pairs, _combination(basis, coef, unknowns))
+    s0 = _constant(data)
+    point = _judge(data, faces, pairs, lift, s0, _combination(basis, coef, unknowns))
     if point.psd:
         return point
     coef = _interior_coefficients(data, faces, pairs, B)      # the estimate's projection is not PSD
-    return point if coef is None else _judge(data, faces, pairs, _combination(basis, coef, unknowns))
+    return point if coef is None else _judge(data, faces, pairs, lift, s0, _combination(basis, coef, unknowns))
 
 
 def _combination(basis, coef, unknowns) -> list:
@@ -216,10 +247,11 @@ def _interior_coefficients(data: DualData, faces, pairs, B: np.ndarray):
     return np.asarray(c.value)
 
 
-def _judge(data: DualData, faces, pairs, s) -> ExactPoint:
-    """The exact cone check, pairing and traces of z = (V_k S_k V_kᵀ)."""
-    psd, pairing, strict_trace, total_trace = True, fmpq(0), fmpq(0), fmpq(0)
-    z = {}
+def _judge(data: DualData, faces, pairs, lift, s0, s) -> ExactPoint:
+    """The exact cone check, pairing ⟨Z, S⁰⟩ = Σ_u z_u s⁰_u and traces of z = (V_k S_k V_kᵀ)."""
+    psd, strict_trace, total_trace = True, fmpq(0), fmpq(0)
+    z = {u: sum((x * s[t] for t, x in terms.items()), fmpq(0)) for u, terms in lift.items()}
+    z = {u: v for u, v in z.items() if v != 0}
     for k, b in enumerate(data.blocks):
         face, first = faces[k]
         if b.kind == "psd":
@@ -227,34 +259,20 @@ def _judge(data: DualData, faces, pairs, s) -> ExactPoint:
                 continue
             r = len(face)
             S = [[fmpq(0)] * r for _ in range(r)]
-            for u, (a, c) in enumerate(pairs[k]):
-                S[a][c] = S[c][a] = s[first + u]
+            for t, (a, c) in enumerate(pairs[k]):
+                S[a][c] = S[c][a] = s[first + t]
             if not exact_psd(S):
                 psd = False
-            d = b.dim
-            Z = [[sum((face[a][i] * S[a][c] * face[c][j] for a in range(r) for c in range(r)), fmpq(0))
-                  for j in range(d)] for i in range(d)]
-            tr = sum((Z[i][i] for i in range(d)), fmpq(0))
+            tr = sum((z.get(b.offset + i * (i + 1) // 2 + i, fmpq(0)) for i in range(b.dim)), fmpq(0))
             total_trace += tr
             if b.strict:
                 strict_trace += tr
-            for i in range(d):
-                for j in range(d):
-                    if Z[i][j] != 0:
-                        if i <= j:
-                            z[b.offset + j * (j + 1) // 2 + i] = Z[i][j]
-                        x = b.s0[i * d + j]
-                        if x != 0:
-                            pairing += Z[i][j] * _fmpq(x)
         else:
-            for t, e in enumerate(face):
-                v = s[first + t]
-                if v < 0:
+            for t in range(len(face)):
+                if s[first + t] < 0:
                     psd = False
-                z[b.offset + e] = v
-                total_trace += v
-                if b.s0[e] != 0:
-                    pairing += v * _fmpq(b.s0[e])
+                total_trace += s[first + t]
+    pairing = sum((v * s0[u] for u, v in z.items() if u in s0), fmpq(0))
     return ExactPoint(z, psd, pairing, strict_trace, total_trace)
 
 
