@@ -23,9 +23,8 @@ from .numeric.scaling import apply_scaling
 from .theorem.registry import get_example, get_theorem
 from .solver.solution import Solution, evaluate_reported, lmi_certificate
 from .theorem.theorem import Theorem
-from .solver.backoff import DEFAULT_DELTA, backoff_solution, level_solution
+from .solver.backoff import AUTO_DELTAS, SEARCHED, backoff_solution, level_solution
 
-AUTO_DELTAS = (DEFAULT_DELTA, 10 * DEFAULT_DELTA)
 """δ of the automatic back-off, in order: hinf_of_ct plant-14 (γ* = 5554.6) gets no certified
 controller at 1 % (the loop's controller has ‖A_K‖ ~ 3e7) and one at 10 %."""
 
@@ -84,7 +83,7 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str |
     (:mod:`lmidsl.numeric.scaling`).  ``backoff`` = δ: re-solve at objective ≤ (1 + δ)·optimum for a
     well-conditioned recovery (:mod:`lmidsl.solver.backoff`); ``"auto"``: only when the design
     recovered at the optimum fails its analysis certificate, its recovery fails or inverts a matrix
-    of condition number above :data:`ILL_CONDITIONED` (δ = 10⁻², then 10⁻¹).
+    of condition number above :data:`ILL_CONDITIONED` (the smallest δ of :data:`lmidsl.solver.backoff.AUTO_DELTAS` that certifies).
     ``plan`` (default: from ``backend``, ``solver``, ``margin`` and ``options``) decides every solve.
     ``bounds``: the other side of the answer — a proved lower bound on the optimum from the
     solver's dual (:mod:`lmidsl.solver.dual_bound`), and for a solve without a point a proved
@@ -127,8 +126,8 @@ def _recover_and_certify(model, applied, solution: Solution, backoff, bounds: bo
     if reason is None:
         return solution
     failed = solution.message.startswith("recovery failed")
-    for delta in AUTO_DELTAS:   # a larger δ when the first back-off gives no certified design
-        kept = backed_off(model, applied, solution, delta, reason, finish)
+    for delta in AUTO_DELTAS:   # the smallest δ that gives a certified design
+        kept = backed_off(model, applied, solution, delta, reason, finish, searched=delta in SEARCHED)
         if kept is not solution:
             return kept
     if finish["certify"] and solution.analysis is None and not failed:
@@ -156,7 +155,8 @@ def _backoff_reason(solution: Solution, instance: Instance, finish: dict) -> str
     return None
 
 
-def backed_off(model, applied, optimum: Solution, delta: float, reason: str | None, finish: dict) -> Solution:
+def backed_off(model, applied, optimum: Solution, delta: float, reason: str | None, finish: dict,
+               searched: bool = True) -> Solution:
     """The design at objective ≤ (1 + δ)·optimum (:mod:`lmidsl.solver.backoff`) by two methods:
     the *level problem* (the LMIs and that bound, no objective, along the plan's routes: one
     solve, a central point of the slab) and the *condition-minimising search* (golden section on
@@ -169,7 +169,8 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
     optimum is returned with the notes.  Seed 001 at δ = 1 %: the level point has cond(Z),
     cond(X − Z) = 130, 675 and γ 0.38287 in 0.14 s; the search 136, 137 and γ 0.38290 in 3.4 s.
     Without ``reason`` (the user's δ) the search first, the level problem when it fails, and the
-    answer is returned as it is."""
+    answer is returned as it is.  ``searched=False``: the level problem only (a rung of the automatic
+    ladder, :data:`lmidsl.solver.backoff.AUTO_DELTAS`)."""
     plan = finish["plan"]
     instance = optimum.instance
     automatic = reason is not None
@@ -192,7 +193,7 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
                                  "certified point on any route")
         return found
 
-    methods = [("level problem", level), ("condition-minimising search", search)]
+    methods = [("level problem", level), ("condition-minimising search", search)][:2 if searched else 1]
     candidate = None
     for name, method in (methods if automatic else methods[::-1]):
         found = method()

@@ -74,6 +74,11 @@ def said(solution: Solution) -> str:
     return f"{solution.backend}/{solution.solver}: {solution.status}{objective}{verdict}"
 
 
+def declares_closed_form(theorem) -> bool:
+    """The theorem declares a Riccati route (its bounded-real or state-feedback form)."""
+    return theorem.state_feedback is not None or theorem.bounded_real is not None
+
+
 RICCATI_LEVELS = (1e-5, 1e-3)
 """Levels γ = ‖G‖∞ (1 + r) tried first by the Riccati route, then the synthesis γ (and + tolerance)."""
 
@@ -190,4 +195,4 @@ def state_feedback_point(instance: Instance) -> Solution | None:
 
 
 
-__all__ = ["better", "good", "riccati_point", "route_model", "said", "state_feedback_point"]
+__all__ = ["better", "declares_closed_form", "good", "riccati_point", "route_model", "said", "state_feedback_point"]

@@ -36,10 +36,13 @@ import clarabel
 import numpy as np
 from scipy import sparse
 
+from .face_certificate import DENOMINATORS, exact_face_point
 from .dual_point import (DualData, check_cone, dual_data, corrected_point, exact_support_point, last_dual,
                          pairing_bounds, round_down, svec_diagonal, U)
 
-THRESHOLDS = (1e-3, 1e-5, 1e-7)      # supports tried by the exact route (relative to max |z|)
+THRESHOLDS = (1e-3, 1e-5, 1e-7)
+PATIENT = {"max_iter": 500, "static_regularization_constant": 1e-7}
+"""Clarabel settings of the last alternative-SDP estimate."""      # supports tried by the exact route (relative to max |z|)
 
 
 @dataclass
@@ -146,18 +149,27 @@ def _verify_balls(data: DualData, z0: np.ndarray, out: InfeasibilityCertificate)
     return False
 
 
+def _exact_points(data: DualData, z0: np.ndarray):
+    """(where, exact point) on each entry support, then on the rational faces of the estimate's
+    blocks (:mod:`lmidsl.solver.face_certificate`: singular certificates of a hidden unreachable
+    mode)."""
+    for threshold in THRESHOLDS:
+        yield f"on the support (threshold {threshold:g})", exact_support_point(data, z0, threshold)
+    for denominator in DENOMINATORS:
+        yield f"on the rational face (denominators ≤ {denominator})", exact_face_point(data, z0, denominator=denominator)
+
+
 def _verify_exact(data: DualData, z0: np.ndarray, out: InfeasibilityCertificate) -> bool:
     if data.enclose():
         return False
-    for threshold in THRESHOLDS:
-        point = exact_support_point(data, z0, threshold)
+    for where, point in _exact_points(data, z0):
         if point is None:
             why = data.exact_coefficients().why
             if why and why not in out.why:
                 out.why += f"; no exact route: {why}"
             continue
         if not point.psd:
-            out.why = f"the exact point on the support (threshold {threshold:g}) is not PSD"
+            out.why = f"the exact point {where} is not PSD"
             continue
         if point.pairing < 0 or (point.pairing <= 0 and point.strict_trace > 0):
             out.route, out.support = "exact", len(point.z)
@@ -168,7 +180,7 @@ def _verify_exact(data: DualData, z0: np.ndarray, out: InfeasibilityCertificate)
                     blocks.add(next(k for k, b in enumerate(data.blocks) if b.offset <= u < b.offset + b.size))
             out.nonzero_blocks = len(blocks)
             return True
-        out.why = (f"exact point (threshold {threshold:g}): ⟨Z, S⁰⟩ = {float(point.pairing):.3g}, "
+        out.why = (f"exact point {where}: ⟨Z, S⁰⟩ = {float(point.pairing):.3g}, "
                    f"Σ tr Z (strict) = {float(point.strict_trace):.3g}: not a certificate")
     return False
 
@@ -195,6 +207,9 @@ def prove_infeasible(model, shifts=(0.0, 1e-6, 1e-4)) -> InfeasibilityCertificat
         estimates.append(("solver", lambda z=z: z))
     for shift in shifts:
         estimates.append(("alternative", lambda s=shift: alternative_estimate(model, data, s)))
+    # Clarabel's defaults stall ("InsufficientProgress") on the alternative SDP of output feedback
+    # with an unreachable unstable mode; more iterations and a smaller regularisation solve it
+    estimates.append(("alternative", lambda: alternative_estimate(model, data, 0.0, PATIENT)))
     for k, (source, make) in enumerate(estimates):
         t1 = time.perf_counter()
         found = make()

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 
 from ..numeric.interconnection import design_kind
 from ..errors import ProofConflict
+from .backoff import backoff_cost
 from .performance import performance_at_point, performance_bound, performance_side
 from .status import INFEASIBLE as STATUS_INFEASIBLE, MARGINAL, OPTIMAL, SOLVED
 
@@ -124,6 +125,7 @@ def decide(solution) -> Verdict:
     box = bracket(solution)
 
     def verdict(certified, word, why, reasons=()):
+        why = with_backoff_cost(why, solution, headline) if certified else why
         return Verdict(certified, word, headline, why, name or "", words, levels, tuple(reasons), box)
 
     if solution.status not in SOLVED:
@@ -289,7 +291,31 @@ def bracket(solution) -> dict | None:
         raise ProofConflict(f"{theorem.id}: the proved lower end {box['lower']!r} of the optimum's bracket is above "
                             f"its proved upper end {box['upper']!r} ({'the point' if maximised else 'the dual bound'} "
                             f"against {'the dual bound' if maximised else 'the point'}): a bug in lmidsl, not a certificate")
+    useless = "" if maximised else useless_lower_end(box["lower"] if box["lower_proved"] else None, level)
+    if useless:
+        box["lower_proved"], box["why"] = False, useless
     return box
+
+
+def with_backoff_cost(why: str, solution, headline) -> str:
+    """``why`` with the back-off's cost against the SDP optimum appended, for a back-off point
+    (:func:`lmidsl.solver.backoff.backoff_cost`): every certified back-off verdict says it."""
+    cost = backoff_cost(solution.backoff, headline) if backed_off(solution) else ""
+    return f"{why}; {cost}" if cost else why
+
+
+def useless_lower_end(lower, level) -> str:
+    """Why a proved lower end of a positive minimised level says nothing useful (empty: it does):
+    it is ≤ 0 (−1.2e-271 under an optimum of 1e-7 is true and useless), or the bracket is wider
+    than its lower end (the level more than twice the bound).  Such an end is reported as "no
+    useful lower bound", never as a proved bracket."""
+    if lower is None or level is None or not level > 0:
+        return ""
+    if lower <= 0:
+        return f"no useful lower bound (the proved lower end {lower:.3g} is not positive)"
+    if level - lower > lower:
+        return f"no useful lower bound (the proved lower end {lower:.6g} is less than half the level)"
+    return ""
 
 
 def not_proved(solution) -> list[str]:
@@ -330,6 +356,9 @@ def loose_reason(solution) -> str:
     if solution.margin_limited:
         return "the strictness margin sets the objective"
     if status != OPTIMAL:
+        if backed_off(solution) and solution.status != status:
+            return (f"the solver's point at the optimum is {status} (the back-off point's status "
+                    f"{solution.status} says nothing of the optimum)")
         return f"the solver's point is {status}"
     return ""
 
