@@ -313,7 +313,6 @@ def default_local_workers() -> int:
 
 def process_age() -> float | None:
     """Seconds since this process started (Linux: /proc), or None where that cannot be read."""
-    import os
     try:
         with open("/proc/self/stat") as f:
             start_ticks = float(f.read().rsplit(")", 1)[1].split()[19])

@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from flint import arb
 
 from .evaluate import assemble_blocks
 
@@ -86,7 +87,6 @@ class Enclosure:
 
     def balls(self):
         """An object array of arb balls enclosing this enclosure (for the ball fallbacks)."""
-        from flint import arb
         out = np.empty(self.mid.shape, dtype=object)
         for idx, m in np.ndenumerate(self.mid):
             out[idx] = arb(float(m), float(self.rad[idx]))
