@@ -127,3 +127,22 @@ def test_violated_needs_an_exactly_negative_quadratic_form():
     assert prove_negative_definite(Enclosure(np.array([[-1.0, 0.5], [0.5, -1.0]])))[0] == PROVED
     # N = 0 ± tiny: neither proved nor refuted by the fast route (the balls decide)
     assert prove_negative_definite(Enclosure(np.zeros((2, 2)), np.full((2, 2), 1e-20))) is None
+
+
+@pytest.mark.parametrize("smallest", [1.0, 1e-6, 1e-10])
+def test_verified_solve_encloses_the_exact_solution(smallest):
+    """G⁻¹b in exact rational arithmetic (fmpq_mat.solve) lies in the enclosure, or no enclosure."""
+    from lmidsl.numeric.proof import verified_spd_solve
+    rng = np.random.default_rng(int(-np.log10(smallest)))
+    n = 25
+    G = _matrix(n, smallest, rng)
+    b = rng.standard_normal(n)
+    found = verified_spd_solve(G, np.zeros((n, n)), b, np.zeros(n))
+    if smallest >= 1e-6:
+        assert found is not None
+    if found is None:
+        return
+    mid, rad = found
+    exact = _exact(G).solve(fmpq_mat([[_q(x)] for x in b]))
+    for i in range(n):
+        assert abs(exact[i, 0] - _q(mid[i])) <= _q(rad[i])
