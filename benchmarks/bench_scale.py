@@ -77,7 +77,7 @@ print(float(g.value))
 #: entries of the ``times`` record that are the proofs' cost (on the main thread or waited for)
 PROVING = ("certificate", "analysis", "lower_bound_wait", "infeasibility_proof")
 #: entries that partition the wall time of ``lmidsl solve`` (the others overlap them)
-PARTS = ("startup", "bind", "compile", "solve", "feasp", "backoff", "recover", "certificate", "analysis",
+PARTS = ("startup", "bind", "compile", "solve", "other_routes", "feasp", "backoff", "recover", "certificate", "analysis",
          "checks", "evidence", "lower_bound_wait", "infeasibility_proof")
 
 
