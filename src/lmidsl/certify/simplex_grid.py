@@ -103,9 +103,14 @@ def measure_value(system: dict, measure: str, time: str) -> float:
     B, C = np.atleast_2d(system["B"]), np.atleast_2d(system["C"])
     D = np.atleast_2d(system.get("D", np.zeros((C.shape[0], B.shape[1]))))
     if measure == "hinf":
-        return hinf_norm(A, B, C, D, time)     # SLICOT AB13DD, without importing python-control
-    import control     # 1–2 s to import: only when an H2 norm is computed
-    return float(control.norm(control.ss(A, B, C, D, 0 if time == "continuous" else True), 2))
+        value = hinf_norm(A, B, C, D, time)     # SLICOT AB13DD, without importing python-control
+    else:
+        import control     # 1–2 s to import: only when an H2 norm is computed
+        value = float(control.norm(control.ss(A, B, C, D, 0 if time == "continuous" else True), 2))
+    if not np.isfinite(value):
+        # a stable system has a finite norm: an infinite one is a failed computation, not evidence
+        raise ArithmeticError(f"the {measure} norm of a stable system came out {value}")
+    return value
 
 
 def _moves(sizes: tuple) -> list:
