@@ -72,6 +72,11 @@ FACE_TOLERANCE = 50.0
 #: value by more than this (relative)
 LOSS_TARGET = 1e-5
 MIN_SHIFT = 1e-9
+#: the shifted re-solves stop once the bound has taken BUDGET_FACTOR times the main solve's time
+#: plus BUDGET_FLOOR seconds (a bound that has not proved by then rarely proves later: random
+#: 24-state BRL, 5 shifted solves of 10 s each, none proved; the paper examples prove in < 1 s)
+BUDGET_FACTOR = 8.0
+BUDGET_FLOOR = 3.0
 
 
 @dataclass
@@ -272,6 +277,7 @@ class _BoundJob:
     max_iter: int | None
     out: DualBound
     t0: float
+    budget: float = math.inf            # seconds from t0 after which no further shift is tried
 
 
 def _prepare(model, solution) -> _BoundJob | DualBound:
@@ -300,8 +306,10 @@ def _prepare(model, solution) -> _BoundJob | DualBound:
     # main solve's iterations and some (the stress set's slowest proving one, a discrete ζ = 0.001
     # plant: 72 against 22), not Clarabel's default 200
     max_iter = 4 * int(iterations) + 40 if iterations else None
+    solve_time = getattr(model._last[1], "solve_time", None)
+    budget = BUDGET_FACTOR * float(solve_time) + BUDGET_FLOOR if solve_time else math.inf
     return _BoundJob(data, z, model.equilibration.objective, model.problem, model.instance.theorem,
-                     dict(model.instance.params), max_iter, out, t0)
+                     dict(model.instance.params), max_iter, out, t0, budget)
 
 
 def lower_bound(model, solution=None, tries: int = SHIFT_TRIES, primal_bounds=None) -> DualBound:
@@ -425,6 +433,10 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
             failing, eaten = a.cone.failing(data.blocks), 0
 
         for attempt in range(tries):
+            if time.perf_counter() - job.t0 > job.budget:
+                out.why = (f"the time budget ({BUDGET_FACTOR:g}× the solve + {BUDGET_FLOOR:g} s) ran out after "
+                           f"{out.extra_solves} shifted solves; " + out.why.split("; ")[-1])
+                break
             solved, b = _shift_once(job, data, failing, eps, a.keep, scale, out, record, attempt)
             if not tried_other and (b is None or _combine(pool + [b]) is None):
                 # this support's first shift failed: the other support's first shift, before
