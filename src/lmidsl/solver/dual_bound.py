@@ -75,7 +75,7 @@ MIN_SHIFT = 1e-9
 #: the shifted re-solves stop once the bound has taken BUDGET_FACTOR times the main solve's time
 #: plus BUDGET_FLOOR seconds (a bound that has not proved by then rarely proves later: random
 #: 24-state BRL, 5 shifted solves of 10 s each, none proved; the paper examples prove in < 1 s)
-BUDGET_FACTOR = 8.0
+BUDGET_FACTOR = 3.0
 BUDGET_FLOOR = 3.0
 
 
