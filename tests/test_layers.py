@@ -22,7 +22,7 @@ LAYERS = ["errors", "symbolic", "theorem", "numeric", "solver", "certify", "pipe
 ANY_LAYER = {"__init__", "__main__"}
 #: may be imported inside a function: heavy, optional or used by one command only
 LAZY_OK = ("tqdm", "matplotlib", "cvxpy", "picos", "scipy", "importlib", "distributed", "dask", "control",
-           "cloudpickle", "threadpoolctl")
+           "cloudpickle", "threadpoolctl", "slycot")
 PAPER_MODELS = ("impulsive", "interconnected", "sim_delay_dropout", "netsim", "quantizer", "delta")
 
 

@@ -283,5 +283,5 @@ def solve(theorem, example: str | None = None, data: dict | None = None,
     bind_time = time.perf_counter() - t0
     solution = solve_instance(instance, solver, backend, margin, certify, scaling, backoff,
                               diagnose=diagnose, bounds=bounds, **options)
-    solution.times = {"bind": bind_time, **solution.times}
+    solution.times = {"bind": bind_time, **solution.times, "total": time.perf_counter() - t0}
     return solution

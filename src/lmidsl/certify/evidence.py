@@ -4,7 +4,8 @@ The LMIs proved at a point prove what the theorem says they prove — if the the
 theorem that declares its system states a claim that can be tested without its LMIs:
 
 * **bounded-real form** (:meth:`~lmidsl.theorem.theorem.Theorem.bounded_real_form`): the system
-  (A, B, C, D) has H∞ norm at most the level γ.  For one system, python-control's norm; for a
+  (A, B, C, D) has H∞ norm at most the level γ.  For one system, SLICOT AB13DD's norm (python-control's
+  routine, called directly: python-control itself is imported only to form a loop); for a
   polytope (data per vertex, A(α) = Σ αᵢ Aᵢ, …), the norm on a grid of the simplex refined around
   its maximum (:func:`lmidsl.certify.simplex_grid.grid_evidence`): the claim is "for every α".
 * **a design with a loop** (its kind in :data:`~lmidsl.numeric.interconnection.DESIGN_KIND_TABLE`)
@@ -65,7 +66,7 @@ def _norm_evidence(name: str, systems: list, claim: float, time: str) -> Evidenc
         value = measure_value(systems[0], "hinf", time)
         refutes = bool(value > claim * (1 + TOLERANCE))
         return Evidence(name, claim, float(value), refutes,
-                        f"python-control's H∞ norm {value:.10g} against the claimed level {claim:.10g}: "
+                        f"the H∞ norm (SLICOT AB13DD, python-control's routine) {value:.10g} against the claimed level {claim:.10g}: "
                         + ("refutes" if refutes else "does not refute"))
     grid = grid_evidence(systems, claim, time, measure="hinf", tolerance=TOLERANCE,
                          max_points=MAX_GRID_POINTS)

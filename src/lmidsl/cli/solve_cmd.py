@@ -9,7 +9,7 @@ from ..render.terminal import wrap
 from ..render.bisection import format_bisection
 from ..studies.bisection import bisect
 from ..theorem.registry import get_theorem
-from .common import add_solve_arguments, instance_spec, parse_overrides, print_json, solve_arguments
+from .common import add_solve_arguments, instance_spec, parse_overrides, print_json, process_age, solve_arguments
 
 ORDER = 20
 
@@ -55,9 +55,12 @@ def run(args):
     spec = getattr(get_theorem(args.theorem), "bisection", None)     # a family has none
     if spec is not None and spec.parameter not in parse_overrides(args.overrides):
         return run_bisection(args)     # a GEVP: bisect on the declared parameter (--set it to solve at one value)
+    startup = process_age()
     sol = solve(args.theorem, certify=not args.no_certify, scaling=args.scaling, backoff=args.backoff,
                 bounds=not args.no_bounds,
                 **solve_arguments(args), **instance_spec(args))
+    if startup is not None:     # interpreter start, imports, argument parsing: before the solve
+        sol.times = {"startup": startup, **sol.times}
     if args.json:
         print_json(sol.as_dict())
     else:

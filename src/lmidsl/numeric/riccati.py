@@ -28,8 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .interconnection import timebase
-from .systems import is_stable
+from .systems import hinf_norm as systems_hinf_norm, is_stable
 
 FRACTIONS = (0.5, 0.05)
 """ε as a fraction of the room (g − ‖G‖∞²) / ‖(sI − A)⁻¹B‖∞²: the CᵀC + εI of the Riccati
@@ -64,12 +63,10 @@ def bounded_real_storage(A, B, C, D, g: float, time: str, eps: float) -> np.ndar
 
 
 def hinf_norm(A, B, C, D, time: str) -> float | None:
-    """‖(A, B, C, D)‖∞ by python-control (SLICOT AB13DD), None when A is not stable."""
-    import control     # 1–2 s to import: only when a norm is needed
-    A = np.atleast_2d(A)
-    if not is_stable(A, time):
-        return None
-    return float(control.norm(control.ss(A, B, C, D, timebase(time)), "inf", tol=1e-10))
+    """‖(A, B, C, D)‖∞ by SLICOT AB13DD (:func:`lmidsl.numeric.systems.hinf_norm`), None when A is
+    not stable."""
+    value = systems_hinf_norm(A, B, C, D, time)
+    return None if value == float("inf") else value
 
 
 def storage_candidates(A, B, C, D, g: float, time: str, norm: float):

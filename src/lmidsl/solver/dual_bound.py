@@ -77,6 +77,13 @@ FACE_TOLERANCE = 50.0
 #: value by more than this (relative)
 LOSS_TARGET = 1e-5
 MIN_SHIFT = 1e-9
+#: the shifted re-solves stop (and a running one is cut by Clarabel's time_limit) once the bound has
+#: taken BUDGET_FACTOR times the main solve's time plus BUDGET_FLOOR seconds: the bound runs beside
+#: the main thread and should not make the user wait much longer than the solve.  A bound that has
+#: not proved by then rarely proves later (random 24- and 32-state BRL: shifted solves of 10–25 s
+#: that run to the iteration limit, none proved); the paper examples prove in well under 3 s
+BUDGET_FACTOR = 1.0
+BUDGET_FLOOR = 3.0
 
 
 @dataclass
@@ -132,7 +139,8 @@ class _ShiftedProblem:
         return self._base.clarabel_cones()
 
 
-def _solve_shifted(problem, data: DualData, blocks, eps: float, keep=None, max_iter: int | None = None):
+def _solve_shifted(problem, data: DualData, blocks, eps: float, keep=None, max_iter: int | None = None,
+                   time_limit: float = math.inf):
     """Solve min qᵀx − ε Σ_{k∈blocks} tr S_k(x) on the compiled ``problem`` (Clarabel's units;
     with a support ``keep``, only the traces of its principal submatrices); returns its z + ε·e
     (dual feasible for the original up to rounding), or None.  Touches no model (a worker
@@ -140,7 +148,10 @@ def _solve_shifted(problem, data: DualData, blocks, eps: float, keep=None, max_i
     e = data.selector(blocks, keep)
     shifted = _ShiftedProblem(problem, problem.q + eps * (problem.A.T @ e))
     try:
-        result = clarabel_solve(shifted, **({"max_iter": max_iter} if max_iter else {}))
+        options = {"max_iter": max_iter} if max_iter else {}
+        if math.isfinite(time_limit):
+            options["time_limit"] = max(time_limit, 0.5)
+        result = clarabel_solve(shifted, **options)
     except SolverCrash:
         return None
     if str(result.status) not in ("Solved", "AlmostSolved"):
@@ -174,7 +185,8 @@ def _shift_once(job: _BoundJob, data: DualData, blocks, eps: float, keep, scale:
     """One shifted solve on the support ``keep`` and the exact correction of its dual: (whether
     the shifted problem solved, the corrected candidate or None), counted and timed in ``out``."""
     t0 = time.perf_counter()
-    shifted = _solve_shifted(job.problem, data, blocks, eps, keep, job.max_iter)
+    left = job.budget - (time.perf_counter() - job.t0)      # the budget bounds the solve too
+    shifted = _solve_shifted(job.problem, data, blocks, eps, keep, job.max_iter, left)
     out.times[f"shifted_solve_{label}"] = time.perf_counter() - t0
     out.extra_solves += 1
     if shifted is None:
@@ -279,6 +291,7 @@ class _BoundJob:
     out: DualBound
     t0: float
     upper: float | None = None       # the objective at the solve's point, rounded up (as written)
+    budget: float = math.inf            # seconds from t0 after which no further shift is tried
 
 
 def _prepare(model, solution) -> _BoundJob | DualBound:
@@ -308,8 +321,10 @@ def _prepare(model, solution) -> _BoundJob | DualBound:
     # plant: 72 against 22), not Clarabel's default 200
     max_iter = 4 * int(iterations) + 40 if iterations else None
     point = getattr(solution, "objective_bounds", None)
+    solve_time = getattr(model._last[1], "solve_time", None)
+    budget = BUDGET_FACTOR * float(solve_time) + BUDGET_FLOOR if solve_time else math.inf
     return _BoundJob(data, z, model.equilibration.objective, model.problem, model.instance.theorem,
-                     dict(model.instance.params), max_iter, out, t0, None if point is None else point[1])
+                     dict(model.instance.params), max_iter, out, t0, None if point is None else point[1], budget)
 
 
 def lower_bound(model, solution=None, tries: int = SHIFT_TRIES, primal_bounds=None) -> DualBound:
@@ -439,6 +454,10 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
             failing, eaten = a.cone.failing(data.blocks), 0
 
         for attempt in range(tries):
+            if time.perf_counter() - job.t0 > job.budget:
+                out.why = (f"the time budget ({BUDGET_FACTOR:g}× the solve + {BUDGET_FLOOR:g} s) ran out after "
+                           f"{out.extra_solves} shifted solves; " + out.why.split("; ")[-1])
+                break
             solved, b = _shift_once(job, data, failing, eps, a.keep, scale, out, record, attempt)
             if not tried_other and (b is None or _combine(pool + [b]) is None):
                 # this support's first shift failed: the other support's first shift, before

@@ -25,11 +25,11 @@ solution of (M' D) w = q' − M' z̃ for every M', q' within the radii of M, q: 
 computed in floating point with the a-priori
 rounding bounds γ_k = k u/(1 − k u) (Higham, *Accuracy and Stability of Numerical Algorithms*,
 §3.1), doubled for safety, and the linear system is solved in python-flint's ball arithmetic
-(``arb_mat.solve``), so the exact z = z̃ + D w* lies in the computed enclosure [z] and M z = q
-holds exactly for it.  Each Z_k is then shown positive semidefinite for every point of its
-enclosure: λ_min(Z) ≥ λ_min(Z_mid) − ‖Z_rad‖_F (Weyl), with λ_min(Z_mid) bounded below by a
-shifted floating-point Cholesky factor R of Z_mid − δI and the ball of its residual
-E = Z_mid − δI − RᵀR (Z_mid − δI = RᵀR + E ⪰ −‖E‖₂ I).  Floating-point rounding is to nearest
+(``arb_mat.solve``) or, for many equations, by a verified floating-point Cholesky
+(:func:`lmidsl.numeric.proof.verified_spd_solve`), so the exact z = z̃ + D w* lies in the computed
+enclosure [z] and M z = q holds exactly for it.  Each Z_k is then shown positive semidefinite for
+every point of its enclosure by Rump's verified Cholesky of Z_mid − sI with Z_rad folded into the
+shift (:func:`lmidsl.numeric.proof.lower_eigenvalue_bound`: λ_min ≥ s).  Floating-point rounding is to nearest
 (numpy), which the γ_k bounds assume; underflow is excluded by checking magnitudes.
 
 :func:`exact_support_point` instead projects a float estimate exactly (python-flint ``fmpq``) onto
@@ -47,7 +47,7 @@ import numpy as np
 from scipy import sparse
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
-from ..numeric.proof import ball_precision, round_down, round_up
+from ..numeric.proof import ball_precision, lower_eigenvalue_bound, round_down, round_up, verified_spd_solve
 
 from .backends.direct_backend import psd_diagonal
 from .enclosure import (EnclosureUnavailable, ExactCoefficients, coefficient_bounds, irrational_grid, radii,
@@ -403,6 +403,27 @@ class BallPoint:
     correction: float        # ‖z − z̃‖∞
 
 
+#: equations from which the correction's linear system is solved in floating point first
+FAST_SOLVE_MIN = 120
+
+
+def _gram_system(M, Mabs, Mrad, t: np.ndarray, t_rad: np.ndarray, k: np.ndarray, z0: np.ndarray) -> tuple:
+    """(r, r_rad, G, G_rad, M, Mabs): the residual r = M z̃ − t and the Gram matrix G = M Mᵀ in
+    floating point, with radii covering their rounding (a-priori bounds, module docstring) and
+    every M′, t′ within ``Mrad``, ``t_rad`` of M, t (the equations as written, D = Mᵀ fixed)."""
+    kmax = int(k.max()) + 2 if len(k) else 2
+    r = M @ z0 - t
+    r_rad = (gamma(kmax + 1) * (Mabs @ np.abs(z0) + np.abs(t))
+             + (Mrad @ np.abs(z0) + t_rad) * (1 + gamma(kmax + 2)) + TINY)
+    D = M.T.tocsr()
+    Dabs = Mabs.T.tocsr()
+    G = (M @ D).toarray()
+    kd = int(np.diff(D.tocsc().indptr).max()) + 2 if D.nnz else 2
+    G_rad = (gamma(max(kmax, kd) + 2) * (Mabs @ Dabs).toarray()
+             + (Mrad @ Dabs).toarray() * (1 + gamma(max(kmax, kd) + 2)) + TINY)
+    return r, r_rad, G, G_rad, M, Mabs
+
+
 def corrected_point(data: DualData, z0: np.ndarray, target: np.ndarray,
                     keep: np.ndarray | None = None) -> BallPoint | None:
     """[z] ∋ z* = z̃ + D w* with M z* = target exactly, D = Mᵀ (the minimum-norm direction; see
@@ -423,34 +444,38 @@ def corrected_point(data: DualData, z0: np.ndarray, target: np.ndarray,
         return None                      # a variable in the objective and in no kept constraint
     rows = np.flatnonzero(live)
     M, Mabs, Mrad, t, t_rad = M[live], Mabs[live], Mrad[live], target[live], t_rad[live]
-    independent = _independent_equations(data, M, target is data.q_used, rows, keep)
-    if independent is None:            # no exact dependency: the balls decide on every equation
-        independent = np.arange(M.shape[0])
-    M, Mabs, Mrad = M[independent], Mabs[independent], Mrad[independent]
-    t, t_rad, k = t[independent], t_rad[independent], data.terms[rows[independent]]
-    kmax = int(k.max()) + 2 if len(k) else 2
-    r = M @ z0 - t
-    # the equations as written: M' z = t' with |M' − M| ≤ Mrad, |t' − t| ≤ t_rad (the enclosure)
-    r_rad = gamma(kmax + 1) * (Mabs @ np.abs(z0) + np.abs(t)) + (Mrad @ np.abs(z0) + t_rad) * (1 + gamma(kmax + 2)) + TINY
-    D = M.T.tocsr()
-    Dabs = Mabs.T.tocsr()
-    G = (M @ D).toarray()
-    kd = int(np.diff(D.tocsc().indptr).max()) + 2 if D.nnz else 2
-    G_rad = (gamma(max(kmax, kd) + 2) * (Mabs @ Dabs).toarray()
-             + (Mrad @ Dabs).toarray() * (1 + gamma(max(kmax, kd) + 2)) + TINY)
-    n = G.shape[0]
-    if n == 0:
-        return BallPoint(z0.copy(), np.zeros_like(z0), 0.0, 0.0)
-    with ball_precision(BALL_PRECISION):
-        Gb = arb_mat([[arb(G[i, j], G_rad[i, j]) for j in range(n)] for i in range(n)])
-        rhs = arb_mat([[arb(-r[i], r_rad[i])] for i in range(n)])
-        try:
-            w = Gb.solve(rhs)
-        except ZeroDivisionError:
-            return None
-        w_mid = np.array([float(w[i, 0].mid()) for i in range(n)])     # rounded to nearest
-        w_rad = np.array([round_up(float(w[i, 0].rad())) for i in range(n)]) + np.abs(w_mid) * 2 * U + TINY
+    # many equations: at LAPACK speed (lmidsl.numeric.proof.verified_spd_solve: a verified
+    # Cholesky of M Mᵀ, a norm-wise radius); few, or dependent ones, or a failed proof: the balls
+    # below (componentwise radii, tighter; O(n³) ball operations)
+    fast = None
+    if M.shape[0] >= FAST_SOLVE_MIN:
+        r, r_rad, G, G_rad, _, _ = _gram_system(M, Mabs, Mrad, t, t_rad, data.terms[rows], z0)
+        # M′Mᵀ is not symmetric when M′ ≠ M: a symmetric radius ≥ |E + Eᵀ|/2 proves wᵀ(G + E)w ≥ s‖w‖²,
+        # so σ_min(G + E) ≥ s for every E with |E| ≤ G_rad, and the solve's bound holds as stated
+        fast = verified_spd_solve(G, np.maximum(G_rad, G_rad.T), -r, r_rad)
+    if fast is not None:
+        w_mid, w_rad = fast
+    else:
+        independent = _independent_equations(data, M, target is data.q_used, rows, keep)
+        if independent is None:            # no exact dependency: the balls decide on every equation
+            independent = np.arange(M.shape[0])
+        r, r_rad, G, G_rad, M, Mabs = _gram_system(M[independent], Mabs[independent], Mrad[independent],
+                                                   t[independent], t_rad[independent],
+                                                   data.terms[rows[independent]], z0)
+        n = G.shape[0]
+        if n == 0:
+            return BallPoint(z0.copy(), np.zeros_like(z0), 0.0, 0.0)
+        with ball_precision(BALL_PRECISION):
+            Gb = arb_mat([[arb(G[i, j], G_rad[i, j]) for j in range(n)] for i in range(n)])
+            rhs = arb_mat([[arb(-r[i], r_rad[i])] for i in range(n)])
+            try:
+                w = Gb.solve(rhs)
+            except ZeroDivisionError:
+                return None
+            w_mid = np.array([float(w[i, 0].mid()) for i in range(n)])     # rounded to nearest
+            w_rad = np.array([round_up(float(w[i, 0].rad())) for i in range(n)]) + np.abs(w_mid) * 2 * U + TINY
     w_rad = np.array([round_up(x) for x in w_rad])
+    D, Dabs = M.T.tocsr(), Mabs.T.tocsr()
     step = D @ w_mid
     mid = z0 + step
     kd = int(np.diff(D.indptr).max()) + 2 if D.nnz else 2
@@ -528,30 +553,13 @@ def _exact_rows(data: DualData, rows: np.ndarray, keep, free: dict | None = None
     return out
 
 
-def proved_min_eigenvalue(S: np.ndarray) -> float | None:
-    """A proved lower bound on λ_min of the float symmetric matrix S (entries taken exactly), by a
-    shifted Cholesky factorisation (module docstring); None when no shift factorises."""
-    d = S.shape[0]
-    if d == 0:
-        return math.inf
-    scale = float(np.abs(S).max())
-    if scale == 0.0:
+def proved_min_eigenvalue(S: np.ndarray, S_rad: np.ndarray | None = None) -> float | None:
+    """A proved lower bound on λ_min over the symmetric matrices |X − S| ≤ S_rad (S's floats
+    taken exactly): Rump's verified Cholesky of the shifted enclosure
+    (:func:`lmidsl.numeric.proof.lower_eigenvalue_bound`); None when no shift is proved."""
+    if S.shape[0] and not np.abs(S).max() and (S_rad is None or not S_rad.any()):
         return 0.0
-    lam = float(np.linalg.eigvalsh(S)[0])
-    tau = 64 * (d + 2) * U * scale
-    for _ in range(6):
-        delta = lam - max(tau, 1e-3 * abs(lam) if lam < 0 else 0.0)
-        shifted = S - delta * np.eye(d)
-        try:
-            R = np.linalg.cholesky(shifted)        # lower: shifted ≈ R Rᵀ
-        except np.linalg.LinAlgError:
-            tau *= 16
-            continue
-        E = shifted - R @ R.T
-        bound = gamma(d + 4) * (np.abs(S) + abs(delta) * np.eye(d) + np.abs(R) @ np.abs(R.T))
-        norm = float(np.sqrt(np.sum(E * E))) * (1 + gamma(d * d + 2)) + float(np.sqrt(np.sum(bound * bound))) * (1 + gamma(d * d + 2))
-        return round_down(delta - round_up(norm))
-    return None
+    return lower_eigenvalue_bound(S, S_rad)
 
 
 @dataclass
@@ -580,12 +588,8 @@ def check_cone(data: DualData, point: BallPoint, keep: np.ndarray | None = None)
                 continue
             Zm = b.matrix(point.mid)[np.ix_(idx, idx)]
             Zr = b.matrix(point.rad)[np.ix_(idx, idx)]
-            low = proved_min_eigenvalue(Zm)
-            if low is None:
-                out.lower.append(-math.inf)
-                continue
-            spread = float(np.sqrt(np.sum(Zr * Zr))) * (1 + gamma(len(idx) ** 2 + 2))
-            out.lower.append(round_down(low - round_up(spread)) if spread else low)
+            low = proved_min_eigenvalue(Zm, Zr)
+            out.lower.append(-math.inf if low is None else low)
         else:
             part = point.mid[b.offset: b.offset + b.size]
             part_r = point.rad[b.offset: b.offset + b.size]

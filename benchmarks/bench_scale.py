@@ -1,0 +1,198 @@
+"""Scale: lmidsl's proved bracket against the cvxpy + Clarabel script a user writes by hand.
+
+For each state dimension n (default 8, 16, 24, 32, 48, 64) and two problems,
+
+* ``brl``: the H∞ norm of a random stable plant (n states, 2 inputs, 2 outputs;
+  ``benchmarks/stress/cases.py``'s "random" family, seed n) by the bounded real lemma,
+  ``lmidsl solve textbook.brl_ct --data plant.json``;
+* ``sf``: H∞ state feedback of a random plant (``cases.plant``, seed n),
+  ``lmidsl solve textbook.hinf_sf_ct --data plant.json``;
+
+the command and a hand-written script (:data:`HAND`: the same LMIs in cvxpy, solved by Clarabel,
+no certificate, no bound) run as fresh processes, interleaved, in the same run.  Printed per row:
+the wall-time ratio lmidsl / hand script, the proved bracket [lower, upper] on γ and its relative
+width (upper − lower)/upper (``-`` when the lower end is not proved), the share of lmidsl's wall
+time spent proving (point proofs, analysis, the lower bound's wait, from the ``times`` record),
+the part of the wall time the ``times`` record does not account for, and an independent γ
+(SLICOT AB13DD's H∞ norm for the BRL; for state feedback the closed-loop norm of the
+full-information Riccati gain at the least γ, found by bisection, where the Riccati equation has a
+stabilising solution — an achieved level, so the optimum is at most it) against which the proved
+lower end is checked.
+
+    python benchmarks/bench_scale.py [--sizes 8 16] [--problems brl sf] [--timeout 600]
+
+The machine this runs on may be shared: only the ratios measured in one run mean anything.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "stress"))
+from cases import lists, plant, system  # noqa: E402
+
+THEOREMS = {"brl": "textbook.brl_ct", "sf": "textbook.hinf_sf_ct"}
+
+#: the hand-written scripts: read the plant, build the LMIs in cvxpy, solve with Clarabel, print γ
+HAND = {
+    "brl": r'''
+import json, sys
+import cvxpy as cp, numpy as np
+d = {k: np.array(v) for k, v in json.load(open(sys.argv[1])).items()}
+A, B, C, D = d["A"], d["B"], d["C"], d["D"]
+n, m, p = A.shape[0], B.shape[1], C.shape[0]
+P = cp.Variable((n, n), symmetric=True); g = cp.Variable()
+N = cp.bmat([[A.T @ P + P @ A, P @ B, C.T], [B.T @ P, -g * np.eye(m), D.T], [C, D, -np.eye(p)]])
+eps = 1e-7
+cons = [N << -eps * np.eye(n + m + p), P >> eps * np.eye(n)]
+cp.Problem(cp.Minimize(g), cons).solve(solver=cp.CLARABEL)
+print(float(np.sqrt(g.value)))
+''',
+    "sf": r'''
+import json, sys
+import cvxpy as cp, numpy as np
+d = {k: np.array(v) for k, v in json.load(open(sys.argv[1])).items()}
+A, B1, B2, C1, D11, D12 = (d[k] for k in ("A", "B1", "B2", "C1", "D11", "D12"))
+n, m1, p1 = A.shape[0], B1.shape[1], C1.shape[0]
+Y = cp.Variable((n, n), symmetric=True); W = cp.Variable((B2.shape[1], n)); g = cp.Variable()
+AY = A @ Y + B2 @ W
+N = cp.bmat([[AY + AY.T, B1, (C1 @ Y + D12 @ W).T], [B1.T, -g * np.eye(m1), D11.T],
+             [C1 @ Y + D12 @ W, D11, -g * np.eye(p1)]])
+eps = 1e-7
+cons = [N << -eps * np.eye(n + m1 + p1), Y >> eps * np.eye(n)]
+cp.Problem(cp.Minimize(g), cons).solve(solver=cp.CLARABEL)
+K = W.value @ np.linalg.inv(Y.value)
+print(float(g.value))
+''',
+}
+
+#: entries of the ``times`` record that are the proofs' cost (on the main thread or waited for)
+PROVING = ("certificate", "analysis", "lower_bound_wait", "infeasibility_proof")
+#: entries that partition the wall time of ``lmidsl solve`` (the others overlap them)
+PARTS = ("startup", "bind", "compile", "solve", "other_routes", "feasp", "backoff", "recover", "certificate", "analysis",
+         "checks", "evidence", "lower_bound_wait", "infeasibility_proof")
+
+
+def plant_data(problem: str, n: int) -> dict:
+    if problem == "brl":
+        return lists(system("random", n, "continuous", n=n, m=2, p=2))
+    return lists(plant(n, "continuous", n=n))
+
+
+def reference(problem: str, data: dict) -> float | None:
+    """An independent γ: AB13DD's H∞ norm (BRL); the full-information Riccati gain's closed-loop
+    norm at the bisected least level (state feedback)."""
+    d = {k: np.atleast_2d(np.asarray(v, dtype=float)) for k, v in data.items()}
+    if problem == "brl":
+        from lmidsl.numeric.systems import hinf_norm
+        return hinf_norm(d["A"], d["B"], d["C"], d["D"], "continuous")
+    from lmidsl.numeric.riccati import full_information_gain
+    from lmidsl.numeric.systems import hinf_norm
+    A, B1, B2, C1, D11, D12 = (d[k] for k in ("A", "B1", "B2", "C1", "D11", "D12"))
+
+    best = [np.inf]
+
+    def achieved(gamma):
+        K = full_information_gain(A, B1, B2, C1, D11, D12, gamma, "continuous")
+        if K is None:
+            return None
+        K = np.atleast_2d(K)
+        value = hinf_norm(A + B2 @ K, B1, C1 + D12 @ K, D11, "continuous")
+        best[0] = min(best[0], value)
+        return value
+
+    lo, hi = 1e-6, 1.0
+    while achieved(hi) is None or not np.isfinite(achieved(hi)):
+        lo, hi = hi, hi * 4
+        if hi > 1e12:
+            return None
+    for _ in range(60):
+        mid = (lo + hi) / 2
+        if achieved(mid) is not None and np.isfinite(achieved(mid)):
+            hi = mid
+        else:
+            lo = mid
+    return float(best[0]) if np.isfinite(best[0]) else None
+
+
+def run(argv, timeout) -> tuple[float, subprocess.CompletedProcess | None]:
+    t0 = time.perf_counter()
+    try:
+        out = subprocess.run(argv, capture_output=True, text=True, timeout=timeout, check=False)
+    except subprocess.TimeoutExpired:
+        return time.perf_counter() - t0, None
+    return time.perf_counter() - t0, out
+
+
+def one(problem: str, n: int, where: str, timeout: float) -> dict:
+    data = plant_data(problem, n)
+    path = os.path.join(where, f"{problem}{n}.json")
+    with open(path, "w") as f:
+        json.dump(data, f)
+    hand_path = os.path.join(where, f"hand_{problem}.py")
+    with open(hand_path, "w") as f:
+        f.write(HAND[problem])
+    hand_wall, hand = run([sys.executable, hand_path, path], timeout)
+    wall, out = run([sys.executable, "-m", "lmidsl", "solve", THEOREMS[problem], "--data", path, "--json"], timeout)
+    row = {"problem": problem, "n": n, "wall": wall, "hand": hand_wall, "ratio": wall / hand_wall,
+           "hand_gamma": float(hand.stdout.split()[-1]) if hand is not None and hand.stdout.strip() else None}
+    if out is None or not out.stdout.strip():
+        row["error"] = "timeout" if out is None else (out.stderr.strip().splitlines() or ["no output"])[-1]
+        return row
+    sol = json.loads(out.stdout)
+    b = sol.get("bounds") or {}
+    times = sol.get("times") or {}
+    lower, upper = b.get("lower"), b.get("upper")
+    row.update(lower=lower if b.get("lower_proved") else None, upper=upper, why=b.get("why"),
+               proving=sum(times.get(k, 0.0) for k in PROVING) / wall,
+               unaccounted=(wall - sum(times.get(k, 0.0) for k in PARTS)) / wall, times=times)
+    if row["lower"] is not None and upper:
+        row["width"] = (upper - row["lower"]) / upper
+    row["reference"] = reference(problem, data)
+    if row["reference"] is not None and row["lower"] is not None:
+        row["lower_ok"] = row["lower"] <= row["reference"] * (1 + 1e-9)
+    return row
+
+
+def show(row: dict) -> str:
+    f = lambda x, fmt: "-" if x is None else format(x, fmt)   # noqa: E731
+    if "error" in row:
+        return f"{row['problem']:4} {row['n']:3d}  lmidsl {row['wall']:7.1f} s  hand {row['hand']:6.1f} s  {row['error']}"
+    return (f"{row['problem']:4} {row['n']:3d}  {row['ratio']:5.2f}x  (lmidsl {row['wall']:6.1f} s, hand {row['hand']:6.1f} s)  "
+            f"[{f(row['lower'], '.8g')}, {f(row['upper'], '.8g')}] width {f(row.get('width'), '.1e')}  "
+            f"proving {row['proving']:.0%}  unaccounted {row['unaccounted']:.0%}  "
+            f"reference {f(row['reference'], '.8g')}" + ("" if row.get("lower_ok", True) else "  LOWER ABOVE REFERENCE")
+            + ("" if row["lower"] is not None else f"\n          lower not proved: {row['why']}"))
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", type=int, nargs="+", default=[8, 16, 24, 32, 48, 64])
+    ap.add_argument("--problems", nargs="+", default=["brl", "sf"], choices=sorted(THEOREMS))
+    ap.add_argument("--timeout", type=float, default=600.0)
+    ap.add_argument("--json", help="also write the rows to this file")
+    args = ap.parse_args(argv)
+    rows = []
+    with tempfile.TemporaryDirectory() as where:
+        for n in args.sizes:
+            for problem in args.problems:
+                row = one(problem, n, where, args.timeout)
+                rows.append(row)
+                print(show(row), flush=True)
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(rows, f, indent=1, default=str)
+    bad = [r for r in rows if r.get("lower_ok") is False]
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
