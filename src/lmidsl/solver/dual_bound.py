@@ -38,7 +38,7 @@ non-decreasing on [lower, the point's objective] gives a lower bound on the perf
 down in ball arithmetic; γ = √g gives √max(lower, 0)), a map proved non-increasing (a maximised
 performance, min −ν) an upper bound (rounded up); a map not proved monotone gives none.
 
-**Which problem.**  The LMIs and the objective *as written* (:mod:`lmidsl.solver.enclosure`):
+**Which problem.**  The LMIs and the objective *as written* (:mod:`lmidsl.solver.as_written`):
 the correction and the pairing carry the radius by which each compiled coefficient may differ
 from the one as written, so the bound holds for the data the user wrote, decimals read as the
 rationals they denote — the same problem the LMIs at the point are proved for.

@@ -17,7 +17,7 @@ b(b+1)/2 + a: Clarabel's svec order without its √2) and the entries of the non
 
 **What is proved, and about which problem.**  The bounds hold for the SDP *as written*: the
 theorem's data and parameters as the decimals the user wrote.  The compiled coefficients (the
-floats S_k^c, S_k⁰, q) differ from those by at most the radii of :mod:`lmidsl.solver.enclosure`
+floats S_k^c, S_k⁰, q) differ from those by at most the radii of :mod:`lmidsl.solver.as_written`
 (``Mrad``, ``s0_rad``, ``q_rad``), which the correction and the pairing carry; the rational
 routes take the coefficients as written exactly (:meth:`DualData.exact_row`).  A float dual estimate z̃ is
 corrected by z = z̃ + D w with D = Mᵀ (the compiled M: a fixed direction) and w enclosing the
@@ -50,7 +50,7 @@ from flint import arb, arb_mat, fmpq, fmpq_mat
 from ..numeric.proof import ball_precision, lower_eigenvalue_bound, round_down, round_up, verified_spd_solve
 
 from .backends.direct_backend import psd_diagonal
-from .enclosure import (EnclosureUnavailable, ExactCoefficients, coefficient_bounds, irrational_grid, radii,
+from .as_written import (EnclosureUnavailable, ExactCoefficients, coefficient_bounds, irrational_grid, radii,
                         snapshot)
 from .feasibility import compiled_lmis
 from ..numeric.exact import to_matrix
@@ -185,7 +185,7 @@ class DualData:
 
     # -- the problem as written ---------------------------------------------------------
     def enclose(self) -> str:
-        """Relate the compiled coefficients to the data as written (:mod:`lmidsl.solver.enclosure`),
+        """Relate the compiled coefficients to the data as written (:mod:`lmidsl.solver.as_written`),
         once: sets ``Mrad`` (|M as written − M| entrywise), ``q_rad``, ``q0_rad`` and each block's
         ``s0_rad``.  Returns '' or why the proofs cannot be about the data as written (then they
         are not made)."""
@@ -198,7 +198,7 @@ class DualData:
             return self._enclosed
         psd = [b for b in self.blocks if b.kind == "psd"]
         if len(bounds.lmis) != len(psd):
-            self._enclosed = "the enclosure walked another list of LMIs than the compile"
+            self._enclosed = "the walk of the problem as written saw other LMIs than the compile"
             return self._enclosed
         position = np.full(self.model.space.size, -1)
         position[self.columns] = np.arange(len(self.columns))
@@ -248,7 +248,7 @@ class DualData:
 
     def identity_points(self) -> list | None:
         """Where an identity between coefficients as written is checked exactly: [None] (the true
-        coefficients are rational), the grid of :func:`~lmidsl.solver.enclosure.irrational_grid`
+        coefficients are rational), the grid of :func:`~lmidsl.solver.as_written.irrational_grid`
         (irrational parameters taken as free symbols), or None (neither)."""
         if not self.exact_coefficients().why:
             return [None]
@@ -543,7 +543,7 @@ def _independent_equations(data: DualData, M, target_is_q: bool, rows: np.ndarra
 def _exact_rows(data: DualData, rows: np.ndarray, keep, free: dict | None = None) -> list[dict] | None:
     """The given rows of M (positions in ``data.columns``) as written, exactly: {unknown: fmpq},
     restricted to the support ``keep``; None when there are no rational coefficients
-    (:class:`~lmidsl.solver.enclosure.ExactCoefficients`)."""
+    (:class:`~lmidsl.solver.as_written.ExactCoefficients`)."""
     out = []
     for row in rows:
         found = data.exact_row(int(data.columns[row]), free)

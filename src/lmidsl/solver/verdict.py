@@ -240,7 +240,7 @@ def headline_level(solution):
 
 def bracket(solution) -> dict | None:
     """The optimum's bracket [lower, upper] in the headline quantity, both ends about the problem
-    as written (:mod:`lmidsl.solver.enclosure`), mapped through the performance proved monotone
+    as written (:mod:`lmidsl.solver.as_written`), mapped through the performance proved monotone
     on the interval between them (:mod:`lmidsl.solver.performance`).
 
     One end is the optimum's point: proved when every LMI is proved there (the back-off point's
