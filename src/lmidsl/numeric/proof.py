@@ -38,7 +38,7 @@ from flint import arb, arb_mat, ctx
 
 from ..symbolic.symbols import DerivedParam
 from ..symbolic.walker import ExpressionWalker
-from .as_written import REALMIN, U, Enclosure, assemble, gamma, symmetric_part, up
+from .enclosure import REALMIN, U, Enclosure, assemble, gamma, symmetric_part, up
 from .evaluate import assemble_blocks, evaluate_block_matrix
 
 PRECISION = 212          # bits of the balls' midpoints (about 64 decimal digits)
