@@ -37,6 +37,7 @@ from ..symbolic.indexed import (Coefficient, Index, IndexedData, IndexedDiagonal
                                 IndexedVariable, _IndexOp, free_indices, holds, instantiate)
 from ..symbolic.numbers import finite_matrix
 from ..symbolic.symbols import Dim
+from . import budget
 from .values import LMI
 
 STRUCTURES = ("generator", "stochastic", "nonnegative", None)
@@ -244,6 +245,12 @@ def sizes_from_inputs(template, inputs: dict) -> dict:
     return sizes
 
 
+def check_member_size(template, sizes: dict, inputs: dict) -> None:
+    """Refuse, before it is built, a member whose LMIs exceed the current limits
+    (:mod:`lmidsl.theorem.budget`: the estimate from the statement and the data shapes)."""
+    budget.check(template.id, budget.index_set_estimate(template, sizes, inputs))
+
+
 def member_name(base: str, numbers: tuple) -> str:
     return base + "".join(f"_{k}" for k in numbers)
 
@@ -402,4 +409,4 @@ def flatten_inputs(template, inputs: dict, sizes: dict) -> dict:
 
 
 __all__ = ["IndexSet", "IndexedFamily", "CoefficientFamily", "Quantifier", "build_member",
-           "flatten_inputs", "sizes_from_inputs", "quantifier_for"]
+           "flatten_inputs", "sizes_from_inputs", "quantifier_for", "check_member_size"]
