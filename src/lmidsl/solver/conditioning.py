@@ -35,12 +35,12 @@ proofs evaluate the original LMIs at the original point.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 import sympy as sp
 
 from ..numeric.instance import Instance
+from .backends.direct_backend import DirectModel
+from .equilibration import Equilibration
 from ..symbolic.symbols import ScalarVariable
 
 MAX_EXPONENT = 60
@@ -51,33 +51,6 @@ MIN_GAIN = 10.0      # bits of coefficient spread the scaling must remove to be 
 def _spread(log_sizes: np.ndarray) -> float:
     """log2(largest / smallest coefficient)."""
     return float(log_sizes.max() - log_sizes.min()) if log_sizes.size else 0.0
-
-
-@dataclass
-class Equilibration:
-    """Power-of-two factors: ``variables[name]`` = s_X, ``rows[k]`` = [t_1, …, t_q] of the k-th LMI."""
-
-    variables: dict = field(default_factory=dict)
-    rows: dict = field(default_factory=dict)
-    objective: float = 1.0      # the solver minimises objective / this (coefficients about 1)
-    spread: tuple = (0.0, 0.0)  # log2 of largest/smallest coefficient, before and after
-
-    def variable(self, name: str) -> float:
-        return self.variables.get(name, 1.0)
-
-    def row(self, lmi_index: int, i: int) -> float:
-        factors = self.rows.get(lmi_index)
-        return factors[i] if factors else 1.0
-
-    @property
-    def trivial(self) -> bool:
-        return all(f == 1.0 for f in self.variables.values()) and \
-            all(f == 1.0 for fs in self.rows.values() for f in fs) and self.objective == 1.0
-
-    def as_dict(self) -> dict:
-        return {"objective": self.objective, "spread_bits": list(self.spread),
-                "variables": {k: v for k, v in self.variables.items() if v != 1.0},
-                "rows": {str(k): v for k, v in self.rows.items() if any(f != 1.0 for f in v)}}
 
 
 def _unit(symbol, dims, rng):
@@ -97,7 +70,6 @@ def _unit(symbol, dims, rng):
 def _affine_model(instance: Instance, model):
     """``model`` when it is a direct-backend model compiled as written, else one compiled now:
     the LMIs in the affine algebra, vec N(x) = vec N₀ + C x (:mod:`.backends.affine`)."""
-    from .backends.direct_backend import DirectModel        # the backends import this module
     if isinstance(model, DirectModel) and model.equilibration.trivial and model.instance is instance:
         return model
     return DirectModel(instance)

@@ -22,7 +22,7 @@ import sympy as sp
 from ...numeric.instance import Instance
 from ...numeric.evaluate import NumericEvaluator
 from ..solution import Solution, evaluate_performance, lmi_certificate
-from ..conditioning import Equilibration
+from ..equilibration import Equilibration
 from ..status import solved
 from ...symbolic.parameter_values import parameter_value
 from ...symbolic.symbols import DECISION_TYPES, DerivedParam, Param, ScalarVariable, StructuredVariable
