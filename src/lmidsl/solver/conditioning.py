@@ -37,6 +37,8 @@ from __future__ import annotations
 
 import numpy as np
 import sympy as sp
+from scipy import sparse
+from scipy.sparse.linalg import spsolve
 
 from ..numeric.instance import Instance
 from .backends.direct_backend import DirectModel
@@ -121,6 +123,20 @@ def _block_sizes(N, sizes: list, u: np.ndarray, owner: np.ndarray, nvars: int) -
     return c, m
 
 
+def _least_squares(equations: list, ncols: int) -> tuple:
+    """argmin ‖M x − b‖² + PULL²‖x‖² for the equations' sparse rows M (each equation touches two
+    or three unknowns): the normal equations (MᵀM + PULL² I) x = Mᵀb, symmetric positive
+    definite and sparse, by a sparse LU — not a dense least-squares solve, whose cost grows as
+    (equations × unknowns²) (a Pólya relaxation of 1,729 LMIs: 41 s).  Returns (x, M, b)."""
+    rows = [k for k, (terms, _) in enumerate(equations) for _ in terms]
+    cols = [c for terms, _ in equations for c, _ in terms]
+    vals = [a for terms, _ in equations for _, a in terms]
+    M = sparse.csr_matrix((vals, (rows, cols)), shape=(len(equations), ncols))      # duplicates add up
+    b = np.array([rhs for _, rhs in equations])
+    normal = (M.T @ M + PULL ** 2 * sparse.identity(ncols)).tocsc()
+    return np.atleast_1d(spsolve(normal, M.T @ b)), M, b
+
+
 def equilibrate(instance: Instance, model=None) -> Equilibration:
     """The factors for ``instance`` (see the module docstring), from the LMIs compiled as written
     in the direct backend's affine algebra (``model``, or a model compiled here): c_ij and
@@ -157,18 +173,10 @@ def equilibrate(instance: Instance, model=None) -> Equilibration:
                     equations.append((rows + [(col(("var", names[k])), 1.0)], -np.log2(m[i, j, k])))
     if not equations:
         return Equilibration()
-    M = np.zeros((len(equations) + len(columns), len(columns)))
-    rhs = np.zeros(M.shape[0])
-    for k, (terms, b) in enumerate(equations):
-        for c, a in terms:
-            M[k, c] += a
-        rhs[k] = b
-    M[len(equations):, :] = PULL * np.eye(len(columns))
-    logs, *_ = np.linalg.lstsq(M, rhs, rcond=None)
+    logs, terms, rhs = _least_squares(equations, len(columns))
     exponents = np.clip(np.round(logs), -MAX_EXPONENT, MAX_EXPONENT)
-    terms = M[:len(equations)]
-    before = _spread(-rhs[:len(equations)])
-    after = _spread(terms @ exponents - rhs[:len(equations)])
+    before = _spread(-rhs)
+    after = _spread(terms @ exponents - rhs)
     if before - after < MIN_GAIN:
         return Equilibration(spread=(before, before))      # already balanced: leave it alone
     result = Equilibration(spread=(before, after))
