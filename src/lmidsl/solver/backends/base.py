@@ -279,7 +279,9 @@ class CompiledModel:
         out = {}
         for key, N in self.lmi_matrices:
             d = self._congruence[key]
-            out[key] = np.asarray(self.expression_value(N), dtype=float) / np.outer(d, d)
+            value = self.expression_value(N)
+            if value is not None:           # None: a variable of N has no value
+                out[key] = np.asarray(value, dtype=float) / np.outer(d, d)
         return out
 
     def level_problem(self, bound: float):
@@ -314,7 +316,8 @@ class CompiledModel:
             point = dict(instance.data)
             point.update(values)
             solution.congruence = self._congruence
-            solution.lmis = lmi_certificate(instance, point, congruence=self._congruence)
+            numbers = self.lmi_values() if self.backend == "direct" else None    # the affine form's values
+            solution.lmis = lmi_certificate(instance, point, congruence=self._congruence, matrices=numbers)
             solution.gamma = evaluate_performance(instance, point)
             if solution.gamma is None and instance.theorem.performance is not None:
                 solution.notes.append(f"{instance.theorem.performance[0]} is not real at the returned "
