@@ -18,11 +18,14 @@ The estimate costs a walk of each statement on a one-vertex domain (degrees) and
 is checked against :class:`Limits` before anything is expanded, and what exceeds a limit is
 refused in one line naming the estimate, the limit and the override (``--max-lmis``,
 ``--max-psd-rows``; ``max_lmis=``, ``max_psd_rows=`` in the Python API).  Defaults, measured on
-a 2-core machine (see ``benchmarks/bench_polya.py --end-to-end`` and ``bench_mjls.py
---end-to-end``): an HPPD relaxation of 2×2 LMIs costs about 30 ms of CPU per coefficient LMI end
-to end (1,729 LMIs: 56 s under load), so :data:`MAX_LMIS` = 5,000 LMIs; a Markov jump family of
-N modes has N LMIs of size about nN, and Clarabel's PSD cones of that size dominate beyond a few
-hundred thousand rows, so :data:`MAX_PSD_ROWS` = 500,000.
+a loaded 2-core machine (``benchmarks/bench_polya.py --end-to-end``, ``bench_mjls.py
+--end-to-end``): HPPD stability of 2×2 matrices over 12 vertices, 1,729 coefficient LMIs, solves
+end to end in 8–12 s of CPU (g = 2, d = 1; g = 3, d = 0), while 5,733 (g = 2, d = 2) did not
+finish in 280 s (the coefficients' terms grow with g + d), so :data:`MAX_LMIS` = 5,000; the
+Markov jump theorem with n = 2 and N = 60 modes (60 LMIs of 120×120, 435,780 rows) solves in
+36 s of CPU and 233 MiB, N = 200 (16 million rows) would not fit Clarabel's KKT system, so
+:data:`MAX_PSD_ROWS` = 500,000 (N ≤ 62 at n = 2).  The LMI count is a proxy for the symbolic
+expansion's work, which also grows with the terms per coefficient.
 """
 from __future__ import annotations
 
