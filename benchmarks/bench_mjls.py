@@ -15,6 +15,11 @@ Y_i ≻ 0.  Measured in the same run, medians of CPU time over interleaved repea
 
 A ``--solve-check`` run also solves both and compares γ.  Usage:
 ``python benchmarks/bench_mjls.py [--modes 10] [--n 4] [--repeat 7] [--solve-check]``.
+
+``--end-to-end 10,30,60,200 --n 2 [--timeout 120]``: the whole ``lmidsl.solve`` of
+``textbook.mjls_sf_ct`` per number of modes, each in a bounded child process
+(:mod:`end_to_end`: wall, CPU, peak resident memory, the times record — or the refusal with
+its estimate, :mod:`lmidsl.theorem.budget`).
 """
 from __future__ import annotations
 
@@ -95,7 +100,21 @@ def main(argv=None) -> int:
     ap.add_argument("--n", type=int, default=4)
     ap.add_argument("--repeat", type=int, default=7)
     ap.add_argument("--solve-check", action="store_true")
+    ap.add_argument("--end-to-end", metavar="N,N,...",
+                    help="instead: lmidsl.solve of textbook.mjls_sf_ct with these numbers of modes (n = --n), "
+                         "each in a child process bounded by --timeout: wall, CPU, peak memory, the times record "
+                         "(or the refusal with its estimate)")
+    ap.add_argument("--timeout", type=float, default=120.0)
     args = ap.parse_args(argv)
+    if args.end_to_end:
+        import end_to_end
+        print(end_to_end.load())
+        for N in (int(k) for k in args.end_to_end.split(",")):
+            data = random_mjls(N, args.n)
+            data = {"modes": [{"A": m["A"], "B": m["B2"]} for m in data["modes"]], "Pi": data["Pi"]}
+            print(end_to_end.line(f"mjls_sf_ct N={N}, n={args.n}",
+                                  end_to_end.run("textbook.mjls_sf_ct", data, timeout=args.timeout)), flush=True)
+        return 0
     thm = get_theorem("textbook.mjls_hinf_sf_ct")
     data = random_mjls(args.modes, args.n)
 

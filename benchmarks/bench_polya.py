@@ -15,6 +15,10 @@ interleaved repeats:
 Ratios are lmidsl / hand (target ≤ 2).  Peak memory (tracemalloc) of one build of each.  The
 hand-written model is also solved and its feasibility compared with lmidsl's.
 Usage: python benchmarks/bench_polya.py [--degree 3] [--polya 1] [--n 6] [--vertices 4] [--repeat 5]
+
+``--end-to-end --n 2 [--timeout 120]``: the whole ``lmidsl.solve`` of textbook.hpd_stability_ct at
+3, 6, 12 vertices x g = 1-3 x d = 0-2, each in a bounded child process (:mod:`end_to_end`: wall,
+CPU, peak resident memory, the times record, or the refusal with its estimate).
 """
 from __future__ import annotations
 
@@ -106,7 +110,23 @@ def main():
     ap.add_argument("--n", type=int, default=6)
     ap.add_argument("--vertices", type=int, default=4)
     ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--end-to-end", action="store_true",
+                    help="instead: lmidsl.solve of textbook.hpd_stability_ct (n = --n) at 3, 6, 12 vertices x "
+                         "degree 1-3 x Polya 0-2, each in a child process bounded by --timeout: wall, CPU, peak "
+                         "memory, the times record, or the refusal with its estimate")
+    ap.add_argument("--timeout", type=float, default=120.0)
     args = ap.parse_args()
+    if args.end_to_end:
+        import end_to_end
+        print(end_to_end.load())
+        for N in (3, 6, 12):
+            data = random_polytope(1, n=args.n, vertices=N, spread=0.5)
+            for g in (1, 2, 3):
+                for d in (0, 1, 2):
+                    out = end_to_end.run("textbook.hpd_stability_ct", data, {"degree": g, "polya": d},
+                                         timeout=args.timeout)
+                    print(end_to_end.line(f"N={N} g={g} d={d}", out), flush=True)
+        return
     g, d, N = args.degree, args.polya, args.vertices
     data = random_polytope(7, n=args.n, vertices=N, spread=0.5)
     count = comb(N + g + d, g + 1 + d) + comb(N + g + d - 1, g + d)

@@ -14,6 +14,7 @@ from .solver.plan import Plan
 from .solver.verdict import headline_level
 from .certify import certify_by_analysis
 from .certify.evidence import claim_evidence
+from .theorem.budget import expansion_limits
 from .theorem.checks import run_checks
 from .errors import InputError, LmidslError
 from .solver.feasibility import diagnosis_needed
@@ -55,16 +56,20 @@ def instance_inputs(theorem: Theorem, example: str | None = None, data: dict | N
 
 
 def make_instance(theorem, example: str | None = None, data: dict | None = None,
-                  overrides: dict | None = None) -> Instance:
+                  overrides: dict | None = None, *, max_lmis: int | None = None,
+                  max_psd_rows: int | None = None) -> Instance:
     """Bind an example (or data) with overrides to a theorem.  Entries of ``data`` the theorem
     does not use are ignored with an :class:`~lmidsl.errors.UnusedDataWarning`; an unknown
-    name in ``overrides`` is an error."""
+    name in ``overrides`` is an error.  An index set's member or a Pólya relaxation larger than
+    ``max_lmis`` LMIs or ``max_psd_rows`` rows of PSD cones is refused before it is built
+    (:mod:`lmidsl.theorem.budget`; None: the current limits)."""
     thm = as_theorem(theorem)
     if example is None and data is None and thm.examples:
         example = next(iter(thm.examples))
     optional = set(data or {}) - set(overrides or {})      # a data file may serve several theorems
-    return bind(thm, instance_inputs(thm, example, data, overrides), example=example,
-                optional=optional)
+    with expansion_limits(max_lmis, max_psd_rows):
+        return bind(thm, instance_inputs(thm, example, data, overrides), example=example,
+                    optional=optional)
 
 
 ILL_CONDITIONED = 1e6
@@ -274,12 +279,14 @@ def finish_solution(solution: Solution, plan: Plan | None = None, certify: bool 
 def solve(theorem, example: str | None = None, data: dict | None = None,
           overrides: dict | None = None, solver: str | None = None, backend: str | None = None,
           margin: float | None = None, certify: bool = True, scaling="auto",
-          backoff="auto", diagnose: bool = True, bounds: bool = True, **options) -> Solution:
+          backoff="auto", diagnose: bool = True, bounds: bool = True, max_lmis: int | None = None,
+          max_psd_rows: int | None = None, **options) -> Solution:
     """Solve a theorem on an example or data; returns a :class:`Solution`.  By default
     (``backoff="auto"``) a design that its analysis does not certify at the optimum, or whose
-    recovery is ill-conditioned, is recovered at γ² ≤ (1 + 10⁻²) γ*² instead (both reported)."""
+    recovery is ill-conditioned, is recovered at γ² ≤ (1 + 10⁻²) γ*² instead (both reported).
+    ``max_lmis``, ``max_psd_rows``: the limits of :func:`make_instance`."""
     t0 = time.perf_counter()
-    instance = make_instance(theorem, example, data, overrides)
+    instance = make_instance(theorem, example, data, overrides, max_lmis=max_lmis, max_psd_rows=max_psd_rows)
     bind_time = time.perf_counter() - t0
     solution = solve_instance(instance, solver, backend, margin, certify, scaling, backoff,
                               diagnose=diagnose, bounds=bounds, **options)

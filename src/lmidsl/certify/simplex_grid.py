@@ -2,10 +2,18 @@
 
 A robust LMI certifies a property for every α ∈ Λ_N (or a product of simplices).  The claim is
 tested independently: the system at α, M(α) = Σ_v w_v(α) M_v (w_v(α) = αᵢ on a simplex,
-α¹ᵢ α²ⱼ ⋯ at the product vertex (i, j, …) of a multi-simplex), is evaluated on the regular grid
-{α : αᵢ = kᵢ/r} of every simplex, the measure computed at each point by numpy /
+α¹ᵢ α²ⱼ ⋯ at the product vertex (i, j, …) of a multi-simplex), is evaluated at a budget of
+points of the domain (``max_points``), the measure computed at each point by numpy /
 python-control, and the worst point refined by a pattern search inside the domain (moves
-α ± h(eᵢ − eⱼ), h halved down to 1e-6).  Measures:
+α ± h(eᵢ − eⱼ), h halved down to 1e-6; at most :data:`REFINE_FACTOR` × ``max_points``
+evaluations in all).
+
+The points are chosen by what the claim needs, not by the number of the vertices'
+combinations: the regular grid {α : αᵢ = kᵢ/r} (C(N + r − 1, r) points per simplex, counted, not
+enumerated, to choose r) at the finest r whose grid fits the budget; when that r is below
+:data:`FINE_RESOLUTION` (many vertices: r = 1 is the vertices, r = 2 adds the edge midpoints),
+the grid is kept and the rest of the budget is drawn uniformly on the domain (Dirichlet(1, …, 1)
+per simplex, a fixed seed) — so 12 vertices cost the budget's points, not 12¹¹.  Measures:
 
 * ``"abscissa"``: max Re λ(A(α)), the claim "Hurwitz" is refuted by a value ≥ 0;
 * ``"radius"``: max |λ(A(α))|, the claim "Schur" is refuted by a value ≥ 1;
@@ -26,11 +34,13 @@ from __future__ import annotations
 
 import itertools
 from dataclasses import dataclass, field
+from math import comb
 
 import numpy as np
 
 from ..errors import InputError
 from ..numeric.systems import hinf_norm
+from ..symbolic.simplex import exponents
 from ..theorem.checks import CheckResult
 
 MEASURES = ("abscissa", "radius", "hinf", "h2")
@@ -47,30 +57,68 @@ class GridEvidence:
     worst_alpha: list               # one list per simplex
     worst_value: float
     refutes: bool
-    points: int                     # grid points evaluated (refinement steps not counted)
+    points: int                     # points evaluated (grid and random; refinement steps not counted)
     resolution: int
     vertex_values: list = field(default_factory=list)
+    random_points: int = 0          # of ``points``, drawn uniformly on the domain
+    refine_evaluations: int = 0     # evaluations of the pattern search
 
     def as_dict(self) -> dict:
         return {"measure": self.measure, "time": self.time, "claim": self.claim,
                 "worst_alpha": self.worst_alpha, "worst_value": self.worst_value,
                 "refutes": self.refutes, "points": self.points, "resolution": self.resolution,
+                "random_points": self.random_points, "refine_evaluations": self.refine_evaluations,
                 "vertex_values": self.vertex_values}
 
     def summary(self) -> str:
         where = "; ".join("(" + ", ".join(f"{a:.4f}" for a in s) + ")" for s in self.worst_alpha)
         claim = "" if self.claim is None else f" against the claim {self.claim:.6g}"
         verdict = "refutes" if self.refutes else "does not refute"
-        return (f"{self.measure} on {self.points} grid points (resolution {self.resolution}) and refined: "
-                f"worst {self.worst_value:.6g} at α = {where}{claim}: {verdict}")
+        drawn = f" and {self.random_points} random points" if self.random_points else ""
+        return (f"{self.measure} on {self.points - self.random_points} grid points (resolution "
+                f"{self.resolution}){drawn}, refined: worst {self.worst_value:.6g} at α = {where}{claim}: {verdict}")
 
 
 # -- the domain ----------------------------------------------------------------------------------
+FINE_RESOLUTION = 4
+"""A regular grid at least this fine is used alone; a coarser one (many vertices) is completed
+by random points up to the budget."""
+
+REFINE_FACTOR = 4
+"""The pattern search's evaluations are at most this many times the point budget."""
+
+
 def simplex_points(N: int, resolution: int) -> np.ndarray:
-    """Every α ∈ Λ_N with αᵢ = kᵢ/resolution (C(N + r − 1, r) points)."""
-    out = [np.array(k, dtype=float) / resolution
-           for k in itertools.product(range(resolution + 1), repeat=N - 1) if sum(k) <= resolution]
-    return np.array([np.append(k, 1.0 - k.sum()) for k in out]).clip(0.0, 1.0)
+    """Every α ∈ Λ_N with αᵢ = kᵢ/resolution (C(N + r − 1, r) points, made as the compositions
+    of r, not filtered from (r + 1)^(N−1) candidates)."""
+    return np.array(exponents(N, resolution), dtype=float).reshape(-1, N) / resolution
+
+
+def grid_size(sizes: tuple, resolution: int) -> int:
+    """The number of points of the regular grid of resolution r on Λ_{N₁} × …, without making it."""
+    return int(np.prod([comb(N + resolution - 1, resolution) for N in sizes]))
+
+
+def random_points(sizes: tuple, count: int, rng: np.random.Generator) -> list:
+    """``count`` points drawn uniformly on Λ_{N₁} × … (Dirichlet(1, …, 1) per simplex), each a
+    tuple of one α per simplex."""
+    draws = [rng.dirichlet(np.ones(N), size=count) for N in sizes]
+    return [tuple(d[k] for d in draws) for k in range(count)]
+
+
+def domain_points(sizes: tuple, max_points: int, seed: int = 0) -> tuple:
+    """(points, resolution, how many are random): the regular grid at the finest resolution
+    whose grid fits ``max_points`` (at least the vertices), completed by uniform random points up
+    to ``max_points`` when that resolution is below :data:`FINE_RESOLUTION` (see the module
+    docstring)."""
+    resolution = 1
+    while resolution < 200 and grid_size(sizes, resolution + 1) <= max_points:
+        resolution += 1
+    points = list(itertools.product(*(simplex_points(N, resolution) for N in sizes)))
+    extra = max_points - len(points) if resolution < FINE_RESOLUTION else 0
+    if extra > 0:
+        points += random_points(sizes, extra, np.random.default_rng(seed))
+    return points, resolution, max(extra, 0)
 
 
 def vertex_weights(alphas: tuple) -> np.ndarray:
@@ -132,33 +180,29 @@ def _split(flat: np.ndarray, sizes: tuple) -> tuple:
 
 def worst_point(vertex_systems: list, sizes: tuple, measure: str, time: str, *, resolution: int | None = None,
                 refine: int = 3, max_points: int = 20000) -> tuple:
-    """(worst flat α, its value, number of grid points): the grid, then a pattern search from
-    the ``refine`` best grid points."""
-    if resolution is None:       # about max_points points in all
-        resolution = 1
-        while resolution < 200:
-            count = np.prod([len(simplex_points(N, resolution + 1)) for N in sizes])
-            if count > max_points:
-                break
-            resolution += 1
-    grids = [simplex_points(N, resolution) for N in sizes]
-    flats, values = [], []
-    for combo in itertools.product(*grids):
-        flats.append(np.concatenate(combo))
-        values.append(measure_value(at(vertex_systems, combo), measure, time))
-    values = np.array(values)
+    """(worst flat α, its value, number of points, resolution, random points, refinement
+    evaluations): the points (:func:`domain_points`, or the regular grid of ``resolution``), then
+    a pattern search from the ``refine`` best of them, within :data:`REFINE_FACTOR` ×
+    ``max_points`` evaluations."""
+    if resolution is None:
+        combos, resolution, drawn = domain_points(sizes, max_points)
+    else:
+        combos, drawn = list(itertools.product(*(simplex_points(N, resolution) for N in sizes))), 0
+    flats = [np.concatenate(combo) for combo in combos]
+    values = np.array([measure_value(at(vertex_systems, combo), measure, time) for combo in combos])
     order = np.argsort(-values)[:max(refine, 1)]
     best_alpha, best = flats[order[0]], float(values[order[0]])
     if np.isinf(best):
-        return best_alpha, best, len(flats), resolution
+        return best_alpha, best, len(flats), resolution, drawn, 0
     moves = _moves(sizes)
+    budget, used = REFINE_FACTOR * max_points, 0
     for start in order:
         alpha, value = flats[start].copy(), float(values[start])
         h, steps = 0.5 / resolution, 0
-        while h > 1e-6 and steps < 400 and not np.isinf(value):
+        while h > 1e-6 and steps < 400 and not np.isinf(value) and used < budget:
             steps += 1
-            trials = [alpha + h * d for d in moves]
-            trials = [t for t in trials if t.min() >= 0]
+            trials = [t for t in (alpha + h * d for d in moves) if t.min() >= 0][:budget - used]
+            used += len(trials)
             scores = [measure_value(at(vertex_systems, _split(t, sizes)), measure, time) for t in trials]
             k = int(np.argmax(scores)) if scores else -1
             if k >= 0 and scores[k] > value:           # the steepest move, or a smaller step
@@ -167,7 +211,7 @@ def worst_point(vertex_systems: list, sizes: tuple, measure: str, time: str, *, 
                 h /= 2
         if value > best:
             best_alpha, best = alpha, value
-    return best_alpha, best, len(flats), resolution
+    return best_alpha, best, len(flats), resolution, drawn, used
 
 
 # -- entry points ----------------------------------------------------------------------------------
@@ -213,8 +257,8 @@ def grid_evidence(source, claim: float | None = None, time: str | None = None, *
         measure = ("abscissa" if time == "continuous" else "radius") if claim is None else "hinf"
     if measure not in MEASURES:
         raise InputError(f"grid evidence: measure must be one of {', '.join(MEASURES)}")
-    alpha, value, points, resolution = worst_point(systems, sizes, measure, time, resolution=resolution,
-                                                   max_points=max_points)
+    alpha, value, points, resolution, drawn, used = worst_point(systems, sizes, measure, time,
+                                                                resolution=resolution, max_points=max_points)
     if measure in STABILITY_LEVEL:
         level = STABILITY_LEVEL[measure]
         refutes = value >= level
@@ -223,7 +267,7 @@ def grid_evidence(source, claim: float | None = None, time: str | None = None, *
         refutes = claim is not None and value > claim * (1 + tolerance)
     vertex_values = [measure_value(s, measure, time) for s in systems]
     return GridEvidence(measure, time, level, [list(map(float, a)) for a in _split(alpha, sizes)],
-                        float(value), bool(refutes), points, resolution, vertex_values)
+                        float(value), bool(refutes), points, resolution, vertex_values, drawn, used)
 
 
 def grid_check(measure: str | None = None, *, closed_loop=None, name: str = "simplex grid",
@@ -250,5 +294,5 @@ def grid_check(measure: str | None = None, *, closed_loop=None, name: str = "sim
     return check
 
 
-__all__ = ["GridEvidence", "grid_evidence", "grid_check", "worst_point", "simplex_points", "measure_value",
-           "vertex_systems_of", "at"]
+__all__ = ["GridEvidence", "grid_evidence", "grid_check", "worst_point", "simplex_points", "domain_points",
+           "grid_size", "random_points", "measure_value", "vertex_systems_of", "at"]

@@ -23,6 +23,7 @@ from ..errors import InputError
 from ..solver.backends import BACKENDS, DEFAULT_BACKEND, choose_backend, options_for, resolve_solver
 from ..solver.backends.options import check_solver_options, finite_value, solver_settings
 from ..studies.store import strict_json
+from ..theorem.budget import MAX_LMIS, MAX_PSD_ROWS, set_limits
 
 #: the flags every solving command accepts (tests/test_cli_output.py checks each command)
 COMMON_FLAGS = ("--backend", "--solver", "--solver-option", "--margin", "--data", "--set", "--json",
@@ -50,6 +51,21 @@ def add_solve_arguments(parser, *, theorem: bool = True, solver_help: str | None
     parser.add_argument("--timeout", type=positive_float, metavar="SECONDS",
                         help="stop after this many seconds of wall time (exit 1; a long run keeps "
                              "what it stored with --out)")
+    add_limit_arguments(parser)
+
+
+def add_limit_arguments(parser) -> None:
+    """``--max-lmis`` and ``--max-psd-rows``: the largest expansion (an index set's member, a
+    Pólya relaxation) accepted before it is built (:mod:`lmidsl.theorem.budget`)."""
+    parser.add_argument("--max-lmis", type=positive_int, metavar="N",
+                        help=f"refuse an expansion into more than N LMIs (default {MAX_LMIS:,})")
+    parser.add_argument("--max-psd-rows", type=positive_int, metavar="N",
+                        help=f"refuse an SDP whose PSD cones have more than N rows (default {MAX_PSD_ROWS:,})")
+
+
+def apply_limits(args) -> None:
+    """The command's ``--max-lmis`` / ``--max-psd-rows`` for the rest of the run."""
+    set_limits(getattr(args, "max_lmis", None), getattr(args, "max_psd_rows", None))
 
 
 def add_output_arguments(parser, *, progress: bool = False) -> None:
@@ -89,6 +105,7 @@ def add_instance_arguments(parser) -> None:
     parser.add_argument("theorem", help="theorem id, e.g. wang_l2linf.thm3 (see `lmidsl list`)")
     parser.add_argument("--example", help="a named example of the theorem")
     add_data_arguments(parser)
+    add_limit_arguments(parser)
 
 
 def add_data_arguments(parser) -> None:
@@ -212,6 +229,7 @@ def solve_arguments(args) -> dict:
     """``solver``, ``backend``, ``margin`` and the solver options, as keyword arguments of
     :func:`lmidsl.pipeline.solve` and the studies."""
     check_solver_argument(args)
+    apply_limits(args)
     return {"solver": getattr(args, "solver", None), "backend": backend_of(args),
             "margin": getattr(args, "margin", None), **solver_options(args)}
 
@@ -220,6 +238,7 @@ def instance_spec(args) -> dict:
     """Keyword arguments for :func:`lmidsl.pipeline.make_instance` from parsed arguments (the
     ``--solver`` argument, where the command has one, is checked first)."""
     check_solver_argument(args)
+    apply_limits(args)
     return {"example": args.example, "data": load_data_file(args.data),
             "overrides": parse_overrides(args.overrides)}
 

@@ -98,7 +98,7 @@ class Plan:
         model = plain
         solved = [] if solved is None else solved
         solved.append(plain)
-        proposal = equilibrate(instance)
+        proposal = equilibrate(instance, plain)
         if not proposal.trivial:
             conditioned = model_class(instance, margin=self.margin, conditioning=proposal)
             other = self._solve_model(conditioned, self.solver, restore_margin=restore_margin)

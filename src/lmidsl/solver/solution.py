@@ -212,7 +212,7 @@ class Solution:
 
 
 def lmi_certificate(instance: Instance, values: dict, prove: bool = False,
-                    congruence: dict | None = None) -> list[LMIReport]:
+                    congruence: dict | None = None, matrices: dict | None = None) -> list[LMIReport]:
     """Largest eigenvalue of every LMI (form N ≺ 0) at the given point, evaluated in numpy, at
     every polytope vertex and uncertainty scenario the LMI is imposed at; with ``prove``, each
     is also proved or refuted in ball arithmetic (:mod:`lmidsl.numeric.proof`).
@@ -220,15 +220,21 @@ def lmi_certificate(instance: Instance, values: dict, prove: bool = False,
     ``congruence`` maps an LMI's (label, vertex, point) to the diagonal d of the conditioning
     congruence (:mod:`lmidsl.solver.conditioning`): the eigenvalues are then those of
     D N D, which has the same sign pattern (Sylvester) and far less rounding on badly scaled
-    data; the proof always uses N itself."""
+    data; the proof always uses N itself.
+
+    ``matrices`` maps (label, vertex, point) to N already evaluated at this point (the compiled
+    affine form's value, :meth:`~lmidsl.solver.backends.base.CompiledModel.lmi_values`): its
+    eigenvalues are taken instead of walking the statement again; the proofs always walk the
+    statement (the exact data)."""
     reports = []
     for lmi in instance.theorem.lmis:
         negative = lmi.negative_form()
         for sc in scenarios(instance, lmi):
             v = sc.vertex
             spec = spec_at(negative, sc)
-            ev = NumericEvaluator(instance.dims, values, instance.params, vertex=v)
-            M = evaluate_block_matrix(ev, spec)
+            M = (matrices or {}).get((lmi.label, v, sc.label))
+            if M is None:
+                M = evaluate_block_matrix(NumericEvaluator(instance.dims, values, instance.params, vertex=v), spec)
             d = (congruence or {}).get((lmi.label, v, sc.label))
             eigs = eigenvalues(M if d is None else M * np.outer(d, d))
             report = LMIReport(lmi.label, float(eigs[-1]), M.shape[0],

@@ -45,7 +45,7 @@ from .walker import Walker
 
 __all__ = ["exponents", "multi_exponents", "multinomial", "HomogeneousPolynomial", "PolynomialForm",
            "coefficient_blocks", "exponent_text", "exponent_latex", "vertex_exponents", "rate_vertices",
-           "time_derivative"]
+           "time_derivative", "statement_degree"]
 
 
 @lru_cache(maxsize=None)
@@ -398,3 +398,15 @@ def time_derivative(form: HomogeneousPolynomial, simplex: int, rate: int, scale=
         degree[simplex] -= 1
         degree[rate] += 1
     return HomogeneousPolynomial(form.sizes, tuple(degree), _drop_zeros(out))
+
+
+def statement_degree(spec, degrees: dict, nsimplex: int, where: str = "") -> tuple:
+    """The degree per simplex of a block LMI stated in α (its largest block degree), before
+    Pólya: its polynomial on the one-vertex domain Λ₁ × …, where each α-dependent symbol has
+    one coefficient (``degrees``: symbol -> its degree per simplex), so nothing is expanded."""
+    sizes = (1,) * nsimplex
+    forms = {symbol: HomogeneousPolynomial.from_coefficients({tuple((g,) for g in degree): symbol}, sizes, degree)
+             for symbol, degree in degrees.items()}
+    total, _ = coefficient_blocks(spec, forms, sizes, 0, where=where)
+    return total
+

@@ -74,6 +74,23 @@ def _signed_terms(expr) -> list:
     return terms
 
 
+def _diagonal_parts(expr) -> tuple:
+    """(block, its rows, its columns) of each block of a ``BlockDiagMatrix`` (sympy computes a
+    block's shape anew at every access)."""
+    return tuple((b, b.rows, b.cols) for b in expr.args)
+
+
+def _fits(value, dtype, shape: tuple) -> bool:
+    """Whether ``value`` can be written as it is into a ``shape`` block of an array of ``dtype``:
+    a numpy array (or number) of that shape (as 2-D) and dtype, or of a real numeric dtype into
+    a float array."""
+    if not isinstance(value, (np.ndarray, float, int)):
+        return False
+    value = np.atleast_2d(value)
+    kind = value.dtype
+    return value.shape == tuple(shape) and (kind == dtype or (dtype.kind == "f" and kind.kind in "fiub"))
+
+
 def _block_rows(expr) -> list:
     """The blocks of a ``BlockMatrix`` as a list of rows."""
     b = expr.blocks
@@ -282,14 +299,23 @@ class ExpressionWalker(Walker):
         return self.block([[self.visit(b) for b in row] for row in structure(expr, _block_rows)])
 
     def _visit_BlockDiagMatrix(self, expr):
-        blocks = expr.args
-        rows = []
-        for i, bi in enumerate(blocks):
-            row = []
-            for j, bj in enumerate(blocks):
-                row.append(self.visit(bi) if i == j else self.zeros(self.size(bi.rows), self.size(bj.cols)))
-            rows.append(row)
-        return self.block(rows)
+        parts = structure(expr, _diagonal_parts)
+        return self.block_diagonal([self.visit(b) for b, _, _ in parts],
+                                   [(self.size(r), self.size(c)) for _, r, c in parts])
+
+    def block_diagonal(self, values: list, shapes: list):
+        """diag(M₁, …, M_k) from the blocks' values and their (rows, cols): filled into one zero
+        matrix when the target's values are numpy arrays (O(k) blocks placed, not k² blocks
+        assembled), else the generic block matrix with zero blocks off the diagonal."""
+        out = self.zeros(sum(r for r, _ in shapes), sum(c for _, c in shapes))
+        if isinstance(out, np.ndarray) and all(_fits(v, out.dtype, shape) for v, shape in zip(values, shapes)):
+            r0 = c0 = 0
+            for v, (r, c) in zip(values, shapes):
+                out[r0:r0 + r, c0:c0 + c] = v
+                r0, c0 = r0 + r, c0 + c
+            return out
+        return self.block([[v if i == j else self.zeros(shapes[i][0], shapes[j][1])
+                            for j in range(len(values))] for i, v in enumerate(values)])
 
     def _visit_MatrixBase(self, expr):
         return np.array(expr.tolist(), dtype=float)

@@ -29,6 +29,7 @@ import re
 from typing import Callable
 
 from ..errors import InputError
+from . import budget
 from .index_set import count_members
 from .theorem import Source, Theorem
 
@@ -69,8 +70,9 @@ class TheoremFamily(Theorem):
         return self._members[value]
 
     def specialise(self, inputs: dict) -> Theorem:
-        """The member selected by ``inputs[index]`` (the default member when absent)."""
-        return self.member(inputs.get(self.index, self.default))
+        """The member selected by ``inputs[index]`` (the default member when absent), refused
+        when its LMIs exceed the current limits (:mod:`lmidsl.theorem.budget`)."""
+        return checked_member(self, self.member(inputs.get(self.index, self.default)), inputs)
 
     def summary(self) -> dict:
         out = super().summary()
@@ -207,9 +209,23 @@ class SubsystemFamily(TheoremFamily):
         super().__init__(id, title, source, build, index=index, default=default, **kwargs)
 
     def specialise(self, inputs: dict) -> Theorem:
-        if self.index in inputs:
-            return self.member(inputs[self.index])
-        return self.member(count_members(inputs, self.key, where=self.id) or self.default)
+        value = inputs[self.index] if self.index in inputs else \
+            count_members(inputs, self.key, where=self.id) or self.default
+        return checked_member(self, self.member(value), inputs)
 
 
-__all__ = ["TheoremFamily", "SubsystemFamily", "Family", "member_name", "member_label", "count_members"]
+def checked_member(family: TheoremFamily, member: Theorem, inputs: dict) -> Theorem:
+    """``member`` when its LMIs (sizes from the data shapes) are within the current limits; a
+    member is built by the theorem file's own loop, bounded by the family's domain, so the
+    check follows the build and precedes the compile."""
+    value = member.param_decl[family.index].extra.get("default") if family.index in member.param_decl else "?"
+    estimate = budget.Estimate(f"the member for {family.index} = {value}")
+    dims = budget.dims_from_inputs(member, inputs)
+    for lmi in member.lmis:
+        estimate.add_lmis(1, sum(budget.integer(s, dims) for s in lmi.spec.sizes))
+    budget.check(family.id, estimate)
+    return member
+
+
+__all__ = ["TheoremFamily", "SubsystemFamily", "Family", "member_name", "member_label", "count_members",
+           "checked_member"]

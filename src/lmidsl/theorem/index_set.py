@@ -40,6 +40,7 @@ from ..symbolic.indexed import (Coefficient, Index, IndexedData, IndexedDiagonal
 from ..symbolic.numbers import finite_matrix
 from ..symbolic.symbols import Dim
 from .structure import check_declaration, check_structure, split_value
+from . import budget
 from .values import LMI
 
 
@@ -233,6 +234,12 @@ def sizes_from_inputs(template, inputs: dict) -> dict:
     return sizes
 
 
+def check_member_size(template, sizes: dict, inputs: dict) -> None:
+    """Refuse, before it is built, a member whose LMIs exceed the current limits
+    (:mod:`lmidsl.theorem.budget`: the estimate from the statement and the data shapes)."""
+    budget.check(template.id, budget.index_set_estimate(template, sizes, inputs))
+
+
 def member_name(base: str, numbers: tuple) -> str:
     return base + "".join(f"_{k}" for k in numbers)
 
@@ -391,4 +398,4 @@ def flatten_inputs(template, inputs: dict, sizes: dict) -> dict:
 
 
 __all__ = ["IndexSet", "IndexedFamily", "CoefficientFamily", "Quantifier", "build_member",
-           "flatten_inputs", "sizes_from_inputs", "quantifier_for"]
+           "flatten_inputs", "sizes_from_inputs", "quantifier_for", "check_member_size"]

@@ -51,8 +51,10 @@ import sympy as sp
 from ..errors import InputError, TheoremDefinitionError
 from ..symbolic.blocks import BlockMatrixSpec
 from ..symbolic.simplex import (HomogeneousPolynomial, coefficient_blocks, exponent_latex, exponent_text,
-                                multi_exponents, rate_vertices, time_derivative, vertex_exponents)
+                                multi_exponents, rate_vertices, statement_degree, time_derivative,
+                                vertex_exponents)
 from ..symbolic.symbols import DataMatrix
+from .budget import check, robust_estimate
 from .theorem import Theorem
 from .values import LMI
 
@@ -256,7 +258,19 @@ class RobustTheorem(Theorem):
                           0, MAX_DEGREE)
         polya = _integer(self.id, "polya", inputs.get("polya", self.param_decl["polya"].extra["default"]),
                          0, MAX_POLYA)
+        check(self.id, self.estimate(sizes, degree, polya, inputs))
         return self.member(sizes, degree, polya)
+
+    def estimate(self, sizes: tuple, degree: int, polya: int, inputs: dict | None = None):
+        """The size of the member for these sizes and degrees, before it is built
+        (:func:`lmidsl.theorem.budget.robust_estimate`; dimensions from ``inputs``' data)."""
+        degrees = {}
+        for decl in self.polynomial.values():
+            g = 1 if decl.kind == "vertex" else (degree if decl.degree == "degree" else decl.degree)
+            degrees[decl.symbol] = tuple(g if s in decl.simplices else 0 for s in self.simplices)
+        lmi_degrees = {lmi.label: statement_degree(lmi.spec, degrees, len(self.simplices))
+                       for lmi in self.lmis if lmi.symbols() & set(degrees)}
+        return robust_estimate(self, tuple(sizes), degree, polya, inputs or {}, lmi_degrees)
 
     def member(self, sizes: tuple, degree: int, polya: int) -> Theorem:
         """The coefficient theorem for these sizes and degrees (built once, cached)."""

@@ -287,6 +287,7 @@ class Theorem:
         if not self.index_sets:
             return self
         sizes = _ix.sizes_from_inputs(self, inputs)
+        _ix.check_member_size(self, sizes, inputs)
         key = (tuple(sorted(sizes.items())), self.fingerprint())
         if key not in self._members:
             self._members[key] = _ix.build_member(self, sizes)

@@ -12,6 +12,7 @@ import sympy as sp
 
 from ..errors import TheoremDefinitionError
 from ..symbolic.blocks import BlockMatrixSpec
+from ..symbolic.walker import structure
 
 TIME_DOMAINS = ("discrete", "continuous")
 
@@ -64,6 +65,16 @@ registers itself here when it is imported (:mod:`lmidsl.render.notebook`; ``lmid
 imports it with :class:`Theorem`), so that this layer never imports the one above it."""
 
 
+def symbols_in(expr) -> frozenset:
+    """``expr.atoms(Symbol, MatrixSymbol)`` (a matrix symbol's dimensions included), each shared
+    sub-tree counted once (:func:`~lmidsl.symbolic.walker.structure`): the coefficient LMIs of a
+    Pólya relaxation share their products P_k A_i, which sympy's traversal visits every time."""
+    out = frozenset((expr,)) if isinstance(expr, (sp.Symbol, sp.MatrixSymbol)) else frozenset()
+    for arg in expr.args:
+        out |= structure(arg, symbols_in)
+    return out
+
+
 @dataclass
 class LMI:
     """A labelled block LMI ``M < 0`` (or ``M > 0``) as the paper writes it."""
@@ -95,11 +106,11 @@ class LMI:
     def symbols(self) -> set:
         """Every symbol in the LMI's blocks (computed once; an LMI does not change)."""
         if self._symbols is None:
-            atoms = set()
+            atoms = frozenset()
             for row in self.spec.lower:
                 for b in row:
-                    atoms |= b.atoms(sp.Symbol, sp.MatrixSymbol)
-            self._symbols = frozenset(atoms)
+                    atoms |= structure(b, symbols_in)
+            self._symbols = atoms
         return self._symbols
 
 

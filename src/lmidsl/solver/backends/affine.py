@@ -81,16 +81,19 @@ class DecisionVariable:
         return vec.reshape(self.shape)
 
     def set_value(self, value) -> None:
+        """Take the free entries of a given X (:meth:`free_entries`)."""
+        self.free = self.free_entries(value)
+
+    def free_entries(self, value) -> np.ndarray:
         """The free entries of a given X (a symmetric X's upper triangle, a diagonal one's diagonal)."""
         value = np.asarray(value, dtype=float)
         if not self.shape:
-            self.free = value.reshape(1)
-        elif self.kind == "symmetric":
-            self.free = value[np.triu_indices(self.shape[0])]
-        elif self.kind == "diagonal":
-            self.free = np.diag(value) if value.ndim == 2 else value.reshape(-1)
-        else:
-            self.free = value.reshape(-1)
+            return value.reshape(1)
+        if self.kind == "symmetric":
+            return value[np.triu_indices(self.shape[0])]
+        if self.kind == "diagonal":
+            return np.diag(value) if value.ndim == 2 else value.reshape(-1)
+        return value.reshape(-1)
 
     def __repr__(self) -> str:
         return f"DecisionVariable({self.name!r}, {self.shape}, {self.kind!r})"
@@ -337,6 +340,29 @@ def block(rows) -> Affine:
     return Affine(const.shape, const, np.concatenate(parts_r), np.concatenate(parts_c), np.concatenate(parts_v))
 
 
+def block_diagonal(values: list, shapes: list) -> Affine:
+    """diag(M₁, …, M_k) of constants and affine blocks: each block's entries moved to its place
+    on the diagonal (O(k) blocks, where :func:`block` with zero blocks would take k²)."""
+    total_r, total_c = sum(r for r, _ in shapes), sum(c for _, c in shapes)
+    const = np.zeros((total_r, total_c))
+    parts_r, parts_c, parts_v = [], [], []
+    r0 = c0 = 0
+    for k, (x, (r, c)) in enumerate(zip(values, shapes)):
+        value = x.const if isinstance(x, Affine) else x
+        if np.shape(np.atleast_2d(value)) != (r, c):
+            raise ValueError(f"diagonal block {k + 1} has shape {np.shape(np.atleast_2d(value))}, expected {(r, c)}")
+        const[r0:r0 + r, c0:c0 + c] = value
+        if isinstance(x, Affine) and len(x.vals):
+            bi, bj = np.divmod(x.rows, c)
+            parts_r.append((r0 + bi) * total_c + c0 + bj)
+            parts_c.append(x.cols)
+            parts_v.append(x.vals)
+        r0, c0 = r0 + r, c0 + c
+    if not parts_r:
+        return Affine(const.shape, const)
+    return Affine(const.shape, const, np.concatenate(parts_r), np.concatenate(parts_c), np.concatenate(parts_v))
+
+
 @lru_cache(maxsize=64)
 def svec_map(n: int) -> tuple[np.ndarray, np.ndarray]:
     """For each entry (i, j) of vec S (row-major): its position in svec S (upper triangle, column
@@ -376,4 +402,4 @@ class Cone:
         return len(self.const)
 
 
-__all__ = ["Affine", "Cone", "DecisionVariable", "VariableSpace", "as_affine", "block", "svec_map"]
+__all__ = ["Affine", "Cone", "DecisionVariable", "VariableSpace", "as_affine", "block", "block_diagonal", "svec_map"]

@@ -22,7 +22,7 @@ import sympy as sp
 from ...numeric.instance import Instance
 from ...numeric.evaluate import NumericEvaluator
 from ..solution import Solution, evaluate_performance, lmi_certificate, objective_enclosure
-from ..conditioning import Equilibration
+from ..equilibration import Equilibration
 from ..status import solved
 from ...symbolic.parameter_values import parameter_value
 from ...symbolic.symbols import DECISION_TYPES, DerivedParam, Param, ScalarVariable, StructuredVariable
@@ -299,7 +299,9 @@ class CompiledModel:
         out = {}
         for key, N in self.lmi_matrices:
             d = self._congruence[key]
-            out[key] = np.asarray(self.expression_value(N), dtype=float) / np.outer(d, d)
+            value = self.expression_value(N)
+            if value is not None:           # None: a variable of N has no value
+                out[key] = np.asarray(value, dtype=float) / np.outer(d, d)
         return out
 
     def level_problem(self, bound: float):
@@ -334,7 +336,8 @@ class CompiledModel:
             point = dict(instance.data)
             point.update(values)
             solution.congruence = self._congruence
-            solution.lmis = lmi_certificate(instance, point, congruence=self._congruence)
+            numbers = self.lmi_values() if self.backend == "direct" else None    # the affine form's values
+            solution.lmis = lmi_certificate(instance, point, congruence=self._congruence, matrices=numbers)
             solution.gamma = evaluate_performance(instance, point)
             solution.objective_bounds = objective_enclosure(instance, point)
             if solution.gamma is None and instance.theorem.performance is not None:

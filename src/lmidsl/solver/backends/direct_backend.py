@@ -29,7 +29,7 @@ from scipy import sparse
 
 from ...errors import InputError, SolverUnavailableError
 from . import backend_info
-from .affine import Affine, Cone, VariableSpace, block
+from .affine import Affine, Cone, VariableSpace, block, block_diagonal
 from .base import BackendCompiler, CompiledModel, classify, solver_crashed
 from ..status import (INFEASIBLE, INFEASIBLE_INACCURATE, OPTIMAL, OPTIMAL_INACCURATE, UNBOUNDED,
                       UNBOUNDED_INACCURATE, USER_LIMIT, SOLVER_ERROR, SOLVED)
@@ -162,6 +162,9 @@ class DirectCompiler(BackendCompiler):
 
     def trace(self, a):
         return a.trace() if isinstance(a, Affine) else super().trace(a)
+
+    def block_diagonal(self, values, shapes):
+        return block_diagonal(values, shapes)
 
 
 class SolverCrash(Exception):
