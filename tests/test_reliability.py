@@ -8,12 +8,15 @@ from __future__ import annotations
 import errno
 import json
 import os
+import re
+import shutil
 import signal
 import socket
 import subprocess
 import sys
 import threading
 import time
+from pathlib import Path
 
 import control
 import numpy as np
@@ -511,3 +514,113 @@ def test_the_clock_covers_start_up(tmp_path):
     assert any(line.startswith("error: --timeout 0.3: stopped after 0.3 s (timed out")
                for line in err.splitlines()), err
     assert "Traceback" not in err and "internal error" not in err, err
+
+
+# == issue 40: TeX that reads no file ==========================================================
+PDFLATEX = shutil.which("pdflatex")
+needs_pdflatex = pytest.mark.skipif(
+    PDFLATEX is None, reason="pdflatex is not installed (Debian: apt-get install texlive-latex-base)")
+
+#: hostile strings: TeX file input spelt directly, through ^^ notation, \csname, expl3, a
+#: newline out of a comment, an unbalanced brace
+HOSTILE = [r"\input{/etc/passwd}", r"^^5cinput{/etc/passwd}", r"\csname input\endcsname{/etc/passwd}",
+           r"\ExplSyntaxOn\use:c{input}{/etc/passwd}", "x\n\\input{/etc/passwd}", r"}\input{/etc/passwd}{",
+           r"\UseName{input}{/etc/passwd}", r"\includegraphics{/etc/passwd}",
+           r"\begin{filecontents*}{../pwned.tex}x\end{filecontents*}"]
+
+
+def _hostile_theorem():
+    """Every user string of a theorem hostile: id, title, source, description, symbol names, LaTeX
+    names, LMI labels, example name."""
+    from lmidsl import Source, Theorem
+    h = HOSTILE
+    t = Theorem("../../" + h[0], "T " + h[1], Source(h[2], "(1)" + h[3]), description=h[4])
+    n = t.dim("n")
+    A = t.data("A" + h[0], n, n, latex=r"\mathrm{A" + h[0] + "}", description=h[5])
+    B = t.data("B", n, n, latex=h[1])
+    C = t.data("C", n, n, latex=h[2])
+    P = t.var("P", n, kind="symmetric", latex=h[3])
+    Q = t.var(h[6], n, kind="symmetric", latex=h[7])
+    t.lmi("(1)" + h[0], [[A.T * P * A - P + B * C + Q]])
+    t.lmi("(2)" + h[4], [[-P]])
+    t.lmi(h[8], [[-Q]])
+    return t
+
+
+def _assert_inert(text: str):
+    from lmidsl.render.latex_safe import forbidden_in
+    body = text.split(r"\begin{document}", 1)[-1]
+    assert forbidden_in(body) == [], forbidden_in(body)
+
+
+def test_hostile_strings_are_escaped_in_every_latex_output():
+    from lmidsl.render.latex_document import lmi_snippet, theorem_latex
+    thm = _hostile_theorem()
+    _assert_inert(theorem_latex(thm))
+    for lmi in thm.lmis:
+        snippet = lmi_snippet(thm, lmi.label)
+        _assert_inert(snippet)
+        assert all(line.startswith("%") for line in snippet.splitlines()[:1]) and "\n\\input" not in snippet
+
+
+def test_declared_latex_names_in_the_harmless_subset_are_kept():
+    from lmidsl.render.latex_safe import guarded, safe_math
+    for name in (r"\hat{A}_f", r"\bar{\xi}_1", r"\mathcal{P}_{1}", r"\gamma^2", r"\Lambda", r"P_{1i}"):
+        assert safe_math(name) == name
+    assert safe_math(r"\input{x}") == r"\mathrm{\backslash{}input\{x\}}"
+    assert guarded(r"a \input{x} b ^^5c") == r"a \string\input{x} b ^{}^5c"
+    assert guarded(r"\\input") == r"\\input"            # a line break, then the word: not the primitive
+
+
+@needs_pdflatex
+def test_a_hostile_document_compiled_without_restrictions_reads_no_file(tmp_path):
+    """The escaping alone is the wall: pdflatex run with no paranoid setting on the hostile
+    document compiles, and its log shows no file of the system read and no file written."""
+    from lmidsl.render.latex_document import theorem_latex
+    (tmp_path / "doc.tex").write_text(theorem_latex(_hostile_theorem()))
+    proc = subprocess.run([PDFLATEX, "-interaction=nonstopmode", "-halt-on-error", "doc.tex"], cwd=tmp_path,
+                          capture_output=True, text=True, errors="replace", stdin=subprocess.DEVNULL, timeout=120)
+    log = (tmp_path / "doc.log").read_text(errors="replace")
+    assert proc.returncode == 0, [l for l in proc.stdout.splitlines() if l.startswith("!")]
+    assert "(/etc/passwd" not in log and "root:" not in log       # "(path" marks a file TeX opened
+    assert not (tmp_path.parent / "pwned.tex").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["doc.aux", "doc.log", "doc.pdf", "doc.tex"]
+
+
+@needs_pdflatex
+def test_latex_pdf_stays_in_its_folder_and_keeps_the_users_files(tmp_path, monkeypatch):
+    """A theorem id ``../../x`` writes in the working folder; ``-o 'a\\input{b}.tex'`` never
+    reaches TeX's command line (a b.tex beside it is not read); pdflatex runs with
+    -no-shell-escape and kpathsea's paranoid openin_any/openout_any in a fresh folder, so a
+    log or aux file of the user's beside the output is neither read nor deleted."""
+    import lmidsl.cli.latex_cmd as latex_cmd
+    folder = tmp_path / "thms"
+    folder.mkdir()
+    (folder / "mine.py").write_text(GOOD.format(id="../../escaped", title="up"))
+    run_dir = tmp_path / "a" / "b" / "run"
+    run_dir.mkdir(parents=True)
+    monkeypatch.setenv("LMIDSL_THEOREM_PATH", str(folder))
+    monkeypatch.chdir(run_dir)
+    calls = []
+    real_run = subprocess.run
+
+    def spy(argv, **kw):
+        calls.append((list(argv), dict(kw.get("env") or {}), kw.get("cwd")))
+        return real_run(argv, **kw)
+    monkeypatch.setattr(latex_cmd.subprocess, "run", spy)
+    (run_dir / "_.._escaped.log").write_text("mine\n")
+    (run_dir / "_.._escaped.aux").write_text("mine too\n")
+    assert main(["latex", "../../escaped", "--pdf"]) == 0
+    assert sorted(p.name for p in run_dir.iterdir()) == [
+        "_.._escaped.aux", "_.._escaped.log", "_.._escaped.pdf", "_.._escaped.tex"]
+    assert (run_dir / "_.._escaped.log").read_text() == "mine\n"
+    assert (run_dir / "_.._escaped.aux").read_text() == "mine too\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a", "thms"]
+    argv, env, cwd = calls[-1]
+    assert "-no-shell-escape" in argv and argv[-1] == "lmidsl-document.tex"
+    assert env["openin_any"] == "p" and env["openout_any"] == "p" and "TEXMFOUTPUT" not in env
+    assert Path(cwd) != run_dir and not Path(cwd).exists()      # a fresh folder, removed
+    (run_dir / "b.tex").write_text("\\immediate\\write18{touch PWNED}\\errmessage{b.tex was read}\n")
+    assert main(["latex", "wang_l2linf.thm3", "--pdf", "-o", "a\\input{b}.tex"]) == 0
+    assert calls[-1][0][-1] == "lmidsl-document.tex" and (run_dir / "a\\input{b}.pdf").stat().st_size > 1000
+    assert not (run_dir / "PWNED").exists()
