@@ -624,3 +624,90 @@ def test_latex_pdf_stays_in_its_folder_and_keeps_the_users_files(tmp_path, monke
     assert main(["latex", "wang_l2linf.thm3", "--pdf", "-o", "a\\input{b}.tex"]) == 0
     assert calls[-1][0][-1] == "lmidsl-document.tex" and (run_dir / "a\\input{b}.pdf").stat().st_size > 1000
     assert not (run_dir / "PWNED").exists()
+
+
+# == issue 40: interrupts and deadlines end cleanly, the bound's worker included ===============
+EXIT_IN_BOUND = '''
+import sys, threading
+import lmidsl
+from lmidsl.solver import dual_bound
+
+inside = threading.Event()
+real = dual_bound.clarabel_solve
+
+def solve_and_say(problem, **kw):
+    inside.set()
+    return real(problem, **kw)
+
+def leave_now(self):
+    inside.wait(300)
+    print("leaving with the worker inside Clarabel", flush=True)
+    sys.exit(0)
+
+dual_bound.clarabel_solve = solve_and_say
+dual_bound.PendingBound.result = leave_now
+junk = [{i: str(i)} for i in range(2_000_000)]     # a finalisation that outlasts the solve in flight
+lmidsl.solve("li_delay_dropout.thm2", example="paper", overrides={"xi2": 1.0})
+'''
+
+
+@pytest.mark.slow
+def test_the_interpreter_exits_cleanly_with_the_bound_worker_inside_clarabel(tmp_path):
+    """The interpreter leaves while the proved bound's worker is inside a shifted Clarabel solve
+    (li_delay_dropout.thm2, ξ₂ = 1: its bound needs shifted solves).  A daemon worker was ended
+    there by pthread_exit and the process aborted ("FATAL: exception not rethrown", exit 134, 2 of 2
+    runs before the fix); now the worker is cancelled and the solve in flight finishes: exit 0."""
+    script = tmp_path / "exit_in_bound.py"
+    script.write_text(EXIT_IN_BOUND)
+    proc = subprocess.run([sys.executable, str(script)], cwd=ROOT, env=_env(tmp_path), capture_output=True,
+                          text=True, timeout=600)
+    assert "leaving with the worker inside Clarabel" in proc.stdout, proc.stderr
+    assert proc.returncode == 0 and "FATAL" not in proc.stderr, (proc.returncode, proc.stderr[-500:])
+
+
+def test_a_cancelled_bound_stops_before_its_next_shifted_solve(monkeypatch):
+    """cancel() is honoured between shifted solves: the record says "cancelled", no bound is
+    claimed, and no shifted solve starts after the cancel (li_delay_dropout.thm2, ξ₂ = 1, whose
+    bound needs several)."""
+    import lmidsl.pipeline as pipeline
+    from lmidsl.solver import dual_bound
+    started, gate, made = [], threading.Event(), []
+    real_shifted, real_pending = dual_bound._solve_shifted, pipeline.PendingBound
+
+    def gated(*args, **kw):
+        started.append(1)
+        gate.wait(300)
+        return real_shifted(*args, **kw)
+
+    class Kept(real_pending):
+        def __init__(self, *args, **kw):
+            super().__init__(*args, **kw)
+            made.append(self)
+
+    def cancel_when_inside():
+        while not started:
+            time.sleep(0.02)
+        made[0].cancel()
+        gate.set()
+    monkeypatch.setattr(dual_bound, "_solve_shifted", gated)
+    monkeypatch.setattr(pipeline, "PendingBound", Kept)
+    threading.Thread(target=cancel_when_inside, daemon=True).start()
+    sol = pipeline.solve("li_delay_dropout.thm2", example="paper", overrides={"xi2": 1.0})
+    assert len(started) == 1
+    assert sol.bounds.proved is False and "cancelled" in sol.bounds.why
+    assert dual_bound.cancel_pending(wait=1.0)
+
+
+# == issue 40: any output encoding ==============================================================
+@pytest.mark.parametrize("encoding", ["ascii", "latin-1"])
+def test_any_output_encoding_prints_the_result(tmp_path, encoding):
+    code, out, err = _cli(_env(tmp_path, PYTHONIOENCODING=encoding), "solve", *THM3)
+    assert code == 0, err
+    assert "gamma     = 0.3367" in out and "internal error" not in err     # the paper's 0.3367
+    out.encode(encoding)
+
+
+def test_ascii_stand_ins():
+    from lmidsl.cli import _stand_in
+    assert [_stand_in(c) for c in "γΓ≤ᵀλ"] == ["gamma", "Gamma", "<=", "^T", "lambda"]
+    assert _stand_in("\u0304") == "" and _stand_in("漢") == "?"
