@@ -711,3 +711,31 @@ def test_ascii_stand_ins():
     from lmidsl.cli import _stand_in
     assert [_stand_in(c) for c in "γΓ≤ᵀλ"] == ["gamma", "Gamma", "<=", "^T", "lambda"]
     assert _stand_in("\u0304") == "" and _stand_in("漢") == "?"
+
+
+# == issue 40: stdout is ours ===================================================================
+def _c_print(text: str) -> None:
+    """Print as a C library does (libc's printf, its own buffer, flushed by fflush)."""
+    import ctypes
+    libc = ctypes.CDLL(None)
+    libc.printf(text.encode())
+    libc.fflush(None)
+
+
+def test_what_c_libraries_print_never_reaches_json_stdout(capfd, monkeypatch):
+    """SCS's C code wrote "KKT matrix has < n positive eigenvalues" on stdout before the JSON
+    (rates of 1e300); with --json, descriptor 1 is stderr while the command runs (planted here
+    in the binding, as libc's printf), and stdout is the JSON alone."""
+    import lmidsl.numeric.instance as instance_module
+    original = instance_module.check_symmetric_blocks
+
+    def noisy(instance):
+        _c_print("KKT matrix has < n positive eigenvalues\n")
+        return original(instance)
+    monkeypatch.setattr(instance_module, "check_symmetric_blocks", noisy)
+    assert main(["solve", *THM3, "--json"]) == 0
+    out, err = capfd.readouterr()
+    assert abs(json.loads(out)["gamma"] - 0.33674) < 1e-4 and "KKT matrix" in err    # Table 1: 0.3367
+    assert main(["solve", *THM3]) == 0                  # without --json: as before
+    out, _ = capfd.readouterr()
+    assert "KKT matrix" in out

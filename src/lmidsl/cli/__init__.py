@@ -18,6 +18,7 @@ import argparse
 import atexit
 import ast
 import codecs
+import contextlib
 import errno
 import importlib
 import json
@@ -312,8 +313,7 @@ def main(argv=None) -> int:
     except BrokenPipeError:
         # the reader of stdout went away (`lmidsl list | head -1`): not an error of the command;
         # stdout goes to /dev/null so that the interpreter's final flush does not fail again
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
+        _to_devnull(sys.stdout.fileno())
         return 0
 
 
@@ -404,7 +404,57 @@ def _run(args, deadline=None) -> int:
         deadline.cancel()
 
 
+@contextlib.contextmanager
+def native_output_to_stderr():
+    """File descriptor 1 is stderr for the block, so that what C libraries print (SCS's "KKT
+    matrix has < n positive eigenvalues", a solver's banner) cannot mix with lmidsl's output;
+    Python's ``sys.stdout`` goes on writing to the real stdout (a stream on a saved copy of
+    descriptor 1 when it wrote there).  Used whenever ``--json`` is asked: stdout is one JSON
+    object and nothing else."""
+    try:
+        sys.stdout.flush()
+        uses_fd1 = sys.stdout.fileno() == 1
+    except (AttributeError, OSError, ValueError):     # a stream with no descriptor (a test's capture)
+        uses_fd1 = False
+    try:
+        saved = os.dup(1)
+    except OSError:                                   # no descriptor 1 at all: nothing to keep apart
+        yield
+        return
+    original = sys.stdout
+    if uses_fd1:
+        sys.stdout = open(saved, "w", encoding=original.encoding, errors=original.errors, closefd=False,
+                          buffering=1 if getattr(original, "line_buffering", False) else -1)
+    os.dup2(2, 1)
+    try:
+        yield
+    finally:
+        try:
+            if uses_fd1:
+                sys.stdout.flush()
+        except OSError:                  # a reader gone: what is left goes nowhere, quietly
+            _to_devnull(saved)
+            raise
+        finally:
+            sys.stdout = original
+            os.dup2(saved, 1)
+            os.close(saved)
+
+
+def _to_devnull(fd: int) -> None:
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, fd)
+    os.close(devnull)
+
+
 def _run_command(args, deadline) -> int:
+    if getattr(args, "json", False):
+        with native_output_to_stderr():
+            return _run_command_here(args, deadline)
+    return _run_command_here(args, deadline)
+
+
+def _run_command_here(args, deadline) -> int:
     try:
         deadline.start()
         code = args.run(args)
