@@ -168,7 +168,8 @@ def _shift_once(job: _BoundJob, data: DualData, blocks, eps: float, keep, scale:
     """One shifted solve on the support ``keep`` and the exact correction of its dual: (whether
     the shifted problem solved, the corrected candidate or None), counted and timed in ``out``;
     :class:`BoundCancelled` when the job was cancelled (checked before each shifted solve)."""
-    if job.cancel is not None and job.cancel.is_set():
+    cancel = getattr(job, "cancel", None)          # PendingBound's event (set: stop here)
+    if cancel is not None and cancel.is_set():
         raise BoundCancelled
     t0 = time.perf_counter()
     shifted = _solve_shifted(job.problem, data, blocks, eps, keep, job.max_iter)
@@ -275,7 +276,6 @@ class _BoundJob:
     max_iter: int | None
     out: DualBound
     t0: float
-    cancel: threading.Event | None = None     # set: stop before the next shifted solve
 
 
 def _prepare(model, solution) -> _BoundJob | DualBound:
@@ -359,7 +359,7 @@ class PendingBound:
         self._cancel = threading.Event()
         for job in jobs:
             if isinstance(job, _BoundJob):
-                job.cancel = self._cancel
+                job.cancel = self._cancel           # read by _shift_once before each shifted solve
         self._done = None
         self._error = None
         self._thread = threading.Thread(target=self._run, args=(jobs, others, level, tries), daemon=False,
