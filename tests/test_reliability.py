@@ -248,6 +248,18 @@ def _store_lines(path):
     return path.read_text().splitlines()
 
 
+def _resign(lines: list, header: dict) -> None:
+    """Sign edited records again with this user's store key (what only lmidsl, or someone who
+    has read the key, can do): the checks behind the signature are then what stands."""
+    import hashlib
+    import hmac
+    from lmidsl.studies.store import _canonical, record_signature, store_secret
+    key = hmac.new(store_secret(), _canonical(header), hashlib.sha256).digest()
+    for line in lines:
+        if "record" in line:
+            line["sig"] = record_signature(key, line["record"])
+
+
 def test_an_edited_store_resumes_to_the_uninterrupted_result(capsys, tmp_path):
     """γ edited to 1e-6, a solver point edited (its LMIs no longer hold), a duplicated point (both
     copies solved again: which one is right cannot be told), a
@@ -266,8 +278,10 @@ def test_an_edited_store_resumes_to_the_uninterrupted_result(capsys, tmp_path):
     values = records[2]["record"]["values"]
     name = next(k for k, v in values.items() if isinstance(v, list) and isinstance(v[0], list))
     values[name][0][0] += 1e3
+    _resign(records, records[0]["header"])     # as lmidsl would have signed them: the checks behind
     outside = json.loads(lines[4])
     outside["record"]["params"]["rbar"] = 0.33
+    _resign([outside], records[0]["header"])
     nan = lines[5].replace(str(records[5]["record"]["gamma"]), "NaN")
     edited = [json.dumps(r) for r in records[:4]] + [lines[3], lines[4], json.dumps(outside), nan, "5", "[1, 2]",
                                                        '{"record": {"params": {"rbar": 0.2}}}']
@@ -739,3 +753,65 @@ def test_what_c_libraries_print_never_reaches_json_stdout(capfd, monkeypatch):
     assert main(["solve", *THM3]) == 0                  # without --json: as before
     out, _ = capfd.readouterr()
     assert "KKT matrix" in out
+
+
+# == issue 40: stores prove or recompute every field they return ================================
+def _sweep_store(capsys, tmp_path, grid="rbar=0.2:0.8:5"):
+    out = tmp_path / "out"
+    argv = ("sweep", *THM3, "--grid", grid, "--no-progress", "--out", str(out), "--json")
+    code, whole, err = run_main(capsys, *argv)
+    assert code == 0, err
+    return argv, out / "sweep.jsonl", json.loads(whole)
+
+
+def test_a_consistent_forgery_is_found_by_its_signature(capsys, tmp_path):
+    """One record's solver point edited consistently (γ² × 4: the LMIs still hold; γ, objective
+    doubled/quadrupled to match), another's status made "infeasible": without the user's key the
+    signature does not match, both are solved again with one warning, and the resumed sweep is
+    the uninterrupted one."""
+    argv, store, whole = _sweep_store(capsys, tmp_path)
+    lines = [json.loads(line) for line in _store_lines(store)]
+    forged = lines[3]["record"]
+    scalar = next(k for k, v in forged["values"].items() if isinstance(v, float))
+    forged["values"][scalar] *= 4
+    forged["gamma"] *= 2
+    forged["objective"] *= 4
+    lines[4]["record"]["status"] = "infeasible"
+    store.write_text("".join(json.dumps(line) + "\n" for line in lines))
+    code, resumed, err = run_main(capsys, *argv, "--resume")
+    assert code == 0, err
+    warning = [l for l in err.splitlines() if l.startswith("warning: --resume")]
+    assert len(warning) == 1 and "2: edited after it was written" in warning[0], err
+    assert [p["gamma"] for p in json.loads(resumed)["points"]] == [p["gamma"] for p in whole["points"]]
+    assert json.loads(resumed)["resumed"] == 3
+
+
+def test_a_signed_suboptimal_record_is_not_trusted_as_optimal(capsys, tmp_path):
+    """Signed with the key (lmidsl's own record of a solver that stopped early, or a forger who
+    read the key): the point is proved and its γ is the γ at its point, but its objective is above
+    both neighbours' -- solved again; a proved record claiming "infeasible" is refused; a resumed
+    point's objective and worst eigenvalue are recomputed at its point, its times are not the
+    store's."""
+    argv, store, whole = _sweep_store(capsys, tmp_path)
+    lines = [json.loads(line) for line in _store_lines(store)]
+    forged = lines[3]["record"]
+    scalar = next(k for k, v in forged["values"].items() if isinstance(v, float))
+    forged["values"][scalar] *= 4
+    forged["gamma"] *= 2
+    lines[5]["record"]["status"] = "infeasible"
+    lines[1]["record"]["objective"] = 123.0           # not read: recomputed at the point
+    lines[1]["record"]["worst_eig"] = -5.0
+    lines[1]["record"]["total"] = 99.0
+    _resign(lines, lines[0]["header"])
+    store.write_text("".join(json.dumps(line) + "\n" for line in lines))
+    code, resumed, err = run_main(capsys, *argv, "--resume")
+    assert code == 0, err
+    warning = [l for l in err.splitlines() if l.startswith("warning: --resume")]
+    assert len(warning) == 1, err
+    assert "its objective is above both its neighbours'" in warning[0] and "'infeasible' with a proved point" in warning[0]
+    points = json.loads(resumed)["points"]
+    assert [p["gamma"] for p in points] == [p["gamma"] for p in whole["points"]]
+    first = points[0]
+    assert abs(first["objective"] - whole["points"][0]["objective"]) <= 1e-12 * abs(first["objective"])
+    assert first["worst_eig"] < 0 and first["worst_eig"] != -5.0 and first["total"] == 0.0
+    assert first["solver_call"] is None and first["gamma"] ** 2 == pytest.approx(first["objective"], rel=1e-9)
