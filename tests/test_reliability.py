@@ -815,3 +815,79 @@ def test_a_signed_suboptimal_record_is_not_trusted_as_optimal(capsys, tmp_path):
     assert abs(first["objective"] - whole["points"][0]["objective"]) <= 1e-12 * abs(first["objective"])
     assert first["worst_eig"] < 0 and first["worst_eig"] != -5.0 and first["total"] == 0.0
     assert first["solver_call"] is None and first["gamma"] ** 2 == pytest.approx(first["objective"], rel=1e-9)
+
+
+# == issue 40: assumptions for every member, names and values checked ==========================
+def _per_mode_theorem(assume_name="A", **kw):
+    from lmidsl import He, Source, Theorem
+    from lmidsl.theorem.assumptions import stable
+    t = Theorem("test40.per_mode", "per-mode Lyapunov", Source("test", "(1)"), time="continuous")
+    n = t.dim("n")
+    M = t.index_set("modes", size="N")
+    i = M.indices("i")
+    A = t.data("A", n, n, over=M)
+    P = t.var("P", n, kind="symmetric", over=M)
+    t.lmi("(1)", [[He(P[i] * A[i])]], forall=i)
+    t.positive(P[i], forall=i)
+    t.assume(stable(assume_name, **kw))
+    return t
+
+
+def test_an_assumption_holds_for_every_member_of_an_index_set():
+    """stable("A") on a per-mode A with mode 2 unstable (eigenvalue +0.5, the other modes
+    stable): refused at bind, naming mode 2 and its spectral abscissa; with every mode stable the
+    instance binds."""
+    from lmidsl.errors import InputError
+    from lmidsl.numeric.instance import bind
+    thm = _per_mode_theorem()
+    modes = [{"A": [[-1.0, 0.0], [0.0, -2.0]]}, {"A": [[0.5, 1.0], [0.0, -1.0]]}, {"A": [[-0.1, 0.0], [0.0, -0.3]]}]
+    with pytest.raises(InputError) as err:
+        bind(thm, {"modes": modes})
+    assert "assumption A stable does not hold for modes 2 (A_2)" in str(err.value)
+    assert f"{max(np.linalg.eigvals(np.array(modes[1]['A'])).real):.6g}" in str(err.value)   # 0.5
+    modes[1]["A"] = [[-0.5, 1.0], [0.0, -1.0]]
+    assert bind(thm, {"modes": modes}).theorem.member_sizes == {"modes": 3}
+    with pytest.raises(InputError, match=r"for modes 1 \(A_1\)"):      # one A for every mode
+        bind(thm, {"modes": [{}, {}], "A": [[0.1, 0.0], [0.0, -1.0]]})
+
+
+def test_an_assumption_at_every_vertex_of_a_polytope():
+    """stable("A") on a polytope whose third vertex is made unstable: refused naming vertex 3."""
+    from lmidsl.errors import InputError
+    from lmidsl.numeric.instance import bind
+    from lmidsl.theorem.assumptions import stable
+    from lmidsl.theorem.registry import get_theorem
+    thm = get_theorem("textbook.hpd_stability_ct")
+    data = thm.examples["spread-3"].data
+    saved = thm.assumptions
+    try:
+        thm.assumptions = [stable("A")]
+        vertices = [dict(v) for v in data["vertices"]]
+        vertices[2]["A"] = (np.asarray(vertices[2]["A"]) + 3 * np.eye(len(vertices[2]["A"]))).tolist()
+        with pytest.raises(InputError, match="does not hold at vertex 3"):
+            bind(thm, {**data, "vertices": vertices, "degree": 1, "polya": 0})
+    finally:
+        thm.assumptions = saved
+
+
+def test_an_assumption_on_no_datum_is_refused_at_declaration():
+    from lmidsl.errors import TheoremDefinitionError
+    with pytest.raises(TheoremDefinitionError, match=r"'Al' is no datum of the theorem \(did you mean 'A'"):
+        _per_mode_theorem("Al")
+    assert _per_mode_theorem("Dl1", external=True).assumptions[0].external     # declared as not taken
+
+
+@pytest.mark.parametrize("value,kind", [([["x", 0], [0, 1]], "not a finite real matrix"),
+                                        ([[1j, 0], [0, -1]], "complex"), ([[1, 2], [3]], "not a finite real matrix"),
+                                        ([[float("nan"), 0], [0, -1]], "not a finite real matrix")])
+def test_a_non_numeric_datum_of_an_assumption_is_an_error(value, kind):
+    """An external datum (D11 of the continuous-time H2 theorems) is not bound, so nothing else
+    looks at it: a value that is no finite real matrix was silently skipped; now one line."""
+    from lmidsl.errors import InputError
+    from lmidsl.numeric.instance import bind
+    from lmidsl.theorem.registry import get_theorem
+    thm = get_theorem("textbook.h2_ct_sf")
+    data = dict(thm.examples["random-3"].data)
+    with pytest.raises(InputError) as err:
+        bind(thm, {**data, "D11": value})
+    assert f"assumption D11 = 0 cannot be checked: D11 is {kind}" in str(err.value)
