@@ -891,3 +891,60 @@ def test_a_non_numeric_datum_of_an_assumption_is_an_error(value, kind):
     with pytest.raises(InputError) as err:
         bind(thm, {**data, "D11": value})
     assert f"assumption D11 = 0 cannot be checked: D11 is {kind}" in str(err.value)
+
+
+# == issue 40: the smaller messages, each naming the culprit ====================================
+def test_a_vertex_of_the_wrong_size_names_the_vertex_sizes_and_its_use(capsys, tmp_path):
+    from lmidsl.theorem.registry import get_theorem
+    data = get_theorem("textbook.hpd_stability_ct").examples["spread-3"].data
+    vertices = [{k: np.asarray(v).tolist() for k, v in vertex.items()} for vertex in data["vertices"]]
+    vertices[1]["A"] = (-np.eye(3)).tolist()
+    path = tmp_path / "bad.json"
+    path.write_text(json.dumps({"vertices": vertices}))
+    code, _, err = run_main(capsys, "solve", "textbook.hpd_stability_ct", "--data", str(path),
+                            "--set", "degree=1", "--set", "polya=0")
+    assert_one_line(code, err, "data A (vertex 2) is 3×3 but must be n×n = 2×2", "enters LMI (HPPD)", "(as A_2)")
+    assert "enters no LMI" not in err
+
+
+def test_sweeping_a_member_parameter_is_refused_with_the_declared_domain(capsys):
+    """degree selects the HPPD member; the message gives the declared domain [0, 8] the user
+    was told, not the member's one-point [2, 2]."""
+    code, _, err = run_main(capsys, "sweep", "textbook.hpd_stability_ct", "--grid", "degree=0,1,2", "--no-progress")
+    assert_one_line(code, err, "--grid degree", "selects the theorem's member", "degree = 2", "[0, 8]")
+    assert "[2, 2]" not in err
+
+
+@pytest.mark.parametrize("array,fragment", [
+    (np.array([[1j, 0], [0, -1]]), "complex numbers (dtype complex128"),
+    (np.array([[object(), 0], [0, 1]], dtype=object), "Python objects (dtype object"),
+    (np.array([["a", "b"], ["c", "d"]]), "strings"),
+])
+def test_quick_mode_refuses_arrays_that_are_not_real(array, fragment):
+    from lmidsl import Theorem
+    from lmidsl.errors import TheoremDefinitionError
+    thm = Theorem(f"quick40.{array.dtype.kind}")
+    P = thm.var("P", 2, kind="symmetric")
+    with pytest.raises(TheoremDefinitionError, match="a constant must be a real matrix") as err:
+        thm.lmi([[array.T * P + P * array]])
+    assert fragment in str(err.value)
+
+
+def test_quick_mode_takes_an_object_array_of_numbers_and_names_a_shape_mismatch():
+    """An object array of floats is numbers (A = -I: the LMI AᵀP + PA < 0 holds at P = I); a 3×3
+    array against a 2×2 P is lmidsl's one-line shape error naming both, not sympy's ShapeError."""
+    import lmidsl
+    from lmidsl import Theorem
+    from lmidsl.errors import ShapeMismatchError
+    A = np.array([[-1.0, 0.0], [0.0, -2.0]], dtype=object)
+    thm = Theorem("quick40.object")
+    P = thm.var("P", 2, kind="symmetric")
+    thm.lmi([[A.T * P + P * A]])
+    thm.lmi([[P]], sense=">")
+    assert lmidsl.solve(thm).lmis_hold
+    thm = Theorem("quick40.shape")
+    P = thm.var("P", 2, kind="symmetric")
+    with pytest.raises(ShapeMismatchError) as err:
+        thm.lmi([[-np.eye(3) * P]])
+    assert str(err.value).startswith("quick40.shape: ") and "the numpy constant" in str(err.value)
+    assert "is 3×3 and P is 2×2, which do not conform" in str(err.value)

@@ -105,8 +105,20 @@ def _infer_dims(theorem: Theorem, matrices: dict, given_dims: dict) -> dict:
                 raise ShapeMismatchError(
                     f"{theorem.id}: data {name}{vtxt} is {fmt_shape(arr.shape)} but must be "
                     f"{fmt_shape(symbol.shape)} = {fmt_shape(expected)} ({', '.join(used)}); "
-                    f"{name} enters {theorem.first_use(symbol)}")
+                    f"{name}{vtxt} enters {_first_use(theorem, symbol, v)}")
     return dims
+
+
+def _first_use(theorem: Theorem, symbol, vertex: int) -> str:
+    """Where ``symbol`` (at ``vertex``) first enters the theorem's LMIs: in a member of a robust
+    theorem (:mod:`lmidsl.theorem.robust`) a vertex datum enters through its vertex copy
+    (A at vertex 2 is ``A_2`` in the coefficient LMIs)."""
+    for alias, (name, v) in getattr(theorem, "vertex_data", {}).items():
+        if name == symbol.name and v == vertex:
+            copy = next((a for lmi in theorem.lmis for a in lmi.symbols() if getattr(a, "name", None) == alias), None)
+            if copy is not None:
+                return f"{theorem.first_use(copy)} (as {alias})"
+    return theorem.first_use(symbol)
 
 
 def bind(theorem: Theorem, inputs: dict, example: str | None = None, *,

@@ -229,6 +229,7 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
                              f"{', '.join(thm.param_decl) or 'none'})")
     if len({n for n, _ in grids}) != len(grids):
         raise InputError(f"{thm.id}: a grid parameter is given twice")
+    _refuse_member_parameters(thm, grids)
     for name, values in grids:  # check domains before compiling
         for v in (min(values), max(values)):
             instance.with_params(**{name: v})
@@ -283,6 +284,24 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
         if jsonl is not None:
             jsonl.close()
     return result
+
+
+def _refuse_member_parameters(member, grids: list) -> None:
+    """A parameter that selects the theorem's member (an HPPD degree, Pólya's exponent: the
+    size of the expansion) is fixed in the member a sweep compiles once; a grid over other values
+    is one line naming the value fixed here and the domain the theorem declares."""
+    family = getattr(member, "family", None) or getattr(member, "template", None)
+    for name, values in grids:
+        fixed = member.param_decl[name].extra.get("domain")
+        declared = family.param_decl[name].extra.get("domain") if family is not None and \
+            name in family.param_decl else None
+        if fixed is None or declared is None or fixed[0] != fixed[1] or tuple(fixed) == tuple(declared):
+            continue
+        if any(v != fixed[0] for v in values):
+            raise InputError(f"{member.id}: --grid {name}: {name} selects the theorem's member (the "
+                             f"size of its expansion), fixed at {name} = {fixed[0]:g} for this sweep; "
+                             f"give another with --set {name}=K (an integer in [{declared[0]:g}, "
+                             f"{declared[1]:g}]), one sweep per value")
 
 
 class SweepTask(Task):
