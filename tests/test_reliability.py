@@ -764,18 +764,25 @@ def _sweep_store(capsys, tmp_path, grid="rbar=0.2:0.8:5"):
     return argv, out / "sweep.jsonl", json.loads(whole)
 
 
-def test_a_consistent_forgery_is_found_by_its_signature(capsys, tmp_path):
-    """One record's solver point edited consistently (γ² × 4: the LMIs still hold; γ, objective
-    doubled/quadrupled to match), another's status made "infeasible": without the user's key the
-    signature does not match, both are solved again with one warning, and the resumed sweep is
-    the uninterrupted one."""
+def _forged_store(capsys, tmp_path):
+    """A sweep's store with the third point's solver point edited consistently: γ² × 4 (the LMIs
+    still hold at the larger level) and γ doubled to match."""
     argv, store, whole = _sweep_store(capsys, tmp_path)
     lines = [json.loads(line) for line in _store_lines(store)]
     forged = lines[3]["record"]
     scalar = next(k for k, v in forged["values"].items() if isinstance(v, float))
     forged["values"][scalar] *= 4
     forged["gamma"] *= 2
-    forged["objective"] *= 4
+    return argv, store, whole, lines
+
+
+def test_a_consistent_forgery_is_found_by_its_signature(capsys, tmp_path):
+    """One record's solver point edited consistently (γ² × 4: the LMIs still hold; γ, objective
+    doubled/quadrupled to match), another's status made "infeasible": without the user's key the
+    signature does not match, both are solved again with one warning, and the resumed sweep is
+    the uninterrupted one."""
+    argv, store, whole, lines = _forged_store(capsys, tmp_path)
+    lines[3]["record"]["objective"] *= 4
     lines[4]["record"]["status"] = "infeasible"
     store.write_text("".join(json.dumps(line) + "\n" for line in lines))
     code, resumed, err = run_main(capsys, *argv, "--resume")
@@ -792,12 +799,7 @@ def test_a_signed_suboptimal_record_is_not_trusted_as_optimal(capsys, tmp_path):
     both neighbours' -- solved again; a proved record claiming "infeasible" is refused; a resumed
     point's objective and worst eigenvalue are recomputed at its point, its times are not the
     store's."""
-    argv, store, whole = _sweep_store(capsys, tmp_path)
-    lines = [json.loads(line) for line in _store_lines(store)]
-    forged = lines[3]["record"]
-    scalar = next(k for k, v in forged["values"].items() if isinstance(v, float))
-    forged["values"][scalar] *= 4
-    forged["gamma"] *= 2
+    argv, store, whole, lines = _forged_store(capsys, tmp_path)
     lines[5]["record"]["status"] = "infeasible"
     lines[1]["record"]["objective"] = 123.0           # not read: recomputed at the point
     lines[1]["record"]["worst_eig"] = -5.0
@@ -948,3 +950,24 @@ def test_quick_mode_takes_an_object_array_of_numbers_and_names_a_shape_mismatch(
         thm.lmi([[-np.eye(3) * P]])
     assert str(err.value).startswith("quick40.shape: ") and "the numpy constant" in str(err.value)
     assert "is 3×3 and P is 2×2, which do not conform" in str(err.value)
+
+
+@pytest.mark.parametrize("kind,D1,fragment", [
+    ("full", [[1.0, 2.0], [0.5, 3.0]], "is not symmetric"),
+    ("diagonal", [[1.0, 0.0], [0.0, 3.0]], "is symmetric for these data only"),    # D₁X₂ diagonal here
+])
+def test_a_diagonal_block_symmetric_only_by_accident_is_refused_at_bind(kind, D1, fragment):
+    """2·D₁·X₂ᵀ as a diagonal block: not symmetric (refused, as before), or symmetric only
+    because these D₁ and X₂ are both diagonal -- other data of the same declared kinds break it,
+    so it is refused at bind too, naming the block (the fuzz spec that got through)."""
+    from lmidsl import Source, Theorem
+    from lmidsl.errors import TheoremDefinitionError
+    from lmidsl.numeric.instance import bind
+    t = Theorem(f"test40.diag_{kind}", "x", Source("f", "(1)"))
+    n = t.dim("n")
+    D = t.data("D1", n, n)
+    X = t.var("X2", n, kind=kind)
+    t.lmi("(1)", [[2 * D * X.T]])
+    with pytest.raises(TheoremDefinitionError) as err:
+        bind(t, {"D1": D1})
+    assert f"test40.diag_{kind}: LMI (1) diagonal block (1,1) 2*D1*X2" in str(err.value) and fragment in str(err.value)
