@@ -8,12 +8,15 @@ from __future__ import annotations
 import errno
 import json
 import os
+import re
+import shutil
 import signal
 import socket
 import subprocess
 import sys
 import threading
 import time
+from pathlib import Path
 
 import control
 import numpy as np
@@ -245,6 +248,18 @@ def _store_lines(path):
     return path.read_text().splitlines()
 
 
+def _resign(lines: list, header: dict) -> None:
+    """Sign edited records again with this user's store key (what only lmidsl, or someone who
+    has read the key, can do): the checks behind the signature are then what stands."""
+    import hashlib
+    import hmac
+    from lmidsl.studies.store import _canonical, record_signature, store_secret
+    key = hmac.new(store_secret(), _canonical(header), hashlib.sha256).digest()
+    for line in lines:
+        if "record" in line:
+            line["sig"] = record_signature(key, line["record"])
+
+
 def test_an_edited_store_resumes_to_the_uninterrupted_result(capsys, tmp_path):
     """γ edited to 1e-6, a solver point edited (its LMIs no longer hold), a duplicated point (both
     copies solved again: which one is right cannot be told), a
@@ -263,8 +278,10 @@ def test_an_edited_store_resumes_to_the_uninterrupted_result(capsys, tmp_path):
     values = records[2]["record"]["values"]
     name = next(k for k, v in values.items() if isinstance(v, list) and isinstance(v[0], list))
     values[name][0][0] += 1e3
+    _resign(records, records[0]["header"])     # as lmidsl would have signed them: the checks behind
     outside = json.loads(lines[4])
     outside["record"]["params"]["rbar"] = 0.33
+    _resign([outside], records[0]["header"])
     nan = lines[5].replace(str(records[5]["record"]["gamma"]), "NaN")
     edited = [json.dumps(r) for r in records[:4]] + [lines[3], lines[4], json.dumps(outside), nan, "5", "[1, 2]",
                                                        '{"record": {"params": {"rbar": 0.2}}}']
@@ -511,3 +528,446 @@ def test_the_clock_covers_start_up(tmp_path):
     assert any(line.startswith("error: --timeout 0.3: stopped after 0.3 s (timed out")
                for line in err.splitlines()), err
     assert "Traceback" not in err and "internal error" not in err, err
+
+
+# == issue 40: TeX that reads no file ==========================================================
+PDFLATEX = shutil.which("pdflatex")
+needs_pdflatex = pytest.mark.skipif(
+    PDFLATEX is None, reason="pdflatex is not installed (Debian: apt-get install texlive-latex-base)")
+
+#: hostile strings: TeX file input spelt directly, through ^^ notation, \csname, expl3, a
+#: newline out of a comment, an unbalanced brace
+HOSTILE = [r"\input{/etc/passwd}", r"^^5cinput{/etc/passwd}", r"\csname input\endcsname{/etc/passwd}",
+           r"\ExplSyntaxOn\use:c{input}{/etc/passwd}", "x\n\\input{/etc/passwd}", r"}\input{/etc/passwd}{",
+           r"\UseName{input}{/etc/passwd}", r"\includegraphics{/etc/passwd}",
+           r"\begin{filecontents*}{../pwned.tex}x\end{filecontents*}"]
+
+
+def _hostile_theorem():
+    """Every user string of a theorem hostile: id, title, source, description, symbol names, LaTeX
+    names, LMI labels, example name."""
+    from lmidsl import Source, Theorem
+    h = HOSTILE
+    t = Theorem("../../" + h[0], "T " + h[1], Source(h[2], "(1)" + h[3]), description=h[4])
+    n = t.dim("n")
+    A = t.data("A" + h[0], n, n, latex=r"\mathrm{A" + h[0] + "}", description=h[5])
+    B = t.data("B", n, n, latex=h[1])
+    C = t.data("C", n, n, latex=h[2])
+    P = t.var("P", n, kind="symmetric", latex=h[3])
+    Q = t.var(h[6], n, kind="symmetric", latex=h[7])
+    t.lmi("(1)" + h[0], [[A.T * P * A - P + B * C + Q]])
+    t.lmi("(2)" + h[4], [[-P]])
+    t.lmi(h[8], [[-Q]])
+    return t
+
+
+def _assert_inert(text: str):
+    from lmidsl.render.latex_safe import forbidden_in
+    body = text.split(r"\begin{document}", 1)[-1]
+    assert forbidden_in(body) == [], forbidden_in(body)
+
+
+def test_hostile_strings_are_escaped_in_every_latex_output():
+    from lmidsl.render.latex_document import lmi_snippet, theorem_latex
+    thm = _hostile_theorem()
+    _assert_inert(theorem_latex(thm))
+    for lmi in thm.lmis:
+        snippet = lmi_snippet(thm, lmi.label)
+        _assert_inert(snippet)
+        assert all(line.startswith("%") for line in snippet.splitlines()[:1]) and "\n\\input" not in snippet
+
+
+def test_declared_latex_names_in_the_harmless_subset_are_kept():
+    from lmidsl.render.latex_safe import guarded, safe_math
+    for name in (r"\hat{A}_f", r"\bar{\xi}_1", r"\mathcal{P}_{1}", r"\gamma^2", r"\Lambda", r"P_{1i}"):
+        assert safe_math(name) == name
+    assert safe_math(r"\input{x}") == r"\mathrm{\backslash{}input\{x\}}"
+    assert guarded(r"a \input{x} b ^^5c") == r"a \string\input{x} b ^{}^5c"
+    assert guarded(r"\\input") == r"\\input"            # a line break, then the word: not the primitive
+
+
+@needs_pdflatex
+def test_a_hostile_document_compiled_without_restrictions_reads_no_file(tmp_path):
+    """The escaping alone is the wall: pdflatex run with no paranoid setting on the hostile
+    document compiles, and its log shows no file of the system read and no file written."""
+    from lmidsl.render.latex_document import theorem_latex
+    (tmp_path / "doc.tex").write_text(theorem_latex(_hostile_theorem()))
+    proc = subprocess.run([PDFLATEX, "-interaction=nonstopmode", "-halt-on-error", "doc.tex"], cwd=tmp_path,
+                          capture_output=True, text=True, errors="replace", stdin=subprocess.DEVNULL, timeout=120)
+    log = (tmp_path / "doc.log").read_text(errors="replace")
+    assert proc.returncode == 0, [l for l in proc.stdout.splitlines() if l.startswith("!")]
+    assert "(/etc/passwd" not in log and "root:" not in log       # "(path" marks a file TeX opened
+    assert not (tmp_path.parent / "pwned.tex").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["doc.aux", "doc.log", "doc.pdf", "doc.tex"]
+
+
+@needs_pdflatex
+def test_latex_pdf_stays_in_its_folder_and_keeps_the_users_files(tmp_path, monkeypatch):
+    """A theorem id ``../../x`` writes in the working folder; ``-o 'a\\input{b}.tex'`` never
+    reaches TeX's command line (a b.tex beside it is not read); pdflatex runs with
+    -no-shell-escape and kpathsea's paranoid openin_any/openout_any in a fresh folder, so a
+    log or aux file of the user's beside the output is neither read nor deleted."""
+    import lmidsl.cli.latex_cmd as latex_cmd
+    folder = tmp_path / "thms"
+    folder.mkdir()
+    (folder / "mine.py").write_text(GOOD.format(id="../../escaped", title="up"))
+    run_dir = tmp_path / "a" / "b" / "run"
+    run_dir.mkdir(parents=True)
+    monkeypatch.setenv("LMIDSL_THEOREM_PATH", str(folder))
+    monkeypatch.chdir(run_dir)
+    calls = []
+    real_run = subprocess.run
+
+    def spy(argv, **kw):
+        calls.append((list(argv), dict(kw.get("env") or {}), kw.get("cwd")))
+        return real_run(argv, **kw)
+    monkeypatch.setattr(latex_cmd.subprocess, "run", spy)
+    (run_dir / "_.._escaped.log").write_text("mine\n")
+    (run_dir / "_.._escaped.aux").write_text("mine too\n")
+    assert main(["latex", "../../escaped", "--pdf"]) == 0
+    assert sorted(p.name for p in run_dir.iterdir()) == [
+        "_.._escaped.aux", "_.._escaped.log", "_.._escaped.pdf", "_.._escaped.tex"]
+    assert (run_dir / "_.._escaped.log").read_text() == "mine\n"
+    assert (run_dir / "_.._escaped.aux").read_text() == "mine too\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a", "thms"]
+    argv, env, cwd = calls[-1]
+    assert "-no-shell-escape" in argv and argv[-1] == "lmidsl-document.tex"
+    assert env["openin_any"] == "p" and env["openout_any"] == "p" and "TEXMFOUTPUT" not in env
+    assert Path(cwd) != run_dir and not Path(cwd).exists()      # a fresh folder, removed
+    (run_dir / "b.tex").write_text("\\immediate\\write18{touch PWNED}\\errmessage{b.tex was read}\n")
+    assert main(["latex", "wang_l2linf.thm3", "--pdf", "-o", "a\\input{b}.tex"]) == 0
+    assert calls[-1][0][-1] == "lmidsl-document.tex" and (run_dir / "a\\input{b}.pdf").stat().st_size > 1000
+    assert not (run_dir / "PWNED").exists()
+
+
+# == issue 40: interrupts and deadlines end cleanly, the bound's worker included ===============
+EXIT_IN_BOUND = '''
+import sys, threading
+import lmidsl
+from lmidsl.solver import dual_bound
+
+inside = threading.Event()
+real = dual_bound.clarabel_solve
+
+def solve_and_say(problem, **kw):
+    inside.set()
+    return real(problem, **kw)
+
+def leave_now(self):
+    inside.wait(300)
+    print("leaving with the worker inside Clarabel", flush=True)
+    sys.exit(0)
+
+dual_bound.clarabel_solve = solve_and_say
+dual_bound.PendingBound.result = leave_now
+junk = [{i: str(i)} for i in range(2_000_000)]     # a finalisation that outlasts the solve in flight
+lmidsl.solve("li_delay_dropout.thm2", example="paper", overrides={"xi2": 1.0})
+'''
+
+
+@pytest.mark.slow
+def test_the_interpreter_exits_cleanly_with_the_bound_worker_inside_clarabel(tmp_path):
+    """The interpreter leaves while the proved bound's worker is inside a shifted Clarabel solve
+    (li_delay_dropout.thm2, ξ₂ = 1: its bound needs shifted solves).  A daemon worker was ended
+    there by pthread_exit and the process aborted ("FATAL: exception not rethrown", exit 134, 2 of 2
+    runs before the fix); now the worker is cancelled and the solve in flight finishes: exit 0."""
+    script = tmp_path / "exit_in_bound.py"
+    script.write_text(EXIT_IN_BOUND)
+    proc = subprocess.run([sys.executable, str(script)], cwd=ROOT, env=_env(tmp_path), capture_output=True,
+                          text=True, timeout=600)
+    assert "leaving with the worker inside Clarabel" in proc.stdout, proc.stderr
+    assert proc.returncode == 0 and "FATAL" not in proc.stderr, (proc.returncode, proc.stderr[-500:])
+
+
+def test_a_cancelled_bound_stops_before_its_next_shifted_solve(monkeypatch):
+    """cancel() is honoured between shifted solves: the record says "cancelled", no bound is
+    claimed, and no shifted solve starts after the cancel (li_delay_dropout.thm2, ξ₂ = 1, whose
+    bound needs several)."""
+    import lmidsl.pipeline as pipeline
+    from lmidsl.solver import dual_bound
+    started, gate, made = [], threading.Event(), []
+    real_shifted, real_pending = dual_bound._solve_shifted, pipeline.PendingBound
+
+    def gated(*args, **kw):
+        started.append(1)
+        gate.wait(300)
+        return real_shifted(*args, **kw)
+
+    class Kept(real_pending):
+        def __init__(self, *args, **kw):
+            super().__init__(*args, **kw)
+            made.append(self)
+
+    def cancel_when_inside():
+        while not started:
+            time.sleep(0.02)
+        made[0].cancel()
+        gate.set()
+    monkeypatch.setattr(dual_bound, "_solve_shifted", gated)
+    monkeypatch.setattr(pipeline, "PendingBound", Kept)
+    threading.Thread(target=cancel_when_inside, daemon=True).start()
+    sol = pipeline.solve("li_delay_dropout.thm2", example="paper", overrides={"xi2": 1.0})
+    assert len(started) == 1
+    assert sol.bounds.proved is False and "cancelled" in sol.bounds.why
+    assert dual_bound.cancel_pending(wait=1.0)
+
+
+# == issue 40: any output encoding ==============================================================
+@pytest.mark.parametrize("encoding", ["ascii", "latin-1"])
+def test_any_output_encoding_prints_the_result(tmp_path, encoding):
+    code, out, err = _cli(_env(tmp_path, PYTHONIOENCODING=encoding), "solve", *THM3)
+    assert code == 0, err
+    assert "gamma     = 0.3367" in out and "internal error" not in err     # the paper's 0.3367
+    out.encode(encoding)
+
+
+def test_ascii_stand_ins():
+    from lmidsl.cli import _stand_in
+    assert [_stand_in(c) for c in "γΓ≤ᵀλ"] == ["gamma", "Gamma", "<=", "^T", "lambda"]
+    assert _stand_in("\u0304") == "" and _stand_in("漢") == "?"
+
+
+# == issue 40: stdout is ours ===================================================================
+def _c_print(text: str) -> None:
+    """Print as a C library does (libc's printf, its own buffer, flushed by fflush)."""
+    import ctypes
+    libc = ctypes.CDLL(None)
+    libc.printf(text.encode())
+    libc.fflush(None)
+
+
+def test_what_c_libraries_print_never_reaches_json_stdout(capfd, monkeypatch):
+    """SCS's C code wrote "KKT matrix has < n positive eigenvalues" on stdout before the JSON
+    (rates of 1e300); with --json, descriptor 1 is stderr while the command runs (planted here
+    in the binding, as libc's printf), and stdout is the JSON alone."""
+    import lmidsl.numeric.instance as instance_module
+    original = instance_module.check_symmetric_blocks
+
+    def noisy(instance):
+        _c_print("KKT matrix has < n positive eigenvalues\n")
+        return original(instance)
+    monkeypatch.setattr(instance_module, "check_symmetric_blocks", noisy)
+    assert main(["solve", *THM3, "--json"]) == 0
+    out, err = capfd.readouterr()
+    assert abs(json.loads(out)["gamma"] - 0.33674) < 1e-4 and "KKT matrix" in err    # Table 1: 0.3367
+    assert main(["solve", *THM3]) == 0                  # without --json: as before
+    out, _ = capfd.readouterr()
+    assert "KKT matrix" in out
+
+
+# == issue 40: stores prove or recompute every field they return ================================
+def _sweep_store(capsys, tmp_path, grid="rbar=0.2:0.8:5"):
+    out = tmp_path / "out"
+    argv = ("sweep", *THM3, "--grid", grid, "--no-progress", "--out", str(out), "--json")
+    code, whole, err = run_main(capsys, *argv)
+    assert code == 0, err
+    return argv, out / "sweep.jsonl", json.loads(whole)
+
+
+def _forged_store(capsys, tmp_path):
+    """A sweep's store with the third point's solver point edited consistently: γ² × 4 (the LMIs
+    still hold at the larger level) and γ doubled to match."""
+    argv, store, whole = _sweep_store(capsys, tmp_path)
+    lines = [json.loads(line) for line in _store_lines(store)]
+    forged = lines[3]["record"]
+    scalar = next(k for k, v in forged["values"].items() if isinstance(v, float))
+    forged["values"][scalar] *= 4
+    forged["gamma"] *= 2
+    return argv, store, whole, lines
+
+
+def test_a_consistent_forgery_is_found_by_its_signature(capsys, tmp_path):
+    """One record's solver point edited consistently (γ² × 4: the LMIs still hold; γ, objective
+    doubled/quadrupled to match), another's status made "infeasible": without the user's key the
+    signature does not match, both are solved again with one warning, and the resumed sweep is
+    the uninterrupted one."""
+    argv, store, whole, lines = _forged_store(capsys, tmp_path)
+    lines[3]["record"]["objective"] *= 4
+    lines[4]["record"]["status"] = "infeasible"
+    store.write_text("".join(json.dumps(line) + "\n" for line in lines))
+    code, resumed, err = run_main(capsys, *argv, "--resume")
+    assert code == 0, err
+    warning = [l for l in err.splitlines() if l.startswith("warning: --resume")]
+    assert len(warning) == 1 and "2: edited after it was written" in warning[0], err
+    assert [p["gamma"] for p in json.loads(resumed)["points"]] == [p["gamma"] for p in whole["points"]]
+    assert json.loads(resumed)["resumed"] == 3
+
+
+def test_a_signed_suboptimal_record_is_not_trusted_as_optimal(capsys, tmp_path):
+    """Signed with the key (lmidsl's own record of a solver that stopped early, or a forger who
+    read the key): the point is proved and its γ is the γ at its point, but its objective is above
+    both neighbours' -- solved again; a proved record claiming "infeasible" is refused; a resumed
+    point's objective and worst eigenvalue are recomputed at its point, its times are not the
+    store's."""
+    argv, store, whole, lines = _forged_store(capsys, tmp_path)
+    lines[5]["record"]["status"] = "infeasible"
+    lines[1]["record"]["objective"] = 123.0           # not read: recomputed at the point
+    lines[1]["record"]["worst_eig"] = -5.0
+    lines[1]["record"]["total"] = 99.0
+    _resign(lines, lines[0]["header"])
+    store.write_text("".join(json.dumps(line) + "\n" for line in lines))
+    code, resumed, err = run_main(capsys, *argv, "--resume")
+    assert code == 0, err
+    warning = [l for l in err.splitlines() if l.startswith("warning: --resume")]
+    assert len(warning) == 1, err
+    assert "its objective is above both its neighbours'" in warning[0] and "'infeasible' with a proved point" in warning[0]
+    points = json.loads(resumed)["points"]
+    assert [p["gamma"] for p in points] == [p["gamma"] for p in whole["points"]]
+    first = points[0]
+    assert abs(first["objective"] - whole["points"][0]["objective"]) <= 1e-12 * abs(first["objective"])
+    assert first["worst_eig"] < 0 and first["worst_eig"] != -5.0 and first["total"] == 0.0
+    assert first["solver_call"] is None and first["gamma"] ** 2 == pytest.approx(first["objective"], rel=1e-9)
+
+
+# == issue 40: assumptions for every member, names and values checked ==========================
+def _per_mode_theorem(assume_name="A", **kw):
+    from lmidsl import He, Source, Theorem
+    from lmidsl.theorem.assumptions import stable
+    t = Theorem("test40.per_mode", "per-mode Lyapunov", Source("test", "(1)"), time="continuous")
+    n = t.dim("n")
+    M = t.index_set("modes", size="N")
+    i = M.indices("i")
+    A = t.data("A", n, n, over=M)
+    P = t.var("P", n, kind="symmetric", over=M)
+    t.lmi("(1)", [[He(P[i] * A[i])]], forall=i)
+    t.positive(P[i], forall=i)
+    t.assume(stable(assume_name, **kw))
+    return t
+
+
+def test_an_assumption_holds_for_every_member_of_an_index_set():
+    """stable("A") on a per-mode A with mode 2 unstable (eigenvalue +0.5, the other modes
+    stable): refused at bind, naming mode 2 and its spectral abscissa; with every mode stable the
+    instance binds."""
+    from lmidsl.errors import InputError
+    from lmidsl.numeric.instance import bind
+    thm = _per_mode_theorem()
+    modes = [{"A": [[-1.0, 0.0], [0.0, -2.0]]}, {"A": [[0.5, 1.0], [0.0, -1.0]]}, {"A": [[-0.1, 0.0], [0.0, -0.3]]}]
+    with pytest.raises(InputError) as err:
+        bind(thm, {"modes": modes})
+    assert "assumption A stable does not hold for modes 2 (A_2)" in str(err.value)
+    assert f"{max(np.linalg.eigvals(np.array(modes[1]['A'])).real):.6g}" in str(err.value)   # 0.5
+    modes[1]["A"] = [[-0.5, 1.0], [0.0, -1.0]]
+    assert bind(thm, {"modes": modes}).theorem.member_sizes == {"modes": 3}
+    with pytest.raises(InputError, match=r"for modes 1 \(A_1\)"):      # one A for every mode
+        bind(thm, {"modes": [{}, {}], "A": [[0.1, 0.0], [0.0, -1.0]]})
+
+
+def test_an_assumption_at_every_vertex_of_a_polytope():
+    """stable("A") on a polytope whose third vertex is made unstable: refused naming vertex 3."""
+    from lmidsl.errors import InputError
+    from lmidsl.numeric.instance import bind
+    from lmidsl.theorem.assumptions import stable
+    from lmidsl.theorem.registry import get_theorem
+    thm = get_theorem("textbook.hpd_stability_ct")
+    data = thm.examples["spread-3"].data
+    saved = thm.assumptions
+    try:
+        thm.assumptions = [stable("A")]
+        vertices = [dict(v) for v in data["vertices"]]
+        vertices[2]["A"] = (np.asarray(vertices[2]["A"]) + 3 * np.eye(len(vertices[2]["A"]))).tolist()
+        with pytest.raises(InputError, match="does not hold at vertex 3"):
+            bind(thm, {**data, "vertices": vertices, "degree": 1, "polya": 0})
+    finally:
+        thm.assumptions = saved
+
+
+def test_an_assumption_on_no_datum_is_refused_at_declaration():
+    from lmidsl.errors import TheoremDefinitionError
+    with pytest.raises(TheoremDefinitionError, match=r"'Al' is no datum of the theorem \(did you mean 'A'"):
+        _per_mode_theorem("Al")
+    assert _per_mode_theorem("Dl1", external=True).assumptions[0].external     # declared as not taken
+
+
+@pytest.mark.parametrize("value,kind", [([["x", 0], [0, 1]], "not a finite real matrix"),
+                                        ([[1j, 0], [0, -1]], "complex"), ([[1, 2], [3]], "not a finite real matrix"),
+                                        ([[float("nan"), 0], [0, -1]], "not a finite real matrix")])
+def test_a_non_numeric_datum_of_an_assumption_is_an_error(value, kind):
+    """An external datum (D11 of the continuous-time H2 theorems) is not bound, so nothing else
+    looks at it: a value that is no finite real matrix was silently skipped; now one line."""
+    from lmidsl.errors import InputError
+    from lmidsl.numeric.instance import bind
+    from lmidsl.theorem.registry import get_theorem
+    thm = get_theorem("textbook.h2_ct_sf")
+    data = dict(thm.examples["random-3"].data)
+    with pytest.raises(InputError) as err:
+        bind(thm, {**data, "D11": value})
+    assert f"assumption D11 = 0 cannot be checked: D11 is {kind}" in str(err.value)
+
+
+# == issue 40: the smaller messages, each naming the culprit ====================================
+def test_a_vertex_of_the_wrong_size_names_the_vertex_sizes_and_its_use(capsys, tmp_path):
+    from lmidsl.theorem.registry import get_theorem
+    data = get_theorem("textbook.hpd_stability_ct").examples["spread-3"].data
+    vertices = [{k: np.asarray(v).tolist() for k, v in vertex.items()} for vertex in data["vertices"]]
+    vertices[1]["A"] = (-np.eye(3)).tolist()
+    path = tmp_path / "bad.json"
+    path.write_text(json.dumps({"vertices": vertices}))
+    code, _, err = run_main(capsys, "solve", "textbook.hpd_stability_ct", "--data", str(path),
+                            "--set", "degree=1", "--set", "polya=0")
+    assert_one_line(code, err, "data A (vertex 2) is 3×3 but must be n×n = 2×2", "enters LMI (HPPD)", "(as A_2)")
+    assert "enters no LMI" not in err
+
+
+def test_sweeping_a_member_parameter_is_refused_with_the_declared_domain(capsys):
+    """degree selects the HPPD member; the message gives the declared domain [0, 8] the user
+    was told, not the member's one-point [2, 2]."""
+    code, _, err = run_main(capsys, "sweep", "textbook.hpd_stability_ct", "--grid", "degree=0,1,2", "--no-progress")
+    assert_one_line(code, err, "--grid degree", "selects the theorem's member", "degree = 2", "[0, 8]")
+    assert "[2, 2]" not in err
+
+
+@pytest.mark.parametrize("array,fragment", [
+    (np.array([[1j, 0], [0, -1]]), "complex numbers (dtype complex128"),
+    (np.array([[object(), 0], [0, 1]], dtype=object), "Python objects (dtype object"),
+    (np.array([["a", "b"], ["c", "d"]]), "strings"),
+])
+def test_quick_mode_refuses_arrays_that_are_not_real(array, fragment):
+    from lmidsl import Theorem
+    from lmidsl.errors import TheoremDefinitionError
+    thm = Theorem(f"quick40.{array.dtype.kind}")
+    P = thm.var("P", 2, kind="symmetric")
+    with pytest.raises(TheoremDefinitionError, match="a constant must be a real matrix") as err:
+        thm.lmi([[array.T * P + P * array]])
+    assert fragment in str(err.value)
+
+
+def test_quick_mode_takes_an_object_array_of_numbers_and_names_a_shape_mismatch():
+    """An object array of floats is numbers (A = -I: the LMI AᵀP + PA < 0 holds at P = I); a 3×3
+    array against a 2×2 P is lmidsl's one-line shape error naming both, not sympy's ShapeError."""
+    import lmidsl
+    from lmidsl import Theorem
+    from lmidsl.errors import ShapeMismatchError
+    A = np.array([[-1.0, 0.0], [0.0, -2.0]], dtype=object)
+    thm = Theorem("quick40.object")
+    P = thm.var("P", 2, kind="symmetric")
+    thm.lmi([[A.T * P + P * A]])
+    thm.lmi([[P]], sense=">")
+    assert lmidsl.solve(thm).lmis_hold
+    thm = Theorem("quick40.shape")
+    P = thm.var("P", 2, kind="symmetric")
+    with pytest.raises(ShapeMismatchError) as err:
+        thm.lmi([[-np.eye(3) * P]])
+    assert str(err.value).startswith("quick40.shape: ") and "the numpy constant" in str(err.value)
+    assert "is 3×3 and P is 2×2, which do not conform" in str(err.value)
+
+
+@pytest.mark.parametrize("kind,D1,fragment", [
+    ("full", [[1.0, 2.0], [0.5, 3.0]], "is not symmetric"),
+    ("diagonal", [[1.0, 0.0], [0.0, 3.0]], "is symmetric for these data only"),    # D₁X₂ diagonal here
+])
+def test_a_diagonal_block_symmetric_only_by_accident_is_refused_at_bind(kind, D1, fragment):
+    """2·D₁·X₂ᵀ as a diagonal block: not symmetric (refused, as before), or symmetric only
+    because these D₁ and X₂ are both diagonal -- other data of the same declared kinds break it,
+    so it is refused at bind too, naming the block (the fuzz spec that got through)."""
+    from lmidsl import Source, Theorem
+    from lmidsl.errors import TheoremDefinitionError
+    from lmidsl.numeric.instance import bind
+    t = Theorem(f"test40.diag_{kind}", "x", Source("f", "(1)"))
+    n = t.dim("n")
+    D = t.data("D1", n, n)
+    X = t.var("X2", n, kind=kind)
+    t.lmi("(1)", [[2 * D * X.T]])
+    with pytest.raises(TheoremDefinitionError) as err:
+        bind(t, {"D1": D1})
+    assert f"test40.diag_{kind}: LMI (1) diagonal block (1,1) 2*D1*X2" in str(err.value) and fragment in str(err.value)

@@ -106,7 +106,11 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str |
     # the bound reads the models' duals now (a back-off or level solve replaces them) and runs on
     # a worker thread while the design is recovered and certified
     pending = PendingBound(model, solution, [m for m in solved if m is not model], solution.gamma)
-    final = _recover_and_certify(model, applied, solution, backoff, bounds, finish)
+    try:
+        final = _recover_and_certify(model, applied, solution, backoff, bounds, finish)
+    except BaseException:             # an interrupt, a deadline, an error: the bound is not wanted
+        pending.cancel()
+        raise
     t0 = time.perf_counter()
     solution.bounds = final.bounds = pending.result()
     final.times["lower_bound_wait"] = time.perf_counter() - t0

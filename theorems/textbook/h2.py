@@ -20,7 +20,7 @@ gives ‖G‖₂² as the infimum (the Schur complements: A P + P Aᵀ + B Bᵀ 
 **State feedback.**  The same LMIs for the closed loop (A + B2 K, B1, C1 + D12 K, D11) with
 P = Y and W = K Y are linear in (Y, W, Z); K = W Y⁻¹ (:func:`lmidsl.state_feedback_gain`).
 Continuous time needs D11 = 0: the theorem takes no D11 and declares the assumption
-(``thm.assume(zero("D11"))``), so a plant with D11 ≠ 0 is refused at bind time.  The optimum is the LQR cost with
+(``thm.assume(zero("D11", external=True))``), so a plant with D11 ≠ 0 is refused at bind time.  The optimum is the LQR cost with
 Q = C1ᵀC1, R = D12ᵀD12, N = C1ᵀD12 (python-control's ``lqr`` / ``dlqr`` are the independent check).
 """
 from lmidsl import He, I, Source, Theorem, state_feedback_gain
@@ -80,7 +80,7 @@ def _analysis(name: str, time: str) -> Theorem:
         B = thm.data("B", n, m, description="input matrix (w)")
         C = thm.data("C", p, n, description="output matrix (z)")
         D = None
-        thm.assume(zero("D", why="the continuous-time H2 norm is infinite when D ≠ 0"))
+        thm.assume(zero("D", why="the continuous-time H2 norm is infinite when D ≠ 0", external=True))
     else:
         (n, m, p), (A, B, C, D) = system_data(thm)
     P = thm.var("P", n, kind="symmetric", description="bound on the controllability Gramian")
@@ -106,7 +106,7 @@ def _state_feedback(name: str, time: str) -> Theorem:
     W = thm.var("W", m2, n, description="W = K Y")
     h2_gramian(thm, A, B1, C1, D11, n, p1, P=Y, AP=A * Y + B2 * W, CP=C1 * Y + D12 * W)
     if time == "continuous":
-        thm.assume(zero("D11", why=D11_WHY))
+        thm.assume(zero("D11", why=D11_WHY, external=True))
     thm.recover(K=state_feedback_gain(W, Y))
     scale_state(thm, ("A", "B1", "B2"), ("A", "C1"), recovered_cols=("K",))
     thm.certified_by(f"textbook.h2_{'ct' if time == 'continuous' else 'dt'}_sf_cl", design=("K",))
@@ -129,7 +129,7 @@ def _sf_analysis(name: str, time: str) -> Theorem:
     D12 = thm.data("D12", p1, m2, latex="D_{12}")
     K = thm.data("K", m2, n, description="state-feedback gain u = K x")
     if time == "continuous":
-        thm.assume(zero("D11", why=D11_WHY))
+        thm.assume(zero("D11", why=D11_WHY, external=True))
     Acl = thm.define("A_cl", A + B2 * K, latex=r"A_{cl}")
     Ccl = thm.define("C_cl", C1 + D12 * K, latex=r"C_{cl}")
     P = thm.var("P", n, kind="symmetric")

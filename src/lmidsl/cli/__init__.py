@@ -17,6 +17,8 @@ import _thread
 import argparse
 import atexit
 import ast
+import codecs
+import contextlib
 import errno
 import importlib
 import json
@@ -24,6 +26,7 @@ import os
 import signal
 import sys
 import threading
+import unicodedata
 import warnings
 from pathlib import Path
 
@@ -254,14 +257,63 @@ def _flush_quietly():
             pass
 
 
+#: ASCII stand-ins for the characters lmidsl prints, when the output's encoding lacks them
+_STAND_INS = {"≤": "<=", "≥": ">=", "≠": "!=", "≈": "~", "×": "x", "·": "*", "−": "-", "–": "-",
+              "—": "--", "…": "...", "∞": "inf", "±": "+/-", "⋆": "*", "√": "sqrt", "∈": " in ",
+              "→": "->", "←": "<-", "‖": "||", "⪯": "<=", "⪰": ">=", "≺": "<", "≻": ">", "ᵀ": "^T",
+              "⁻": "^-", "²": "^2", "³": "^3", "¹": "^1", "✓": "ok", "✗": "x", "│": "|", "─": "-",
+              "━": "-", "┃": "|", "•": "*", "‘": "'", "’": "'", "“": '"', "”": '"', "°": "deg"}
+
+
+def _stand_in(ch: str) -> str:
+    """One character in ASCII: a stand-in (≤ → <=), a Greek letter's name (γ → gamma), the
+    letters of its decomposition (r̄ → r), else '?'."""
+    if ch in _STAND_INS:
+        return _STAND_INS[ch]
+    name = unicodedata.name(ch, "")
+    if name.startswith(("GREEK SMALL LETTER ", "GREEK CAPITAL LETTER ")):
+        word = name.rsplit(" ", 1)[-1].lower().replace("lamda", "lambda")
+        return word.capitalize() if "CAPITAL" in name else word
+    plain = unicodedata.normalize("NFKD", ch).encode("ascii", "ignore").decode()
+    return plain if plain or unicodedata.combining(ch) else "?"
+
+
+def _ascii_fallback(exc):
+    if not isinstance(exc, UnicodeEncodeError):
+        raise exc
+    return "".join(_stand_in(c) for c in exc.object[exc.start:exc.end]), exc.end
+
+
+codecs.register_error("lmidsl-ascii", _ascii_fallback)
+
+
+def fit_streams_to_encoding() -> None:
+    """stdout and stderr in an encoding without lmidsl's characters (``PYTHONIOENCODING=ascii``,
+    a C locale) print ASCII stand-ins (γ → gamma, ≤ → <=) instead of failing; JSON is ASCII
+    already (``\\u`` escapes)."""
+    for stream in (sys.stdout, sys.stderr):
+        encoding = getattr(stream, "encoding", None)
+        if not encoding or not hasattr(stream, "reconfigure"):
+            continue
+        try:
+            "γ≤ᵀ−r̄‖".encode(encoding)
+        except UnicodeEncodeError:
+            try:
+                stream.reconfigure(errors="lmidsl-ascii")
+            except (ValueError, OSError):        # a detached or closed stream: left as it is
+                pass
+        except LookupError:
+            pass
+
+
 def main(argv=None) -> int:
+    fit_streams_to_encoding()
     try:
         return _main(argv)
     except BrokenPipeError:
         # the reader of stdout went away (`lmidsl list | head -1`): not an error of the command;
         # stdout goes to /dev/null so that the interpreter's final flush does not fail again
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
+        _to_devnull(sys.stdout.fileno())
         return 0
 
 
@@ -276,13 +328,31 @@ def console_main() -> None:
     tests and embedding."""
     Deadline.hard_exit = True
     code = main()
+    if not _background_work_ended():
+        _leave(code)
     if threading.active_count() > 1 or sys.getprofile() is not None or sys.gettrace() is not None:
         sys.exit(code)
-    for stream in (sys.stdout, sys.stderr):
-        try:
-            stream.flush()
-        except (OSError, ValueError):      # a closed pipe or stream: nothing left to write
-            pass
+    _leave(code)
+
+
+def _background_work_ended() -> bool:
+    """Cancel the proved bound's workers a command left (an interrupt, a deadline) and wait
+    for the shifted solve in flight at most :data:`Deadline.GRACE` seconds; whether they ended.
+    (A worker inside Clarabel must not meet the interpreter's exit:
+    :class:`lmidsl.solver.dual_bound.PendingBound`.)"""
+    dual_bound = sys.modules.get("lmidsl.solver.dual_bound")     # not imported: nothing pending
+    if dual_bound is None:
+        return True
+    try:
+        return dual_bound.cancel_pending(wait=Deadline.GRACE)
+    except KeyboardInterrupt:          # a second Ctrl-C: leave now
+        return False
+
+
+def _leave(code: int) -> None:
+    """Flush, run the ``atexit`` handlers and end the process with ``code`` at once (no thread
+    is unwound: one still in native code simply stops)."""
+    _flush_quietly()
     atexit._run_exitfuncs()
     os._exit(code)
 
@@ -334,7 +404,57 @@ def _run(args, deadline=None) -> int:
         deadline.cancel()
 
 
+@contextlib.contextmanager
+def native_output_to_stderr():
+    """File descriptor 1 is stderr for the block, so that what C libraries print (SCS's "KKT
+    matrix has < n positive eigenvalues", a solver's banner) cannot mix with lmidsl's output;
+    Python's ``sys.stdout`` goes on writing to the real stdout (a stream on a saved copy of
+    descriptor 1 when it wrote there).  Used whenever ``--json`` is asked: stdout is one JSON
+    object and nothing else."""
+    try:
+        sys.stdout.flush()
+        uses_fd1 = sys.stdout.fileno() == 1
+    except (AttributeError, OSError, ValueError):     # a stream with no descriptor (a test's capture)
+        uses_fd1 = False
+    try:
+        saved = os.dup(1)
+    except OSError:                                   # no descriptor 1 at all: nothing to keep apart
+        yield
+        return
+    original = sys.stdout
+    if uses_fd1:
+        sys.stdout = open(saved, "w", encoding=original.encoding, errors=original.errors, closefd=False,
+                          buffering=1 if getattr(original, "line_buffering", False) else -1)
+    os.dup2(2, 1)
+    try:
+        yield
+    finally:
+        try:
+            if uses_fd1:
+                sys.stdout.flush()
+        except OSError:                  # a reader gone: what is left goes nowhere, quietly
+            _to_devnull(saved)
+            raise
+        finally:
+            sys.stdout = original
+            os.dup2(saved, 1)
+            os.close(saved)
+
+
+def _to_devnull(fd: int) -> None:
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, fd)
+    os.close(devnull)
+
+
 def _run_command(args, deadline) -> int:
+    if getattr(args, "json", False):
+        with native_output_to_stderr():
+            return _run_command_here(args, deadline)
+    return _run_command_here(args, deadline)
+
+
+def _run_command_here(args, deadline) -> int:
     try:
         deadline.start()
         code = args.run(args)

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -11,7 +12,7 @@ from pathlib import Path
 from ..errors import InputError, LmidslError
 from ..pipeline import solve
 from ..render.latex_document import lmi_snippet, theorem_latex
-from ..studies.store import atomic_write_text, check_output_file
+from ..studies.store import atomic_path, atomic_write_text, check_output_file
 from ..theorem.registry import get_example, get_theorem
 from .common import add_solve_arguments, instance_spec, print_json, refuse, solve_arguments
 
@@ -39,29 +40,61 @@ def register(sub):
     p.set_defaults(run=run)
 
 
+#: kpathsea's paranoid file access for the pdflatex run: no file opened for reading or writing
+#: outside the working folder (no absolute path, no ``..``, no dot file), no shell escape
+PDFLATEX_ENV = {"openin_any": "p", "openout_any": "p", "shell_escape": "f"}
+#: the job name of every run: the user's file name never reaches TeX's command line
+JOB = "lmidsl-document"
+
+
 def compile_pdf(tex_path: Path) -> Path:
-    """Run pdflatex on a copy of ``tex_path`` in a folder of its own (its .aux and .log there), so
-    that no file beside the document is read or touched but the PDF; the PDF path, or a one-line
-    error (the log kept in that folder)."""
+    """Run pdflatex on a copy of ``tex_path`` in a fresh temporary folder (job :data:`JOB`,
+    :data:`PDFLATEX_ENV`, ``-no-shell-escape``) and move only the PDF beside ``tex_path``: no
+    file of that folder (a log, an aux file of the user's) is read, written or deleted.  The PDF
+    path, or a one-line error (pdflatex's log then kept beside the source under a free name)."""
     exe = shutil.which("pdflatex")
     if exe is None:
         raise PdflatexMissing(
             f"--pdf: pdflatex is not installed (apt-get install texlive-latex-base); "
             f"the LaTeX source is in {tex_path}")
-    work = Path(tempfile.mkdtemp(prefix="lmidsl-pdflatex-"))    # the document is self-contained
-    shutil.copyfile(tex_path, work / tex_path.name)
-    proc = subprocess.run([exe, "-interaction=nonstopmode", "-halt-on-error", tex_path.name],
-                          cwd=work, capture_output=True, text=True, stdin=subprocess.DEVNULL)
-    built = work / tex_path.with_suffix(".pdf").name
-    if proc.returncode != 0 or not built.exists():
-        lines = proc.stdout.splitlines()
-        first = next((i for i, line in enumerate(lines) if line.startswith("!")), None)
-        detail = " ".join(lines[first:first + 2]) if first is not None else "no PDF produced"
-        raise LmidslError(f"pdflatex failed on {tex_path}: {detail} (see {work / tex_path.with_suffix('.log').name})")
-    pdf = tex_path.with_suffix(".pdf")
-    shutil.move(str(built), str(pdf))
-    shutil.rmtree(work, ignore_errors=True)
+    env = {k: v for k, v in os.environ.items() if k != "TEXMFOUTPUT"}   # no absolute path allowed
+    env.update(PDFLATEX_ENV)
+    with tempfile.TemporaryDirectory(prefix="lmidsl-latex-") as folder:
+        work = Path(folder)
+        shutil.copyfile(tex_path, work / f"{JOB}.tex")
+        proc = subprocess.run([exe, "-no-shell-escape", "-interaction=nonstopmode", "-halt-on-error",
+                               f"{JOB}.tex"], cwd=work, env=env, capture_output=True, text=True,
+                              errors="replace", stdin=subprocess.DEVNULL)
+        built = work / f"{JOB}.pdf"
+        if proc.returncode != 0 or not built.exists():
+            lines = proc.stdout.splitlines()
+            first = next((i for i, line in enumerate(lines) if line.startswith("!")), None)
+            detail = " ".join(lines[first:first + 2]) if first is not None else "no PDF produced"
+            log = _free_name(tex_path.with_suffix(".log"))
+            if (work / f"{JOB}.log").exists():
+                shutil.copyfile(work / f"{JOB}.log", log)
+            raise LmidslError(f"pdflatex failed on {tex_path}: {detail} (see {log})")
+        pdf = tex_path.with_suffix(".pdf")
+        with atomic_path(pdf) as tmp:
+            shutil.copyfile(built, tmp)
     return pdf
+
+
+def _free_name(path: Path) -> Path:
+    """``path``, or ``stem-1.log``, ``stem-2.log``, ... : a name no file has (never overwrite)."""
+    k, candidate = 0, path
+    while candidate.exists():
+        k += 1
+        candidate = path.with_name(f"{path.stem}-{k}{path.suffix}")
+    return candidate
+
+
+def default_tex_name(theorem_id: str) -> Path:
+    """``THEOREM.tex`` in the working folder for ``--pdf`` without ``-o``: the id's characters
+    other than letters, digits, ``.``, ``_``, ``+`` and ``-`` replaced by ``_`` (an id
+    ``../../x`` or ``a/b`` stays in the working folder)."""
+    name = re.sub(r"[^A-Za-z0-9._+-]", "_", theorem_id).lstrip(".") or "theorem"
+    return Path(f"{name}.tex")
 
 
 def run(args):
@@ -95,7 +128,7 @@ def run(args):
     text = theorem_latex(theorem, solution, **settings)
     out = args.output
     if out is None and args.pdf:
-        out = f"{theorem.id}.tex"
+        out = str(default_tex_name(theorem.id))
     document = {"theorem": theorem.id, "example": solution.example if solution else None,
                 "solved": solution is not None, "latex": text}
     if out is None:

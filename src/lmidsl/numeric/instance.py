@@ -105,8 +105,20 @@ def _infer_dims(theorem: Theorem, matrices: dict, given_dims: dict) -> dict:
                 raise ShapeMismatchError(
                     f"{theorem.id}: data {name}{vtxt} is {fmt_shape(arr.shape)} but must be "
                     f"{fmt_shape(symbol.shape)} = {fmt_shape(expected)} ({', '.join(used)}); "
-                    f"{name} enters {theorem.first_use(symbol)}")
+                    f"{name}{vtxt} enters {_first_use(theorem, symbol, v)}")
     return dims
+
+
+def _first_use(theorem: Theorem, symbol, vertex: int) -> str:
+    """Where ``symbol`` (at ``vertex``) first enters the theorem's LMIs: in a member of a robust
+    theorem (:mod:`lmidsl.theorem.robust`) a vertex datum enters through its vertex copy
+    (A at vertex 2 is ``A_2`` in the coefficient LMIs)."""
+    for alias, (name, v) in getattr(theorem, "vertex_data", {}).items():
+        if name == symbol.name and v == vertex:
+            copy = next((a for lmi in theorem.lmis for a in lmi.symbols() if getattr(a, "name", None) == alias), None)
+            if copy is not None:
+                return f"{theorem.first_use(copy)} (as {alias})"
+    return theorem.first_use(symbol)
 
 
 def bind(theorem: Theorem, inputs: dict, example: str | None = None, *,
@@ -245,25 +257,62 @@ def random_point(instance: Instance, rng: np.random.Generator) -> dict:
 
 def check_symmetric_blocks(instance: Instance) -> None:
     """Refuse an LMI whose diagonal block is not symmetric (never symmetrise silently): each
-    diagonal block is evaluated at a random point at every polytope vertex and uncertainty
-    scenario the LMI is imposed at."""
+    diagonal block is evaluated at a random point of the variables *and of the data* (of their
+    declared kinds: symmetric data symmetric; constants written in the LMI and parameters as
+    given), at every polytope vertex and uncertainty scenario the LMI is imposed at.  A block
+    symmetric at random data is symmetric for all data (its asymmetry is a polynomial in them);
+    one that is symmetric only for the data given (``2·D₁·X₂ᵀ`` with a diagonal D₁ and X₂) is
+    refused too, saying so: other data break it, and a datum that must be symmetric is declared
+    so (``symmetric=True``)."""
     rng = np.random.default_rng(0)
-    values = random_point(instance, rng)
+    values = _random_data(instance, random_point(instance, rng), rng)
     theorem = instance.theorem
     for lmi in theorem.lmis:
         for scenario in scenarios(instance, lmi):
-            ev = NumericEvaluator(instance.dims, values, instance.params, vertex=scenario.vertex)
-            where = ("" if scenario.vertex is None else f" at vertex {scenario.vertex + 1}") + \
-                    (f" at {scenario.label}" if scenario.label else "")
             for i, row in enumerate(lmi.spec.lower):
-                blk = scenario.apply(row[i])
-                try:
-                    value = ev.visit(blk)
-                except Exception as exc:  # a theorem that cannot be evaluated is a definition error
-                    raise TheoremDefinitionError(
-                        f"{theorem.id}: LMI {lmi.label} block ({i + 1},{i + 1}) cannot be evaluated: {exc}") from None
-                value = np.atleast_2d(value)
-                if value.shape[0] != value.shape[1] or asymmetry(value) > 1e-9:
-                    raise TheoremDefinitionError(
-                        f"{theorem.id}: LMI {lmi.label} diagonal block ({i + 1},{i + 1}) {blk} is not "
-                        f"symmetric{where} (relative asymmetry {asymmetry(value) if value.shape[0] == value.shape[1] else 'n/a'})")
+                value = _diagonal_value(instance, values, lmi, scenario, i)
+                if value.shape[0] == value.shape[1] and asymmetry(value) <= 1e-9:
+                    continue
+                where = ("" if scenario.vertex is None else f" at vertex {scenario.vertex + 1}") + \
+                        (f" at {scenario.label}" if scenario.label else "")
+                given = _diagonal_value(instance, random_point(instance, rng), lmi, scenario, i)
+                only = given.shape[0] == given.shape[1] and asymmetry(given) <= 1e-9
+                text = (" for these data only: its symmetry rests on the data's values, not on their "
+                        "declared kinds (a datum that must be symmetric is declared symmetric=True)"
+                        if only else "")
+                raise TheoremDefinitionError(
+                    f"{theorem.id}: LMI {lmi.label} diagonal block ({i + 1},{i + 1}) {scenario.apply(row[i])} "
+                    f"is {'symmetric' if only else 'not symmetric'}{where}{text} (relative asymmetry "
+                    f"{asymmetry(value) if value.shape[0] == value.shape[1] else 'n/a'})")
+
+
+def _diagonal_value(instance: Instance, values: dict, lmi, scenario, i: int) -> np.ndarray:
+    """The diagonal block (i, i) of ``lmi`` at ``values`` (a definition error if it cannot be
+    evaluated)."""
+    blk = scenario.apply(lmi.spec.lower[i][i])
+    ev = NumericEvaluator(instance.dims, values, instance.params, vertex=scenario.vertex)
+    try:
+        return np.atleast_2d(ev.visit(blk))
+    except Exception as exc:  # a theorem that cannot be evaluated is a definition error
+        raise TheoremDefinitionError(
+            f"{instance.theorem.id}: LMI {lmi.label} block ({i + 1},{i + 1}) cannot be evaluated: {exc}") from None
+
+
+def _random_data(instance: Instance, values: dict, rng: np.random.Generator) -> dict:
+    """``values`` with every declared datum replaced by a random matrix of its shape and kind
+    (symmetric data symmetric), per vertex; constants written in an LMI (quick mode) are kept,
+    and the vertex copies of a robust theorem's data follow the data they are."""
+    values = dict(values)
+    for name, decl in instance.theorem.data_decl.items():
+        if name not in values or type(decl.symbol).__name__ == "ConstantMatrix":
+            continue
+        symmetric = getattr(decl.symbol, "is_symmetric", False)
+
+        def draw(a):
+            r = rng.standard_normal(np.shape(a))
+            return r + r.T if symmetric and r.ndim == 2 and r.shape[0] == r.shape[1] else r
+        given = values[name]
+        values[name] = [draw(a) for a in given] if isinstance(given, list) else draw(given)
+    for alias, (name, v) in getattr(instance.theorem, "vertex_data", {}).items():
+        values[alias] = values[name][v]
+    return values

@@ -39,6 +39,7 @@ from sympy.printing.latex import LatexPrinter
 from ..symbolic.blocks import BlockMatrixSpec
 from ..symbolic.indexed import INDEXED_TYPES
 from ..errors import InputError
+from .latex_safe import math_name, plain_text, safe_math
 from .latex_text import _GREEK, latex_matrix, latex_number, tex_text
 from ..symbolic.symbols import (DerivedParam, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
                       _Described)
@@ -58,9 +59,16 @@ _MODIFIERS = {"hat": r"\hat", "bar": r"\bar", "tilde": r"\tilde", "check": r"\ch
               "dot": r"\dot", "vec": r"\vec"}
 
 
+#: the names :func:`name_to_latex` reads as the paper's notation (ASCII letters, digits, ``_``)
+_IDENTIFIER = re.compile(r"[A-Za-z][A-Za-z0-9]*(?:_[A-Za-z0-9]+)*")
+
+
 def name_to_latex(name: str) -> str:
     r"""A LaTeX guess for an identifier: ``Af_hat`` -> ``\hat{A}_f``, ``P1`` -> ``P_1``,
-    ``rbar`` -> ``\bar{r}``, ``xi1bar`` -> ``\bar{\xi}_1``, ``Gamma0`` -> ``\Gamma_0``."""
+    ``rbar`` -> ``\bar{r}``, ``xi1bar`` -> ``\bar{\xi}_1``, ``Gamma0`` -> ``\Gamma_0``; a name
+    that is no identifier prints escaped (:func:`~lmidsl.render.latex_safe.math_name`)."""
+    if not _IDENTIFIER.fullmatch(name):
+        return math_name(name)
     parts = name.split("_")
     mods = []
     while len(parts) > 1 and parts[-1] in _MODIFIERS:
@@ -95,10 +103,11 @@ def name_to_latex(name: str) -> str:
 
 
 def latex_of(symbol) -> str:
-    """The declared LaTeX name of a symbol, or a guess from its identifier."""
+    """The declared LaTeX name of a symbol (when written in the harmless subset of LaTeX,
+    :func:`~lmidsl.render.latex_safe.safe_math`; escaped otherwise), or a guess from its identifier."""
     latex = getattr(symbol, "latex_name", None) if isinstance(symbol, _Described) else None
     if latex and latex != symbol.name:
-        return latex
+        return safe_math(latex)
     return name_to_latex(symbol.name)
 
 
@@ -208,6 +217,8 @@ class LMILatexPrinter(LatexPrinter):
     def _print_Symbol(self, expr, style="plain"):
         if isinstance(expr, _Described):
             return self._symbol_latex(expr)
+        if not _IDENTIFIER.fullmatch(expr.name):     # a dimension or an index named by the user
+            return math_name(expr.name)
         return super()._print_Symbol(expr, style=style)
 
     def _print_MatrixSymbol(self, expr):
@@ -215,6 +226,8 @@ class LMILatexPrinter(LatexPrinter):
             return with_vertex_index(latex_of(expr), self._indices(expr.indices))
         if isinstance(expr, _Described):
             return self._symbol_latex(expr)
+        if not _IDENTIFIER.fullmatch(expr.name):
+            return math_name(expr.name)
         return super()._print_MatrixSymbol(expr)
 
     # -- index sets ---------------------------------------------------------------------
@@ -449,15 +462,16 @@ def printer_for(theorem: Theorem, lmi: LMI | None = None, **settings) -> LMILate
     """The printer for ``theorem`` (its notation, its dimension order; the vertex index for a
     polytopic LMI)."""
     settings.setdefault("dim_order", tuple(theorem.dims.values()))
-    settings.setdefault("index_sets", {n: s.latex for n, s in getattr(theorem, "index_sets", {}).items()})
-    notation = {d.symbol: d.latex for d in theorem.notation.values()}
+    settings.setdefault("index_sets", {n: safe_math(s.latex) for n, s in getattr(theorem, "index_sets", {}).items()})
+    notation = {d.symbol: safe_math(d.latex) for d in theorem.notation.values()}
     # a named matrix keeps its name under a transpose: sympy distributes Gᵀ over G's definition
     # (a block matrix, a sum), so the distributed form is recognised and printed as G^{T}
     for d in theorem.notation.values():
         if isinstance(d.symbol, sp.MatrixExpr):
             transposed = d.symbol.T
             if transposed != d.symbol and transposed not in notation:
-                notation[transposed] = f"{{{d.latex}}}^{{T}}" if "^" in d.latex else f"{d.latex}^{{T}}"
+                latex = notation[d.symbol]
+                notation[transposed] = f"{{{latex}}}^{{T}}" if "^" in latex else f"{latex}^{{T}}"
     notation.update(settings.pop("notation", {}))
     if lmi is not None and lmi.per_vertex:
         settings.setdefault("vertex_index", "i")
@@ -526,9 +540,14 @@ def lmi_latex(theorem: Theorem, label: str, *, display: bool = False, **settings
     return display_lmi(theorem, lmi, body, lmi_where(theorem, lmi, **settings))
 
 
+def tag_text(label: str) -> str:
+    """An LMI's tag as the document prints it: its '(n)' label, escaped (text); '' without one."""
+    tag = equation_tag(label)
+    return "" if tag is None else plain_text(tag)
+
+
 def display_lmi(theorem, lmi, body, where) -> str:
-    tag = equation_tag(lmi.label)
-    text = f"\\lmidisplay{{{body}}}{{{tag or ''}}}"
+    text = f"\\lmidisplay{{{body}}}{{{tag_text(lmi.label)}}}"
     if where or lmi.per_vertex:
         text += "\n" + _where_block(where, lmi.per_vertex)
     return text

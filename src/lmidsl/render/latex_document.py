@@ -18,7 +18,8 @@ import numpy as np
 import sympy as sp
 
 from .latex import (equation_tag, grouped_display, latex_of,
-                    printer_for, lmi_where, name_to_latex, with_vertex_index)
+                    printer_for, lmi_where, name_to_latex, tag_text, with_vertex_index)
+from .latex_safe import guarded, safe_math
 from .latex_layout import choose_letter, definition, lmi_layout
 from .latex_text import latex_matrix, latex_number, tex_text
 from .robust_latex import as_stated, domain_latex, robust_conditions_latex, robust_where, scheduled_name
@@ -119,7 +120,7 @@ def _theorem_latex_names(theorem: Theorem, settings: dict) -> str:
     printer = printer_for(theorem, None, **{k: v for k, v in settings.items() if k != "notation"})
     decls = [*theorem.data_decl.values(), *theorem.var_decl.values(), *theorem.param_decl.values(),
              *theorem.derived_decl.values()]
-    return " ".join([printer.doprint(d.symbol) for d in decls] + [d.latex for d in theorem.notation.values()])
+    return " ".join([printer.doprint(d.symbol) for d in decls] + [safe_math(d.latex) for d in theorem.notation.values()])
 
 
 def lmi_parts(theorem: Theorem, lmi, settings: dict, taken: set | None = None):
@@ -137,7 +138,7 @@ def lmi_parts(theorem: Theorem, lmi, settings: dict, taken: set | None = None):
 def _display(lmi, body: str, where: list[tuple[str, str]]) -> str:
     """The LMI displayed with its tag, then "where" and its definitions (each broken between
     the terms of its sum when longer than the line)."""
-    text = f"\\lmidisplay{{{body}}}{{{equation_tag(lmi.label) or ''}}}"
+    text = f"\\lmidisplay{{{body}}}{{{tag_text(lmi.label)}}}"
     vertex = r"for every vertex $i = 1, \dots, N$"
     if where:
         items = [definition(name, value) for name, value in where]
@@ -159,8 +160,9 @@ def lmi_snippet(theorem, label: str, **settings) -> str:
         lmi = as_stated(lmi)
     body, where = lmi_parts(theorem, lmi, settings)
     key = re.sub(r"[^A-Za-z0-9]+", "-", f"{theorem.id}-{lmi.label}").strip("-")
-    out = [f"% {theorem.id} {lmi.label} (lmidsl latex {theorem.id} --lmi \"{lmi.label}\"; needs amsmath)",
-           "\\begin{equation}", body, f"\\label{{{key}}}", "\\end{equation}"]
+    comment = " ".join(f"{theorem.id} {lmi.label} (lmidsl latex {theorem.id} --lmi \"{lmi.label}\"; "
+                       "needs amsmath)".split())           # one line: a newline would end the comment
+    out = [f"% {comment}", "\\begin{equation}", body, f"\\label{{{key}}}", "\\end{equation}"]
     vertex = r"for every vertex $i = 1, \dots, N$" if lmi.per_vertex else ""
     extra = []
     if robust:
@@ -171,7 +173,7 @@ def lmi_snippet(theorem, label: str, **settings) -> str:
         out += ["\\begin{gather*}", ",\\\\\n".join(items) + ".", "\\end{gather*}"]
     elif vertex:
         out.append(vertex + ".")
-    return "\n".join(out) + "\n"
+    return guarded("\n".join(out) + "\n")
 
 
 def _find_lmi(theorem: Theorem, label: str):
@@ -301,7 +303,7 @@ def theorem_latex(theorem, solution=None, **settings) -> str:
     if solution is not None:
         out.append(_solution_latex(theorem, solution, printer, settings))
     out.append("\\end{document}\n")
-    return "\n\n".join(out)
+    return out[0] + "\n\n" + guarded("\n\n".join(out[1:]))     # the preamble is lmidsl's own
 
 
 def _design_word(theorem: Theorem) -> str:

@@ -183,7 +183,11 @@ def _candidate(data: DualData, z_svec, scale: float, keep=None) -> _Candidate | 
 def _shift_once(job: _BoundJob, data: DualData, blocks, eps: float, keep, scale: float, out: DualBound,
                 record, label) -> tuple[bool, _Candidate | None]:
     """One shifted solve on the support ``keep`` and the exact correction of its dual: (whether
-    the shifted problem solved, the corrected candidate or None), counted and timed in ``out``."""
+    the shifted problem solved, the corrected candidate or None), counted and timed in ``out``;
+    :class:`BoundCancelled` when the job was cancelled (checked before each shifted solve)."""
+    cancel = getattr(job, "cancel", None)          # PendingBound's event (set: stop here)
+    if cancel is not None and cancel.is_set():
+        raise BoundCancelled
     t0 = time.perf_counter()
     left = job.budget - (time.perf_counter() - job.t0)      # the budget bounds the solve too
     shifted = _solve_shifted(job.problem, data, blocks, eps, keep, job.max_iter, left)
@@ -340,6 +344,15 @@ def lower_bound(model, solution=None, tries: int = SHIFT_TRIES, primal_bounds=No
     return job if isinstance(job, DualBound) else _bound(job, tries, primal_bounds)
 
 
+class BoundCancelled(Exception):
+    """A pending bound was cancelled (an interrupt, a deadline, the interpreter's exit)."""
+
+
+#: the pending bounds whose worker may still run (cancelled and waited for at exit)
+_PENDING: set = set()
+_PENDING_LOCK = threading.Lock()
+
+
 class PendingBound:
     """The proved lower bound of a solve, computed on a worker thread from the end of the main
     solve while the pipeline recovers and certifies the design (the shifted re-solves are Clarabel
@@ -353,21 +366,37 @@ class PendingBound:
     :data:`~lmidsl.solver.verdict.OPTIMAL_GAP` below ``level``, the optimum's level — each
     other model's dual is tried in turn and the highest proved bound is kept: the plan's next
     road for the bracket (zhang_quantized_loss.thm2 paper-N3: 0.148147 from the conditioned
-    model, 0.149843 from the one as written, against the level 0.149846)."""
+    model, 0.149843 from the one as written, against the level 0.149846).
+
+    **Ending at any moment.**  The worker is not a daemon: a daemon thread still inside Clarabel
+    (Rust, through PyO3) when the interpreter exits is ended by ``pthread_exit``, whose forced
+    unwinding PyO3's panic guard catches, and the process aborts ("FATAL: exception not
+    rethrown", exit 134).  Instead :meth:`cancel` (an interrupt in :meth:`result`, the caller's
+    own interrupt, :func:`cancel_pending` at the interpreter's exit) stops the worker before its
+    next shifted solve, and the one in flight finishes (its iterations are capped at four times
+    the main solve's)."""
 
     def __init__(self, model, solution, others=(), level: float | None = None, tries: int = SHIFT_TRIES):
         # now: a later solve on the model (back-off, level problem) replaces its dual
         jobs = [_prepare(model, solution)] + [_prepare(m, None) for m in others]
+        self._cancel = threading.Event()
+        for job in jobs:
+            if isinstance(job, _BoundJob):
+                job.cancel = self._cancel           # read by _shift_once before each shifted solve
         self._done = None
         self._error = None
-        self._thread = threading.Thread(target=self._run, args=(jobs, others, level, tries), daemon=True,
+        self._thread = threading.Thread(target=self._run, args=(jobs, others, level, tries), daemon=False,
                                         name="lmidsl-lower-bound")
+        with _PENDING_LOCK:
+            _PENDING.add(self)
         self._thread.start()
 
     def _run(self, jobs, others, level, tries):
         try:
             best = None
             for k, job in enumerate(jobs):
+                if self._cancel.is_set():
+                    raise BoundCancelled
                 bound = job if isinstance(job, DualBound) else _bound(job, tries, None)
                 if k:
                     bound.route = "conditioned" if others[k - 1].conditioning is not None else "as written"
@@ -377,16 +406,56 @@ class PendingBound:
                 if best.proved and (gap is None or gap <= OPTIMAL_GAP):
                     break                 # tight, or no level to be loose against
             self._done = best
+        except BoundCancelled:
+            self._done = DualBound(why="not computed: cancelled (interrupted)")
         except BaseException as exc:      # re-raised in the caller's thread by result()
             self._error = exc
+        finally:
+            with _PENDING_LOCK:
+                _PENDING.discard(self)
+
+    def cancel(self) -> None:
+        """Stop the worker before its next shifted solve (the one in flight finishes)."""
+        self._cancel.set()
+
+    def join(self, timeout: float | None = None) -> bool:
+        """Wait for the worker (at most ``timeout`` seconds); whether it has ended."""
+        if self._thread is not None:
+            self._thread.join(timeout)
+            return not self._thread.is_alive()
+        return True
 
     def result(self) -> DualBound:
         if self._thread is not None:
-            self._thread.join()
+            try:
+                while self._thread.is_alive():      # in steps: an interrupt is taken at once
+                    self._thread.join(0.2)
+            except BaseException:
+                self.cancel()
+                raise
             self._thread = None
         if self._error is not None:
             raise self._error
         return self._done
+
+
+def cancel_pending(wait: float | None = None) -> bool:
+    """Cancel every pending bound and wait for their workers (at most ``wait`` seconds in all;
+    None: until each has ended); whether all have ended.  Run at the interpreter's exit before
+    its non-daemon threads are joined, and by the command line when a command ends."""
+    with _PENDING_LOCK:
+        pending = list(_PENDING)
+    for bound in pending:
+        bound.cancel()
+    end = None if wait is None else time.monotonic() + wait
+    for bound in pending:
+        if not bound.join(None if end is None else max(0.0, end - time.monotonic())):
+            return False
+    return True
+
+
+if hasattr(threading, "_register_atexit"):      # before threading joins non-daemon threads
+    threading._register_atexit(cancel_pending)
 
 
 def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
@@ -533,4 +602,5 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
     return out
 
 
-__all__ = ["DualBound", "lower_bound", "PendingBound", "performance_bound", "performance_lower"]
+__all__ = ["DualBound", "lower_bound", "PendingBound", "BoundCancelled", "cancel_pending",
+           "performance_bound", "performance_lower"]

@@ -7,7 +7,11 @@ the end, so that a system crash loses at most that much, and a cluster's hundred
 do not cost a hundred fsyncs, 1–5 ms each, of the process that stores them); ``--resume`` reads the store back and skips what is done.
 The first line of a store is a header that says what run it belongs to (e.g. the theorem, the
 example, the grid, the lmidsl version): a store is resumed only by the same run, and is
-locked while a run uses it.  Final files (CSV, JSON, PNG) are
+locked while a run uses it.  Every record is signed: an HMAC-SHA256 of its canonical JSON under a
+key derived from the run's header and this user's secret (:func:`store_secret`), so that a record
+edited after it was written -- even one edited consistently, a solver point scaled so that its
+LMIs still hold, a status changed to "infeasible" -- is found on resume, dropped and solved again
+with a warning.  Final files (CSV, JSON, PNG) are
 written to a temporary file beside the target and renamed over it (``os.replace``), so a reader
 never sees half a file, and the output folder is checked writable before the first solve;
 files are created with the mode the umask gives (not the temporary file's 0600).
@@ -19,6 +23,8 @@ from __future__ import annotations
 
 import contextlib
 import fcntl
+import hashlib
+import hmac
 import json
 import math
 import os
@@ -27,6 +33,7 @@ import time
 from pathlib import Path
 
 from ..errors import InputError
+from ..theorem.index import cache_dir
 
 #: the longest a stored record waits for its fsync (:meth:`JsonLinesStore.append`)
 SYNC_SECONDS = 0.5
@@ -131,13 +138,64 @@ def atomic_write_text(path, text: str) -> None:
             os.fsync(fh.fileno())
 
 
+def _canonical(obj) -> bytes:
+    return json.dumps(obj, sort_keys=True, separators=(",", ":"), allow_nan=False).encode()
+
+
+def store_secret() -> bytes:
+    """This user's secret for signing stores: 32 random bytes in ``<cache>/store.key`` (mode
+    0600), made once (atomically: written beside, then linked); ``b""`` when the cache folder
+    cannot hold it (the signature then depends on the run alone: it still finds an edit made
+    without recomputing it)."""
+    path = cache_dir() / "store.key"
+    try:
+        return _read_secret(path)
+    except OSError:
+        pass
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".store.key-")
+        try:
+            os.write(fd, os.urandom(32))
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+        try:
+            os.link(tmp, path)              # fails when another process made it first: read that
+        except FileExistsError:
+            pass
+        finally:
+            os.unlink(tmp)
+        return _read_secret(path)
+    except OSError:
+        return b""
+
+
+def _read_secret(path: Path) -> bytes:
+    secret = path.read_bytes()
+    if len(secret) != 32:
+        raise OSError(f"{path}: not a store key")
+    return secret
+
+
+def record_signature(key: bytes, record: dict) -> str:
+    """HMAC-SHA256 of a record's canonical JSON (sorted keys, no spaces) under ``key``."""
+    return hmac.new(key, _canonical(record), hashlib.sha256).hexdigest()
+
+
+#: why a line of a store was not taken (counted in ``JsonLinesStore.problems``)
+NOT_A_RECORD = "not a record"
+EDITED = "edited after it was written (its signature does not match)"
+
+
 class JsonLinesStore:
     """An append-only JSON Lines file: a header line, then one record a line.
 
     ``open(header, resume)``: without ``resume`` a previous store is replaced; with ``resume`` its
     header must equal ``header`` (same run) and its records are returned.  A line that is not a
-    record (cut short by an interrupt, edited, not JSON, not an object) is dropped and counted
-    in ``dropped`` (its point is solved again).  While open, the store is locked
+    record (cut short by an interrupt, not JSON, not an object) or whose signature does not match
+    (edited: module docstring) is dropped and counted in ``dropped``, by reason in ``problems``
+    (its point is solved again).  While open, the store is locked
     (``.<store>.lock`` beside it, an advisory ``flock``): a second run on the same ``--out`` is refused.
     """
 
@@ -146,7 +204,9 @@ class JsonLinesStore:
         self._fh = None
         self._lock = None
         self._synced = 0.0              # time.monotonic() of the last fsync
+        self._key = b""
         self.dropped = 0
+        self.problems: dict[str, int] = {}
 
     def _acquire(self) -> None:
         lock = open(self.path.with_name(f".{self.path.name}.lock"), "a+")
@@ -172,6 +232,7 @@ class JsonLinesStore:
 
     def _open(self, header: dict, resume: bool) -> list[dict]:
         records: list[dict] = []
+        self._key = hmac.new(store_secret(), _canonical(header), hashlib.sha256).digest()
         if resume and self.path.exists():
             lines = self._read_lines()
             first = _parse_line(lines[0]) if lines else None
@@ -181,13 +242,16 @@ class JsonLinesStore:
                                  f"or drop --resume")
             for line in lines[1:]:
                 entry = _parse_line(line)
-                if isinstance(entry, dict) and set(entry) == {"record"} and isinstance(entry["record"], dict):
-                    records.append(entry["record"])
+                if not (isinstance(entry, dict) and set(entry) == {"record", "sig"}
+                        and isinstance(entry["record"], dict) and isinstance(entry["sig"], str)):
+                    self._drop(NOT_A_RECORD)
+                elif not hmac.compare_digest(entry["sig"], record_signature(self._key, entry["record"])):
+                    self._drop(EDITED)
                 else:
-                    self.dropped += 1
+                    records.append(entry["record"])
             # rewrite with the records kept only, then append
-            atomic_write_text(self.path, "".join(strict_json(r, indent=None, note=False) + "\n"
-                                                 for r in [first] + [{"record": r} for r in records]))
+            atomic_write_text(self.path, strict_json(first, indent=None, note=False) + "\n"
+                              + "".join(self._line(r) for r in records))
         else:
             atomic_write_text(self.path, strict_json({"header": header}, indent=None, note=False) + "\n")
         self._fh = open(self.path, "a")
@@ -200,8 +264,18 @@ class JsonLinesStore:
             raise InputError(f"--resume: {self.path}: cannot read the store ({_describe(exc)})") from None
         return data.decode("utf-8", errors="replace").splitlines()
 
+    def _drop(self, reason: str) -> None:
+        self.dropped += 1
+        self.problems[reason] = self.problems.get(reason, 0) + 1
+
+    def _line(self, record: dict) -> str:
+        """A record's line: the record as strict JSON (as read back) and its signature."""
+        record = json.loads(strict_json(record, indent=None, note=False))
+        return strict_json({"record": record, "sig": record_signature(self._key, record)},
+                           indent=None, note=False) + "\n"
+
     def append(self, record: dict) -> None:
-        self._fh.write(strict_json({"record": record}, indent=None, note=False) + "\n")
+        self._fh.write(self._line(record))
         self._fh.flush()
         now = time.monotonic()
         if now - self._synced >= SYNC_SECONDS:

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from ..pipeline import make_instance
+from ..numeric.evaluate import NumericEvaluator
 from ..numeric.proof import PROVED
 from ..solver.margin import solve_model
 from ..solver.status import solved
@@ -141,6 +142,7 @@ class SweepResult:
     def timing(self) -> dict:
         """Mean per-point times, excluding the first point (it sets up the backend model)."""
         pts = self.points[1:] if len(self.points) > 1 else self.points
+        pts = [p for p in pts if p.solver_call is not None] or pts     # not the resumed points
         calls = [p.solver_call for p in pts if p.solver_call is not None]
         internal = [p.solver_internal for p in pts if p.solver_internal is not None]
         total = float(np.mean([p.total for p in pts])) if pts else float("nan")
@@ -227,6 +229,7 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
                              f"{', '.join(thm.param_decl) or 'none'})")
     if len({n for n, _ in grids}) != len(grids):
         raise InputError(f"{thm.id}: a grid parameter is given twice")
+    _refuse_member_parameters(thm, grids)
     for name, values in grids:  # check domains before compiling
         for v in (min(values), max(values)):
             instance.with_params(**{name: v})
@@ -242,7 +245,7 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
     try:
         applied = apply_scaling(instance, scaling)
         if records:
-            done = resumed_points(records, run, grids, applied.scaled, dropped=jsonl.dropped, path=jsonl.path)
+            done = resumed_points(records, run, grids, applied.scaled, dropped=jsonl.problems, path=jsonl.path)
         task = SweepTask(applied.scaled, backend, margin, solver, options)
         # compiled here too: errors surface before any dispatch, and a serial sweep uses this model
         local = worker_state(task)
@@ -282,6 +285,24 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
         if jsonl is not None:
             jsonl.close()
     return result
+
+
+def _refuse_member_parameters(member, grids: list) -> None:
+    """A parameter that selects the theorem's member (an HPPD degree, Pólya's exponent: the
+    size of the expansion) is fixed in the member a sweep compiles once; a grid over other values
+    is one line naming the value fixed here and the domain the theorem declares."""
+    family = getattr(member, "family", None) or getattr(member, "template", None)
+    for name, values in grids:
+        fixed = member.param_decl[name].extra.get("domain")
+        declared = family.param_decl[name].extra.get("domain") if family is not None and \
+            name in family.param_decl else None
+        if fixed is None or declared is None or fixed[0] != fixed[1] or tuple(fixed) == tuple(declared):
+            continue
+        if any(v != fixed[0] for v in values):
+            raise InputError(f"{member.id}: --grid {name}: {name} selects the theorem's member (the "
+                             f"size of its expansion), fixed at {name} = {fixed[0]:g} for this sweep; "
+                             f"give another with --set {name}=K (an integer in [{declared[0]:g}, "
+                             f"{declared[1]:g}]), one sweep per value")
 
 
 class SweepTask(Task):
@@ -377,18 +398,27 @@ def record_problem(record, run: str, grid_sets: dict) -> str | None:
     return None
 
 
-def resumed_points(records: list, run: str, grids: list, scaled, dropped: int = 0, path=None) -> dict:
+def resumed_points(records: list, run: str, grids: list, scaled, dropped=0, path=None) -> dict:
     """The stored points that stand: sound records (:func:`record_problem`), each once, whose
     certificate is proved again at the stored solver point (every LMI in ball arithmetic, and
-    the performance figure recomputed there equal to the stored one).  A record that is not
-    proved (an infeasible or uncertified point) cannot be checked and is solved again, as is
-    every record that fails; one warning line says how many and why."""
+    the performance figure recomputed there equal to the stored one).
+
+    Every number a resumed point carries is recomputed at its stored point (γ, objective, worst
+    eigenvalue, prove time); its status is kept only when it is a solved status (the point is
+    proved); its times are this run's: none (``solver_call`` None, left out of
+    :meth:`SweepResult.timing`).  A point whose objective is above both its stored neighbours'
+    along a grid axis (a local maximum of a minimised objective: a suboptimal point, stored by a
+    solver that stopped early or by an edit) is not trusted as optimal and is solved again (a
+    true local maximum costs one solve).  A record that is not proved (an infeasible or
+    uncertified point) cannot be checked and is solved again, as is every record that fails;
+    one warning line says how many and why.  ``dropped``: the store's lines not taken, {reason:
+    count} (:attr:`~lmidsl.studies.store.JsonLinesStore.problems`) or their number."""
     names = [n for n, _ in grids]
     grid_sets = {n: set(v) for n, v in grids}
     done: dict = {}
     problems: dict = {}
     if dropped:
-        problems["not a record"] = dropped
+        problems.update(dropped if isinstance(dropped, dict) else {"not a record": dropped})
     for record in records:
         reason = record_problem(record, run, grid_sets)
         key = tuple(record["params"][n] for n in names) if reason is None else None
@@ -396,15 +426,23 @@ def resumed_points(records: list, run: str, grids: list, scaled, dropped: int = 
             reason = "a point stored twice"
         if reason is None and not record["proved"]:
             reason = "not proved (solved again)"
+        if reason is None and not solved(record["status"]):
+            reason = f"status {record['status']!r} with a proved point"
+        recomputed = None
         if reason is None:
-            reason = _certificate_problem(record, scaled)
+            reason, recomputed = _certificate_problem(record, scaled)
         if reason is not None:
             problems[reason] = problems.get(reason, 0) + 1
             if reason == "a point stored twice":
                 done.pop(key, None)
             continue
         record = {k: v for k, v in record.items() if k not in ("run", "values")}
-        done[key] = SweepPoint(**record)
+        done[key] = SweepPoint(**{**record, **recomputed, "solver_call": None, "solver_internal": None,
+                                  "total": 0.0})      # times: this run's (none), not the store's
+    for key in _local_maxima(done, grids):
+        done.pop(key)
+        reason = "its objective is above both its neighbours' (not trusted as optimal)"
+        problems[reason] = problems.get(reason, 0) + 1
     bad = {k: v for k, v in problems.items() if k != "not proved (solved again)"}
     if bad:
         warnings.warn(f"--resume: {sum(bad.values())} stored record(s) of {path} are solved again ("
@@ -412,30 +450,58 @@ def resumed_points(records: list, run: str, grids: list, scaled, dropped: int = 
     return done
 
 
-def _certificate_problem(record: dict, scaled) -> str | None:
-    """None when every LMI is proved at the record's stored point and γ recomputed there is the
-    stored γ; else what failed."""
+#: relative excess over both neighbours that makes a resumed objective a suspicious local maximum
+NEIGHBOUR_TOLERANCE = 1e-6
+
+
+def _local_maxima(done: dict, grids: list) -> list:
+    """The grid points of ``done`` whose objective exceeds both stored neighbours' along some
+    axis by more than :data:`NEIGHBOUR_TOLERANCE` (relative)."""
+    out = []
+    for key, point in done.items():
+        if point.objective is None:
+            continue
+        for axis, (_, values) in enumerate(grids):
+            k = values.index(key[axis])
+            if not 0 < k < len(values) - 1:
+                continue
+            around = [done.get(key[:axis] + (values[j],) + key[axis + 1:]) for j in (k - 1, k + 1)]
+            if all(p is not None and p.objective is not None and point.objective - p.objective
+                   > NEIGHBOUR_TOLERANCE * max(abs(p.objective), 1e-12) for p in around):
+                out.append(key)
+                break
+    return out
+
+
+def _certificate_problem(record: dict, scaled) -> tuple[str | None, dict | None]:
+    """(None, the numbers recomputed at the record's stored point: objective, worst eigenvalue)
+    when every LMI is proved there and γ recomputed there is the stored γ; else (what failed, None)."""
     try:
         instance = scaled.with_params(**record["params"])
         values = {}
         for name, value in record["values"].items():
             decl = instance.theorem.var_decl.get(name)
             if decl is None:
-                return "values of an unknown variable"
+                return "values of an unknown variable", None
             per_vertex = getattr(decl.symbol, "per_vertex", False)
             values[name] = [np.asarray(v, dtype=float) for v in value] if per_vertex else \
                 (float(value) if not isinstance(value, list) else np.asarray(value, dtype=float))
         point = {**instance.data, **values}
+        t0 = time.perf_counter()
         reports = lmi_certificate(instance, point, prove=True)
+        prove_time = time.perf_counter() - t0
         gamma = evaluate_performance(instance, point)
+        objective = None if instance.theorem.objective is None else float(np.asarray(
+            NumericEvaluator(instance.dims, point, instance.params).visit(instance.theorem.objective)).reshape(()))
     except Exception as exc:           # a malformed stored point is a failed record, not a crash
-        return f"its stored point does not evaluate ({type(exc).__name__})"
+        return f"its stored point does not evaluate ({type(exc).__name__})", None
     if not reports or not all(r.proof == PROVED for r in reports):
-        return "its LMIs are not proved at the stored point"
+        return "its LMIs are not proved at the stored point", None
     stored = record["gamma"]
     if (gamma is None) != (stored is None) or gamma is not None and not math.isclose(gamma, stored, rel_tol=1e-9, abs_tol=1e-300):
-        return "its gamma is not the one at the stored point"
-    return None
+        return "its gamma is not the one at the stored point", None
+    return None, {"gamma": gamma, "objective": objective, "worst_eig": max(r.max_eig for r in reports),
+                  "prove_time": prove_time}
 
 
 def format_timing(t: dict) -> str:

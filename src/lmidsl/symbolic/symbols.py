@@ -23,6 +23,8 @@ import sympy as sp
 from sympy import MatrixSymbol
 from sympy.core.symbol import Str
 
+from ..errors import ShapeMismatchError, TheoremDefinitionError
+
 
 class Dim(sp.Symbol):
     """A dimension: a positive integer symbol."""
@@ -223,10 +225,26 @@ def constant_matrix(array) -> sp.MatrixExpr:
     return symbol
 
 
+#: what a numpy array that cannot be an LMI constant holds, by dtype kind
+_NOT_REAL = {"c": "complex numbers", "O": "Python objects", "U": "strings", "S": "bytes",
+             "M": "dates", "m": "time spans", "V": "records"}
+
+
 def as_symbolic(x):
-    """``x``, with a numpy array (of numbers) made a :func:`constant_matrix`."""
-    if type(x).__module__ == "numpy" and getattr(x, "ndim", 0) in (1, 2) and getattr(x, "dtype", None) is not None \
-            and x.dtype.kind in "biuf":
+    """``x``, with a numpy array (of numbers) made a :func:`constant_matrix`; an array of
+    anything else (complex, objects, strings) is refused in one line (sympy would say only
+    "unsupported operand type(s) for *")."""
+    kind = getattr(getattr(x, "dtype", None), "kind", None)
+    if type(x).__module__ == "numpy" and kind == "O":
+        try:                                   # an object array of real numbers is numbers
+            x, kind = x.astype(float), "f"
+        except (TypeError, ValueError):
+            pass
+    if type(x).__module__ == "numpy" and kind in _NOT_REAL:
+        hint = (" (a complex system: write the real LMI of [[Re, -Im], [Im, Re]])" if kind == "c" else "")
+        raise TheoremDefinitionError(f"a numpy array of {_NOT_REAL[kind]} (dtype {x.dtype}, shape "
+                                     f"{x.shape}) in an LMI: a constant must be a real matrix{hint}")
+    if type(x).__module__ == "numpy" and getattr(x, "ndim", 0) in (1, 2) and kind in "biuf":
         base = x.base                               # A.T is a view of A: the transpose of A's constant
         if (x.ndim == 2 and type(base).__name__ == "ndarray" and base.ndim == 2 and base.shape == x.shape[::-1]
                 and (x == base.T).all() and not (x.shape == base.shape and (x == base).all())):
@@ -235,11 +253,37 @@ def as_symbolic(x):
     return x
 
 
+_OPERATORS = {"add": "+", "sub": "-", "mul": "*", "matmul": "@"}
+
+
+def _shape_text(x) -> str:
+    shape = getattr(x, "shape", None)
+    return "scalar" if shape is None else "×".join(str(d) for d in shape)
+
+
+def _operand(x) -> str:
+    """An operand as the user knows it: a numpy array written in the LMI is 'the numpy constant M1'."""
+    base = x.arg if isinstance(x, sp.Transpose) else x
+    return f"the numpy constant {x}" if isinstance(base, ConstantMatrix) else str(x)
+
+
 def _accept_numpy(op: str):
     original = getattr(sp.MatrixExpr, op)
+    symbol = _OPERATORS[op.strip("_").removeprefix("r")]
 
     def method(self, other):
-        return original(self, as_symbolic(other))
+        other = as_symbolic(other)
+        try:
+            return original(self, other)
+        except sp.ShapeError:          # sympy's "Matrices are not aligned": name both operands
+            left, right = (other, self) if op.startswith("__r") else (self, other)
+            tags = sorted({t for t in (getattr(a, "tag", "") for a in
+                                       (*left.atoms(sp.MatrixSymbol), *right.atoms(sp.MatrixSymbol))
+                                       if isinstance(a, _Described)) if t and t != CONSTANT_TAG})
+            raise ShapeMismatchError(
+                f"{(tags[0] + ': ') if tags else ''}{left} {symbol} {right}: {_operand(left)} is "
+                f"{_shape_text(left)} and {_operand(right)} is {_shape_text(right)}, which do not "
+                f"conform") from None
     method.__name__, method.__doc__ = op, original.__doc__
     return method
 

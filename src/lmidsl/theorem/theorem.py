@@ -386,7 +386,9 @@ class Theorem:
 
     def assume(self, assumption):
         """Declare a hypothesis on the data (:mod:`lmidsl.theorem.assumptions`: ``zero("D11")``,
-        ``stable("A")``, ``full_rank(...)``), checked when data are bound: exit 2 if it fails."""
+        ``stable("A")``, ``full_rank(...)``), checked when data are bound: exit 2 if it fails; its
+        datum must be declared before (or the assumption marked ``external=True``)."""
+        assumption.check_declared(self)
         self.assumptions.append(assumption)
         return assumption
 
