@@ -123,29 +123,29 @@ def successive_lmi(instance: Instance, *, starts: list[dict] | None = None, max_
                 # each step solved as `solve` solves: as written and conditioned, margin escalation
                 sol, _ = plan.solve(current)
                 result.history.append(Step(k, sol.status if sol.lmis_hold or not sol.ok else "not certified",
-                                           sol.gamma, sol.worst_eig, time.perf_counter() - t0, s))
+                                           sol.point_gamma, sol.worst_eig, time.perf_counter() - t0, s))
                 if bar is not None:
                     bar.update(1)
-                    bar.set_postfix(start=s, gamma=f"{sol.gamma:.6g}" if sol.gamma else sol.status)
-                if not sol.ok or sol.gamma is None:
+                    bar.set_postfix(start=s, gamma=f"{sol.point_gamma:.6g}" if sol.point_gamma else sol.status)
+                if not sol.ok or sol.point_gamma is None:
                     reason = f"{sol.status} at iteration {k}"
                     break
                 # only a point that satisfies every LMI (numpy eigenvalues) may become the best;
                 # an uncertified point still gives a valid next linearisation point
-                if sol.lmis_hold and sol.gamma < best_gamma:
-                    best_gamma = sol.gamma
+                if sol.lmis_hold and sol.point_gamma < best_gamma:
+                    best_gamma = sol.point_gamma
                     result.best, result.best_start = sol, s
                     result.point = {n: np.asarray(current.data[n]) for n in theorem.linearisation}
-                if previous is not None and sol.gamma - previous > rtol * previous + atol:
+                if previous is not None and sol.point_gamma - previous > rtol * previous + atol:
                     # exact solves never rise (the previous solution stays feasible): an
                     # inaccurate step moved the point; going on would follow the error
-                    reason = (f"gamma rose at iteration {k} ({previous:.6g} -> {sol.gamma:.6g}): the "
+                    reason = (f"gamma rose at iteration {k} ({previous:.6g} -> {sol.point_gamma:.6g}): the "
                               f"solver's accuracy is reached")
                     break
-                if previous is not None and previous - sol.gamma <= rtol * previous + atol:
+                if previous is not None and previous - sol.point_gamma <= rtol * previous + atol:
                     reason = f"converged at iteration {k} (improvement below rtol = {rtol:g})"
                     break
-                previous = sol.gamma
+                previous = sol.point_gamma
                 current = with_data(current, next_point(current, sol.values))
             result.stop_reason += ("; " if result.stop_reason else "") + f"start {s}: {reason}"
             if bar is not None:

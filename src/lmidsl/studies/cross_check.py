@@ -297,7 +297,7 @@ def run_row(instance, backend: str, solver: str, options: dict, margin=None, cer
             if text and text not in notes:
                 notes.append(text)
         row.status, row.message = sol.status, "; ".join(notes)
-        row.objective, row.gamma = sol.objective, sol.gamma
+        row.objective, row.gamma = sol.objective, sol.point_gamma
         backoff = sol.backoff or {}
         if "objective_opt" in backoff:
             # as `lmidsl solve`: the design recovered at the optimum was not certified, so the
@@ -305,7 +305,7 @@ def run_row(instance, backend: str, solver: str, options: dict, margin=None, cer
             # solvers must agree (back-off points of different solvers differ by up to δ)
             row.objective, row.gamma = backoff["objective_opt"], backoff.get("gamma_opt")
             row.status = backoff.get("status_opt", row.status)     # the solve whose value is compared
-            row.backoff_gamma = sol.gamma
+            row.backoff_gamma = sol.point_gamma
             row.optimum_lmis = list(backoff.get("optimum_lmis") or [])
             row.message = "; ".join([*notes, f"design from the automatic back-off at {_gamma_text(sol)}"])
         row.lmis = [r.as_dict() for r in sol.lmis]
@@ -355,8 +355,8 @@ def _judge(row: CheckRow, sol, instance) -> None:
 
 
 def _gamma_text(sol) -> str:
-    value = sol.gamma if sol.gamma is not None else sol.objective
-    return "no value" if value is None else f"{'γ' if sol.gamma is not None else 'objective'} {value:.8g}"
+    value = sol.point_gamma if sol.point_gamma is not None else sol.objective
+    return "no value" if value is None else f"{'γ' if sol.point_gamma is not None else 'objective'} {value:.8g}"
 
 
 def compare(rows: list[CheckRow], tolerance: float) -> CheckRow | None:

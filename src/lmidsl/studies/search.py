@@ -114,8 +114,8 @@ class Evaluator:
                 return SearchPoint(dict(params), math.inf if t is None else t, status=status,
                                    certified=t is not None and t < 0)
             sol = self.model.solve(self.solver, **self.options)
-        value = sol.gamma if sol.ok and sol.gamma is not None else math.inf
-        return SearchPoint(dict(params), value, sol.gamma, sol.status, sol.lmis_hold, sol.worst_eig)
+        value = sol.point_gamma if sol.ok and sol.point_gamma is not None else math.inf
+        return SearchPoint(dict(params), value, sol.point_gamma, sol.status, sol.lmis_hold, sol.worst_eig)
 
 
 class SearchTask(Task):

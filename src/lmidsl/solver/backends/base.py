@@ -315,8 +315,8 @@ class CompiledModel:
             point.update(values)
             solution.congruence = self._congruence
             solution.lmis = lmi_certificate(instance, point, congruence=self._congruence)
-            solution.gamma = evaluate_performance(instance, point)
-            if solution.gamma is None and instance.theorem.performance is not None:
+            solution.point_gamma = evaluate_performance(instance, point)
+            if solution.point_gamma is None and instance.theorem.performance is not None:
                 solution.notes.append(f"{instance.theorem.performance[0]} is not real at the returned "
                                       f"point ({instance.theorem.performance[1]} with a negative radicand)")
             solution.times["certificate"] = time.perf_counter() - t1
