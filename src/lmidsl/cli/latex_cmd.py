@@ -93,6 +93,8 @@ def run(args):
         out = f"{theorem.id}.tex"
     document = {"theorem": theorem.id, "example": solution.example if solution else None,
                 "solved": solution is not None, "latex": text}
+    if solution is not None:       # the numbers in the document are the verdict's
+        document.update(gamma=solution.gamma, verdict=solution.verdict.as_dict())
     if out is None:
         if args.json:
             print_json(document)
