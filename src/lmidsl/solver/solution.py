@@ -13,6 +13,7 @@ import numpy as np
 
 from ..errors import InputError, LmidslError
 from ..numeric.design import Design
+from ..theorem.values import HTML_RENDERER
 from ..numeric.instance import Instance
 from ..numeric.interconnection import design_kind, design_loop, loop_summary
 from ..numeric.proof import PROVED, prove_block_matrix
@@ -203,6 +204,13 @@ class Solution:
         design = f", design {', '.join(self.design)}" if self.design is not None and len(self.design) else ""
         return (f"<Solution {self.theorem}{where}: {self.status}{value}, {verdict}{design}; "
                 f"{self.backend}/{self.solver}>")
+
+    def _repr_html_(self) -> str | None:
+        """The verdict, levels, design and LMIs as a small HTML table (any front end that asks for
+        ``_repr_html_``: Jupyter, VS Code, nbconvert, a plain ``display``), by the renderer the
+        render layer registers in :data:`~lmidsl.theorem.values.HTML_RENDERER`; None without one."""
+        render = HTML_RENDERER.get("html")
+        return None if render is None else render(self)
 
     def as_dict(self) -> dict:
         def listify(v):
