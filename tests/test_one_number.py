@@ -62,10 +62,12 @@ def test_gamma_and_word_agree_in_every_command_and_in_python():
     # the text: the same number (printed to 8 digits) and word
     shown = f"{gamma:.8g}"
     code, out, err = run_cli("reproduce", "--theorem", T, "--no-progress", env={"COLUMNS": "200"})
+    assert code == 0, err
     line = next(l for l in out.splitlines() if l.startswith(T) and shown in l)   # the example on the next line
     assert word in line, line
     code, out, err = run_cli("check", T, "--example", E, "--solvers", "direct:clarabel", env={"COLUMNS": "200"})
-    row = next(l for l in out.splitlines() if l.startswith("direct:CLARABEL"))
+    assert code == 0, err
+    row = next((l for l in out.splitlines() if "direct:CLARABEL" in l and shown in l), out)
     assert shown in row and word in row, row
     code, out, err = run_cli("solve", T, "--example", E)
     assert f"gamma     = {shown}" in out and f"verdict: {word.upper()} at gamma = {shown}" in " ".join(out.split())
