@@ -300,7 +300,10 @@ def run_row(instance, backend: str, solver: str, options: dict, margin=None, cer
             # point is not accurate enough for the back-off's level problem and search)
             automatic = certify and not is_first_order(solver)
             plan = Plan(backend, solver, options, margin, fallbacks=False, closed_forms=False)
-            sol = solve_instance(instance, certify=certify, backoff="auto" if automatic else None, plan=plan)
+            # nor its proved dual bound: a first-order row is never trusted, and the bound's own
+            # solves would each take up to the row's time limit
+            sol = solve_instance(instance, certify=certify, backoff="auto" if automatic else None, plan=plan,
+                                 bounds=not is_first_order(solver))
     except LmidslError as exc:
         row.status, row.error = "error", str(exc)
     except Exception as exc:  # a solver crash is an answer too: a row with its error
