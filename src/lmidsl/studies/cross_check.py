@@ -34,7 +34,7 @@ from ..pipeline import make_instance, solve_instance
 from ..solver.plan import Plan
 from ..solver.verdict import CERTIFIED, DISAGREEMENT, NOT_CERTIFIED, Verdict
 from ..solver.status import OPTIMAL
-from ..solver.backends import (BACKENDS, options_for, SOLVER_INFO, backend_sdp_solvers, is_first_order,
+from ..solver.backends import (BACKENDS, DEFAULT_BACKEND, backend_info, options_for, SOLVER_INFO, backend_sdp_solvers, is_first_order,
                                resolve_solver)
 from ..errors import InputError, LmidslError
 from .parallel import Runner, Task, check_workers, items_as_finished
@@ -154,10 +154,15 @@ class CheckResult:
 
     @property
     def verdict(self) -> Verdict:
-        """Certified when trusted rows agree; the headline is the reference row's certified level."""
+        """Certified when trusted rows agree; the headline is the level of the row `lmidsl solve`'s
+        own route gives (the default backend and solver) when that row is trusted, so that `check`
+        and `solve` print one number; else the reference row's."""
         ref = self.reference
-        gamma = None if ref is None or ref.verdict is None else ref.verdict["gamma"]
-        quantity = "" if ref is None or ref.verdict is None else ref.verdict["quantity"]
+        default = backend_info(DEFAULT_BACKEND).default.lower()
+        own = next((r for r in self.trusted if r.backend == DEFAULT_BACKEND and r.solver.lower() == default
+                    and not r.disagrees), ref)
+        gamma = None if own is None or own.verdict is None else own.verdict["gamma"]
+        quantity = "" if own is None or own.verdict is None else own.verdict["quantity"]
         word = CERTIFIED if self.agree else (DISAGREEMENT if self.disagreeing else NOT_CERTIFIED)
         reasons = () if self.agree else (self.summary(),)
         return Verdict(self.agree, word, gamma, self.summary(), quantity, "",
