@@ -39,7 +39,7 @@ def test_default_check_rows_and_agreement(default_check):
     assert ("picos", "cvxopt") in names and ("cvxpy", "clarabel") in names and ("cvxpy", "cvxopt") in names
     trusted = [r for r in rows if r["trusted"]]
     assert len(trusted) >= 3 and any(r["backend"] == "picos" for r in trusted)
-    gammas = [r["gamma"] for r in trusted]
+    gammas = [r["optimum_level"] for r in trusted]                     # the optima the rows compare
     assert (max(gammas) - min(gammas)) / min(gammas) < 1e-3          # the trusted answers agree
     assert abs(min(gammas) - 0.3367) < 1e-3                            # docs/reproductions/000.md: optimum 0.336741
     assert result["agree"] and result["exit_code"] == 0 and code == 0
@@ -54,10 +54,14 @@ def test_scs_is_shown_with_its_deviation_but_not_a_disagreement(default_check):
         pytest.skip("SCS not installed")
     row = scs[0]
     assert not row["trusted"] and not row["disagrees"]
-    if row["gamma"] is not None:                                       # its γ and deviation are visible
+    if row["optimum_level"] is not None:                               # its γ and deviation are visible
         assert row["rel_diff"] is not None
         assert row["rel_diff"] >= -1e-6                                # never below the certified optimum
     assert row["reason"]
+    # capped by default at a small multiple of the interior-point rows' time, and it says so
+    exact = sorted(r["wall_time"] for r in result["rows"] if r["solver"].lower() != "scs" and not r["error"])
+    assert row["capped"] >= 2.0 and "capped at" in row["reason"]
+    assert row["capped"] == pytest.approx(max(3 * exact[(len(exact) - 1) // 2], 2.0), rel=0.5)
 
 
 def test_forced_disagreement_is_flagged():
@@ -167,9 +171,10 @@ def test_check_backs_off_as_solve_does_and_compares_the_optima():
     assert alone.backoff and alone.verdict.certified
     direct = next(r for r in result.rows if r.backend == "direct")
     assert direct.backoff_gamma is not None and direct.certified and direct.trusted
-    assert direct.gamma == pytest.approx(alone.backoff["gamma_opt"], rel=1e-6)   # the optimum's γ
-    assert direct.backoff_gamma == pytest.approx(alone.gamma, rel=1e-3)
-    assert direct.gamma < direct.backoff_gamma <= direct.gamma * 1.011               # δ = 1 % on γ²
+    assert direct.optimum_level == pytest.approx(alone.backoff["gamma_opt"], rel=1e-6)   # the optimum's γ
+    assert direct.backoff_gamma == pytest.approx(alone.backoff_level, rel=1e-3)
+    assert direct.optimum_level < direct.backoff_gamma <= direct.optimum_level * 1.011   # δ = 1 % on γ²
+    assert direct.gamma == pytest.approx(alone.gamma, rel=1e-3)       # the row's one number is solve's
     assert direct.optimum_lmis and max(r["max_eig"] for r in direct.optimum_lmis) < 0
     assert result.agree and result.exit_code == 0
     for row in result.rows:

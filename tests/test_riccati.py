@@ -39,7 +39,7 @@ def test_riccati_point_is_proved_just_above_the_norm(time, seed):
     sol = riccati_point(instance, None, 0.0)
     norm = float(control.norm(control.ss(A, B, C, D, 0 if time == "continuous" else True), "inf", tol=1e-12))
     assert sol is not None
-    assert abs(sol.gamma / norm - 1 - 1e-5) < 1e-8
+    assert abs(sol.point_gamma / norm - 1 - 1e-5) < 1e-8
     proofs = lmi_certificate(instance, {**instance.data, **sol.values}, prove=True)
     assert [r.proof for r in proofs] == ["proved"] * len(proofs)
 
@@ -92,10 +92,10 @@ def test_state_feedback_point_agrees_with_the_sdp(time):
     instance = sdp.instance
     sol = state_feedback_point(instance)
     assert sol is not None and sol.lmis_hold
-    assert sdp.gamma * (1 - 1e-6) <= sol.gamma <= sdp.gamma * (1 + 1e-2), (sol.gamma, sdp.gamma)
+    assert sdp.optimum_level * (1 - 1e-6) <= sol.point_gamma <= sdp.optimum_level * (1 + 1e-2), (sol.point_gamma, sdp.optimum_level)
     Y, W = np.asarray(sol.values["Y"]), np.asarray(sol.values["W"])
     K = W @ np.linalg.inv(Y)
-    assert _closed_loop_norm(instance.data, K, time) <= sol.gamma
+    assert _closed_loop_norm(instance.data, K, time) <= sol.point_gamma
 
 
 @pytest.mark.parametrize("seed, time", [(1, "continuous"), (0, "discrete")])

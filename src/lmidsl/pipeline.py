@@ -105,7 +105,7 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str |
         return _recover_and_certify(model, applied, solution, backoff, bounds, finish)
     # the bound reads the models' duals now (a back-off or level solve replaces them) and runs on
     # a worker thread while the design is recovered and certified
-    pending = PendingBound(model, solution, [m for m in solved if m is not model], solution.gamma)
+    pending = PendingBound(model, solution, [m for m in solved if m is not model], solution.point_gamma)
     try:
         final = _recover_and_certify(model, applied, solution, backoff, bounds, finish)
     except BaseException:             # an interrupt, a deadline, an error: the bound is not wanted
@@ -266,7 +266,7 @@ def finish_solution(solution: Solution, plan: Plan | None = None, certify: bool 
         if certify and instance.theorem.analysis is not None:
             t0 = time.perf_counter()
             solution.analysis = certify_by_analysis(solution.original_instance, solution.recovered,
-                                                    solution.gamma, plan=plan)
+                                                    solution.point_gamma, plan=plan)
             solution.times["analysis"] = time.perf_counter() - t0
     if certify and solution.ok and instance.theorem.checks:
         t0 = time.perf_counter()

@@ -68,7 +68,7 @@ def _gramian_bound(solution, which: str):
 
 def h2_bound_check(solution) -> CheckResult:
     value = _gramian_bound(solution, "h2")
-    bound = solution.gamma
+    bound = solution.point_gamma
     return CheckResult("H2 norm by the Gramian", bound is not None and value <= bound * (1 + 1e-6),
                        f"‖T₂‖₂ = {value:.6g} (bound √tr Z = {bound})", {"h2": value})
 
@@ -85,7 +85,7 @@ def hinf_bound_check(solution) -> CheckResult:
 
 def peak_bound_check(solution) -> CheckResult:
     value = _gramian_bound(solution, "peak")
-    bound = solution.gamma
+    bound = solution.point_gamma
     return CheckResult("energy-to-peak gain by the Gramian", bound is not None and value <= bound * (1 + 1e-6),
                        f"√λmax(C Wc Cᵀ) = {value:.6g} (bound √g = {bound})", {"peak": value})
 

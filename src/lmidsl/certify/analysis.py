@@ -158,7 +158,7 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
             if report.verdict in (INFEASIBLE, MARGINAL):
                 sol.status = report.verdict
         statuses.append(sol.status)
-        gammas.append(sol.gamma)
+        gammas.append(sol.point_gamma)
         methods.append(method)
         minima.append(minimum)
         if sol.ok:

@@ -78,11 +78,11 @@ def bounded_real_evidence(solution) -> Evidence | None:
     """The declared bounded-real claim ‖(A, B, C, D)‖∞ ≤ γ at the solved level, or None."""
     instance = solution.instance
     form = instance.theorem.bounded_real
-    if form is None or solution.gamma is None or not solution.ok:
+    if form is None or solution.point_gamma is None or not solution.ok:
         return None
     vertices = range(instance.nvertices) if instance.nvertices > 1 else [None]
     systems = [_system(instance, solution.values, form.system, v) for v in vertices]
-    return _norm_evidence("the declared system's H∞ norm", systems, solution.gamma, instance.theorem.time)
+    return _norm_evidence("the declared system's H∞ norm", systems, solution.point_gamma, instance.theorem.time)
 
 
 def design_evidence(solution, level: float | None) -> Evidence | None:

@@ -283,7 +283,7 @@ def grid_check(measure: str | None = None, *, closed_loop=None, name: str = "sim
         if closed_loop is not None:
             systems = [closed_loop(s, solution.design) for s in systems]
         norm = measure in ("hinf", "h2")
-        claim = solution.gamma if norm else None
+        claim = solution.point_gamma if norm else None
         if norm and claim is None:
             return CheckResult(name, False, "no level to test")
         points = max_points or (300 if norm else 1500)

@@ -5,7 +5,7 @@ SDP: :func:`lmidsl.studies.export.check_round_trip`)."""
 from __future__ import annotations
 
 from ..errors import InputError
-from ..pipeline import make_instance
+from ..pipeline import make_instance, solve_instance
 from ..render.terminal import echo
 from ..studies.export import FORMATS, OPTIMUM_RTOL, check_round_trip, export
 from .common import add_solve_arguments, instance_spec, print_json, refuse, solve_arguments
@@ -39,7 +39,9 @@ def run(args):
     if args.check:
         solving.pop("margin")                         # the file's own margin is the one checked
         mapping["check"] = check_round_trip(instance, args.output, mapping, **solving)
-        code = 0 if mapping["check"]["holds"] else 1
+        verdict = solve_instance(instance, backoff="auto", **solving).verdict   # the instance's, as `solve` gives it
+        mapping.update(gamma=verdict.gamma, verdict=verdict.as_dict())
+        code = 0 if mapping["check"]["holds"] and verdict.certified else 1
     if args.json:
         print_json(mapping)
         return code
@@ -66,4 +68,7 @@ def format_export(mapping: dict, output: str, fmt: str) -> str:
             said += (f"; solved by cvxpy: a point found; lmidsl: "
                      f"{'a certified point' if c['lmidsl_certified'] else 'no certified point'}")
         lines.append("  read back: " + "; ".join(x for x in (said, c["reason"]) if x))
+    if "verdict" in mapping:
+        lines.append(f"verdict (lmidsl solve of the instance): {mapping['verdict']['word'].upper()}"
+                     + (f" at gamma = {mapping['gamma']:.8g}" if mapping["gamma"] is not None else ""))
     return "\n".join(lines)

@@ -131,6 +131,8 @@ def run(args):
         out = str(default_tex_name(theorem.id))
     document = {"theorem": theorem.id, "example": solution.example if solution else None,
                 "solved": solution is not None, "latex": text}
+    if solution is not None:       # the numbers in the document are the verdict's
+        document.update(gamma=solution.gamma, verdict=solution.verdict.as_dict())
     if out is None:
         if args.json:
             print_json(document)

@@ -1,7 +1,7 @@
 """``lmidsl search``: grid (and Nelder–Mead refinement) over a theorem's fixed scalars."""
 from __future__ import annotations
 
-from ..pipeline import make_instance
+from ..pipeline import make_instance, solve_instance
 from ..errors import InputError
 from ..render.terminal import wrap
 from ..studies.search import OBJECTIVES, format_result, scalar_search
@@ -34,8 +34,15 @@ def run(args):
     result = scalar_search(instance, axes, args.objective, refine_best=args.refine,
                            **parallel_spec(args), progress=False if args.no_progress or args.json else None,
                            maxfev=args.maxfev, **solve_arguments(args))
+    best = result.best_certified or result.best
+    solution = None if best is None else solve_instance(instance.with_params(**best.params), backoff="auto",
+                                                        **solve_arguments(args))
+    verdict = None if solution is None else solution.verdict      # the best point's, as `solve` gives it
     if args.json:
-        print_json(result.as_dict())
+        print_json({**result.as_dict(), "verdict": None if verdict is None else verdict.as_dict(),
+                    "gamma": None if verdict is None else verdict.gamma})
     else:
         print(wrap(format_result(result)))
-    return 0 if result.best is not None else 1
+        if verdict is not None:
+            print(wrap(f"verdict at {best.params}: {verdict.line()}"))
+    return 0 if verdict is not None and verdict.certified else 1

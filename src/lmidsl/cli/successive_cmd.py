@@ -65,7 +65,13 @@ def format_successive(result, theorem_id: str) -> str:
     if best is None:
         lines.append(wrap(f"{theorem_id}: no certified point (every LMI's largest eigenvalue < 0) was met"))
         return "\n".join(lines)
-    lines.append(wrap(f"best point: gamma = {best.gamma:.8g}" + (f" (start {result.best_start})" if starts else "")))
+    for start, k, gamma, why in result.rejected:
+        lines.append(wrap(f"iteration {k}" + (f" (start {start})" if starts else "") + f": gamma {gamma:.8g} "
+                          f"is lower but not certified ({why})"))
+    lines.append(wrap(f"best certified point: iteration {result.best_iteration}"
+                      + (f" (start {result.best_start})" if starts else "") + f", gamma = {best.gamma:.8g}"
+                      if best.verdict.certified else
+                      f"best point (not certified): iteration {result.best_iteration}, gamma = {best.gamma:.8g}"))
     lines.append(wrap(f"verdict: {best.verdict.line()}"))
     analysis = getattr(best, "analysis", None)
     if analysis is not None:

@@ -84,14 +84,22 @@ def _evaluate_params(theorem: Theorem, base: dict) -> dict:
 
 
 def _infer_dims(theorem: Theorem, matrices: dict, given_dims: dict) -> dict:
-    """Assign every dimension symbol from the data shapes, in declaration order."""
+    """Assign every dimension symbol from the data shapes: the size most data agree on (one vote
+    per datum; a tie goes to the first declared), so that the one datum of a wrong shape (a
+    ``--set A=...`` of the wrong size) is the one blamed, not its neighbours."""
     dims = {theorem.dims[k]: v for k, v in given_dims.items()}
     origin = {theorem.dims[k]: "given" for k in given_dims}
+    votes: dict = {}                        # dim -> size -> [(datum, axis), ...]
     for name, (symbol, arrays) in matrices.items():
         for axis, expected in enumerate(symbol.shape):
             if isinstance(expected, Dim) and expected not in dims:
-                dims[expected] = arrays[0].shape[axis]
-                origin[expected] = f"{name} {'rows' if axis == 0 else 'columns'}"
+                sources = votes.setdefault(expected, {}).setdefault(arrays[0].shape[axis], [])
+                if name not in (n for n, _ in sources):
+                    sources.append((name, axis))
+    for d, sizes in votes.items():
+        size, sources = max(sizes.items(), key=lambda item: len(item[1]))   # max keeps the first of a tie
+        dims[d] = size
+        origin[d] = f"{sources[0][0]} {'rows' if sources[0][1] == 0 else 'columns'}"
     for d in theorem.dims.values():
         if d not in dims:
             raise InputError(f"{theorem.id}: dimension {d} is not fixed by any datum; give it as {d}=<int>")

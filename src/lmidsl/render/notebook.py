@@ -23,7 +23,7 @@ import re
 
 import numpy as np
 
-from ..theorem.values import LATEX_RENDERER
+from ..theorem.values import HTML_RENDERER, LATEX_RENDERER
 from .latex import LMILatexPrinter, lmi_latex
 from .latex_text import tex_text
 from .report import performance_label
@@ -172,6 +172,9 @@ def html(obj) -> str:
         if any(c.__module__ == module and c.__name__ == name for c in type(obj).__mro__):
             return globals()[renderer](obj)
     raise TypeError(f"no notebook renderer for {type(obj).__name__}")
+
+
+HTML_RENDERER["html"] = html        # Solution._repr_html_, in any front end (not only IPython)
 
 
 def register_ipython(shell=None) -> list[str]:

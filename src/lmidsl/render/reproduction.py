@@ -78,13 +78,28 @@ def _exact_cell(row) -> str | None:
     return f"{row.exact_gamma:.5g} {tag}" if row.exact_gamma is not None else f"∞ {tag}"
 
 
+def headline(row) -> tuple[float | None, str | None]:
+    """(γ, word) of the row's one verdict record, as every command shows them."""
+    record = row.verdict or {}
+    return record.get("gamma"), record.get("word")
+
+
+def verdict_cell(row) -> str:
+    """The comparison with the paper, then the verdict's own word (``optimal``, ``certified``, ...)
+    when the row is certified (an uncertified row says NOT certified and why)."""
+    text = shown_verdict(row)[0]
+    word = headline(row)[1]
+    return text if not row.certified or not word or word in text else f"{text}, {word}"
+
+
 def row_cells(row, wide: bool) -> list:
-    """The cells of one row (the largest LMI eigenvalue only in ``wide`` tables)."""
+    """The cells of one row (the largest LMI eigenvalue only in ``wide`` tables): the SDP optimum
+    (what compares with the print) and the verdict's γ, the one every command shows."""
     cells = [f"{row.theorem}\n  {row.example}", _number(row.printed_gamma, "g"),
              _number(row.computed_gamma), diff_cell(row)]
     if wide:
         cells.append(_number(row.worst_eig, ".2e"))
-    return cells + [_number(row.certified_gamma), _exact_cell(row), shown_verdict(row)[0]]
+    return cells + [_number(headline(row)[0], ".8g"), _exact_cell(row), verdict_cell(row)]
 
 
 def paper_of(theorem_id: str) -> str:
@@ -113,8 +128,8 @@ SUMMARY_HEADERS = ["paper", "rows", "printed", "matched", "differs", "certified"
 
 
 def row_headers(wide: bool) -> list[str]:
-    return (["theorem\n  example", "printed\nγ", "γ", "diff"] + (["max\neig"] if wide else [])
-            + ["cert.\nγ", "exact\nγ", "verdict"])
+    return (["theorem\n  example", "printed\nγ", "optimum\nγ", "diff"] + (["max\neig"] if wide else [])
+            + ["γ", "exact\nγ", "verdict"])
 
 
 def format_reproduction(rows) -> str:
@@ -139,8 +154,9 @@ def format_reproduction(rows) -> str:
         out += ["", wrap(f"{provenance.upper()}: {meaning} ({len(group)} rows)"),
                 format_table(headers, [row_cells(r, wide) for r in group], nowrap=numbers)]
         out += [wrap(f"  {r.theorem} [{r.example}]: {note}") for r, note in notes if note]
-    out += ["", wrap("γ: the computed γ; diff: (computed − printed) / printed; 'cert. γ' is the analysis "
-                     "counterpart's γ for the recovered filter; 'exact γ' is the filter's exact "
+    out += ["", wrap("optimum γ: the SDP optimum, compared with the print; diff: (optimum − printed) / "
+                     "printed; γ: the verdict's level, the one every command shows (for a design, "
+                     "its analysis counterpart's γ); 'exact γ' is the filter's exact "
                      "mean-square figure without any LMI (ep: energy-to-peak, H∞: energy-to-energy; "
                      "∞: not mean-square stable)" + ("; 'max eig': the largest eigenvalue of any LMI "
                                                      "at the returned point" if wide else "; --wide adds "

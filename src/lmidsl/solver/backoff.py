@@ -177,7 +177,7 @@ def backoff_solution(model, solution, delta: float, solver=None, iterations: int
     k_value = model.value_of(kappa) if new.ok else None
     new.backoff = {
         "delta": delta, "objective_opt": beta_opt, "objective_bound": bound,
-        "objective": new.objective, "gamma_opt": solution.gamma, "gamma": new.gamma,
+        "objective": new.objective, "gamma_opt": solution.point_gamma, "gamma": new.point_gamma,
         "status_opt": solution.status,
         "t": t_best, "t_max": t_max, "kappa": float(k_value) if k_value is not None else None,
         "cond_before": before, "cond_after": after, "solves": solves,
@@ -215,9 +215,9 @@ def level_solution(model, optimum, delta: float, plan):
     new.objective = None if value is None else float(np.asarray(value).reshape(-1)[0])
     new.backoff = {
         "delta": delta, "method": "level problem", "objective_opt": beta_opt,
-        "objective_bound": bound, "objective": new.objective, "gamma_opt": optimum.gamma,
+        "objective_bound": bound, "objective": new.objective, "gamma_opt": optimum.point_gamma,
         "status_opt": optimum.status,
-        "gamma": new.gamma, "cond_before": condition_numbers(model.instance, optimum.values),
+        "gamma": new.point_gamma, "cond_before": condition_numbers(model.instance, optimum.values),
         "cond_after": condition_numbers(model.instance, new.values), "solves": len(tried),
         "tried": tried, "optimum_lmis": [r.as_dict() for r in optimum.lmis],
         "objective_bounds_opt": optimum.objective_bounds}

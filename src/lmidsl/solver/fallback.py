@@ -124,7 +124,7 @@ def _certified_point(instance: Instance, values: dict, objective: float) -> Solu
     if not (lmis and all(r.max_eig < 0 for r in lmis)):
         return None
     return Solution(instance.theorem.id, instance.example, "riccati", "scipy ARE", OPTIMAL,
-                    objective=objective, gamma=evaluate_performance(instance, point), lmis=lmis,
+                    objective=objective, point_gamma=evaluate_performance(instance, point), lmis=lmis,
                     values=values, params=dict(instance.params), instance=instance)
 
 

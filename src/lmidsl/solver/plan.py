@@ -176,13 +176,13 @@ class Plan:
         and when its point misses the strict set, the level problem at the target and at the
         minimum (1 + tolerance) (``objective_level(theorem, γ)`` maps a level to the objective)."""
         def enough(sol):
-            return sol.ok and sol.lmis_hold and (target_gamma is None or sol.gamma is not None
-                                                 and sol.gamma <= target_gamma * (1 + tolerance))
+            return sol.ok and sol.lmis_hold and (target_gamma is None or sol.point_gamma is not None
+                                                 and sol.point_gamma <= target_gamma * (1 + tolerance))
 
         if self.closed_forms:
             closed = riccati_point(instance, target_gamma, tolerance)
-            if closed is not None and (target_gamma is None or closed.gamma <= target_gamma * (1 + tolerance)):
-                return closed, "riccati", closed.gamma, "riccati/scipy ARE"
+            if closed is not None and (target_gamma is None or closed.point_gamma <= target_gamma * (1 + tolerance)):
+                return closed, "riccati", closed.point_gamma, "riccati/scipy ARE"
         proposal = equilibrate(instance)
         conditionings = [None] if proposal.trivial else [None, proposal]
         result = None
@@ -207,7 +207,7 @@ class Plan:
     def _min_then_level(self, model, solver, target_gamma, tolerance, objective_level):
         """min γ, then (when its point is not strictly feasible) the level problems."""
         sol = self._solve_model(model, solver)
-        minimum = sol.gamma if sol.ok else None
+        minimum = sol.point_gamma if sol.ok else None
         if sol.ok and sol.lmis_hold:
             return sol, "min", minimum
         levels = sorted({g for g in (target_gamma, None if minimum is None else minimum * (1 + tolerance))
@@ -260,7 +260,7 @@ class Plan:
             witness = riccati_point(instance, None, 0.0)
             if witness is not None:
                 solution.notes.append(f"feasp said infeasible (t* = {report.tmin:.3g}), but a point from the "
-                                      f"Riccati equation satisfies every LMI (gamma {witness.gamma:.8g}): "
+                                      f"Riccati equation satisfies every LMI (gamma {witness.point_gamma:.8g}): "
                                       f"the problem is feasible; {solution.solver} did not solve it")
                 report.refuted_by = "Riccati"
         solution.feasp = report

@@ -11,7 +11,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import InputError, LmidslError
 from ..numeric.design import Design
+from ..theorem.values import HTML_RENDERER
 from ..numeric.instance import Instance
 from ..numeric.interconnection import design_kind, design_loop, loop_summary
 from ..numeric.proof import PRECISION, PROVED, BallEvaluator, ball_precision, prove_block_matrix, round_down, round_up
@@ -64,7 +66,7 @@ class Solution:
     solver: str
     status: str
     objective: float | None = None
-    gamma: float | None = None
+    point_gamma: float | None = None  # the performance (γ = √g) at the returned point; the headline is ``gamma``
     lmis: list[LMIReport] = field(default_factory=list)
     values: dict = field(default_factory=dict)
     design: Design | None = None    # the recovered filter/controller (original coordinates)
@@ -89,6 +91,46 @@ class Solution:
     bounds: object = None           # lmidsl.solver.dual_bound.DualBound: proved lower bound on the optimum
     objective_bounds: tuple | None = None  # [lo, hi] ∋ the objective at the point, data as written (proved)
     infeasibility: object = None    # lmidsl.solver.infeasibility.InfeasibilityCertificate
+
+    @property
+    def gamma(self) -> float | None:
+        """THE level, the verdict's (``verdict.gamma``): what the delivered design is certified for
+        (its analysis level), else the level at the returned point.  The other levels keep their
+        names: ``optimum_level`` (the SDP optimum's), ``backoff_level`` (the back-off point's),
+        ``point_gamma`` (the returned point's)."""
+        return self.verdict.gamma
+
+    @property
+    def optimum_level(self) -> float | None:
+        """The level at the SDP optimum (for a back-off point, the optimum it backed off from)."""
+        return self.verdict.levels.get("optimum")
+
+    @property
+    def backoff_level(self) -> float | None:
+        """The synthesis level at the back-off point the design was recovered at, or None."""
+        return self.verdict.levels.get("backoff")
+
+    def value(self, item):
+        """The value at the returned point of a decision variable (the symbol or its name), of a
+        recovered matrix (``"K"``, or the symbol ``recover`` returned), or of any expression of
+        the theorem's symbols (``A.T @ P + P @ A``): a numpy array, a float for 1×1 — cvxpy's
+        ``expr.value``, YALMIP's ``value(P)``.  ``sol[P]`` is the same."""
+        name = item if isinstance(item, str) else getattr(item, "name", None)
+        if isinstance(item, str) and item in self.values:
+            return _plain(self.values[item])
+        if name is not None and self.design is not None and name in self.design and name not in self.values:
+            return self.design[name]
+        if not isinstance(item, str) and self.instance is not None and hasattr(item, "free_symbols"):
+            point = {**self.instance.data, **self.values}
+            try:
+                return _plain(NumericEvaluator(self.instance.dims, point, self.instance.params).visit(item))
+            except (KeyError, LmidslError):
+                pass
+        known = sorted(self.values) + sorted(self.design or {})
+        raise InputError(f"{self.theorem}: no value of {item} in this solution (variables and recovered "
+                         f"matrices: {', '.join(known) or 'none'})")
+
+    __getitem__ = value
 
     @property
     def recovered(self):
@@ -156,13 +198,20 @@ class Solution:
         """One line: theorem [example], status, γ or objective, verdict, backend/solver (the
         full report: :func:`lmidsl.render.report.format_solution`; the data: :meth:`as_dict`)."""
         where = f" [{self.example}]" if self.example else ""
-        value = (f", gamma={self.gamma:.6g}" if self.gamma is not None else "") + (
-            f", objective={self.objective:.6g}" if self.objective is not None and self.objective != self.gamma else "")
         v = self.verdict
+        value = (f", gamma={v.gamma:.8g}" if v.gamma is not None else "") + (
+            f", objective={self.objective:.8g}" if self.objective is not None and self.objective != v.gamma else "")
         verdict = v.word.upper() + ("" if v.certified or not v.reasons else f" ({v.reasons[0]})")
         design = f", design {', '.join(self.design)}" if self.design is not None and len(self.design) else ""
         return (f"<Solution {self.theorem}{where}: {self.status}{value}, {verdict}{design}; "
                 f"{self.backend}/{self.solver}>")
+
+    def _repr_html_(self) -> str | None:
+        """The verdict, levels, design and LMIs as a small HTML table (any front end that asks for
+        ``_repr_html_``: Jupyter, VS Code, nbconvert, a plain ``display``), by the renderer the
+        render layer registers in :data:`~lmidsl.theorem.values.HTML_RENDERER`; None without one."""
+        render = HTML_RENDERER.get("html")
+        return None if render is None else render(self)
 
     def as_dict(self) -> dict:
         def listify(v):
@@ -181,7 +230,7 @@ class Solution:
             "message": self.message,
             "objective": self.objective,
             "gamma": verdict.gamma,
-            "point_gamma": self.gamma,
+            "point_gamma": self.point_gamma,
             "params": self.params,
             "margin": self.margin,
             "certified": verdict.certified,
@@ -209,6 +258,12 @@ class Solution:
             "lower_bound": self.bounds.as_dict() if self.bounds is not None else None,
             "infeasibility": self.infeasibility.as_dict() if self.infeasibility is not None else None,
         }
+
+
+def _plain(value):
+    """A 1×1 result as a float, anything else as a numpy array."""
+    array = np.asarray(value, dtype=float)
+    return float(array.reshape(())) if array.size == 1 and array.ndim <= 2 and array.shape in ((), (1,), (1, 1)) else array
 
 
 def lmi_certificate(instance: Instance, values: dict, prove: bool = False,

@@ -116,7 +116,7 @@ def decide(solution) -> Verdict:
     analysis = solution.analysis
     levels = {"optimum": optimum_level(solution)}
     if backed_off(solution):
-        levels["backoff"] = solution.gamma
+        levels["backoff"] = solution.point_gamma
     if analysis is not None:
         levels["analysis"] = analysis.gamma
     delivers = bool(theorem is not None and theorem.recovery)
@@ -220,7 +220,7 @@ def backed_off(solution) -> bool:
 
 def optimum_level(solution):
     """The level at the SDP optimum: the back-off record's for a back-off point, else the point's."""
-    return solution.backoff.get("gamma_opt") if backed_off(solution) else solution.gamma
+    return solution.backoff.get("gamma_opt") if backed_off(solution) else solution.point_gamma
 
 
 def design_certified_level(solution):
@@ -235,7 +235,7 @@ def design_certified_level(solution):
 def headline_level(solution):
     """THE headline: the delivered design's certified level, else the level at the point."""
     level = design_certified_level(solution)
-    return solution.gamma if level is None else level
+    return solution.point_gamma if level is None else level
 
 
 def bracket(solution) -> dict | None:

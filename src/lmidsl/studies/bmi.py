@@ -9,8 +9,11 @@ non-increasing; the driver stops when γ stops improving:
     (γ_{k−1} − γ_k) ≤ rtol · γ_{k−1} + atol,   or k = max_iter,   or the LMI becomes infeasible,
     or γ_k − γ_{k−1} > rtol · γ_{k−1} + atol (a rise: an inaccurate step moved the point)
 
-and keeps the best certified solution met (every LMI's largest eigenvalue < 0 at the returned
-point), with the history of γ.  Each step is solved as ``solve`` solves one LMI problem: as
+and keeps the best *certified* solution met, with the history of γ: every iterate whose LMIs hold
+numerically is a candidate; after the iteration the candidates are finished (recovery, proofs,
+analysis certificate: the verdict) from the lowest γ up, and the first whose verdict is certified is
+the result (``best_iteration`` says which iterate it was).  An iterate lower than it that the
+verdict does not certify is reported, not returned.  Each step is solved as ``solve`` solves one LMI problem: as
 written and equilibrated (:meth:`~lmidsl.solver.plan.Plan.solve`), with margin
 escalation; the linearisation point can spread the coefficients over 2⁵⁰, where the problem as
 written ends in the solver's "insufficient progress".  ``starts`` runs the iteration from
@@ -53,6 +56,8 @@ class BMIResult:
     stop_reason: str = ""
     point: dict = field(default_factory=dict)   # the linearisation point of the best solve
     best_start: int | None = None
+    best_iteration: int | None = None            # which iterate (of its start) the best is
+    rejected: list = field(default_factory=list)  # (start, iteration, γ, why) of lower, uncertified iterates
 
     @property
     def gammas(self) -> list:
@@ -64,6 +69,8 @@ class BMIResult:
 
     def as_dict(self) -> dict:
         return {"gamma": self.gamma, "stop_reason": self.stop_reason, "best_start": self.best_start,
+                "best_iteration": self.best_iteration,
+                "rejected": [{"start": s, "iteration": k, "gamma": g, "why": why} for s, k, g, why in self.rejected],
                 "history": [s.as_dict() for s in self.history]}
 
 
@@ -112,7 +119,7 @@ def successive_lmi(instance: Instance, *, starts: list[dict] | None = None, max_
     if progress:
         from tqdm import tqdm
         bar = tqdm(total=max_iter * len(starts), desc=desc or theorem.id, file=sys.stderr, leave=False)
-    best_gamma = np.inf
+    candidates = []                 # (γ, start, iteration, solution, linearisation point)
     try:
         for s, start in enumerate(starts):
             current = with_data(instance, start)
@@ -123,29 +130,28 @@ def successive_lmi(instance: Instance, *, starts: list[dict] | None = None, max_
                 # each step solved as `solve` solves: as written and conditioned, margin escalation
                 sol, _ = plan.solve(current)
                 result.history.append(Step(k, sol.status if sol.lmis_hold or not sol.ok else "not certified",
-                                           sol.gamma, sol.worst_eig, time.perf_counter() - t0, s))
+                                           sol.point_gamma, sol.worst_eig, time.perf_counter() - t0, s))
                 if bar is not None:
                     bar.update(1)
-                    bar.set_postfix(start=s, gamma=f"{sol.gamma:.6g}" if sol.gamma else sol.status)
-                if not sol.ok or sol.gamma is None:
+                    bar.set_postfix(start=s, gamma=f"{sol.point_gamma:.6g}" if sol.point_gamma else sol.status)
+                if not sol.ok or sol.point_gamma is None:
                     reason = f"{sol.status} at iteration {k}"
                     break
                 # only a point that satisfies every LMI (numpy eigenvalues) may become the best;
                 # an uncertified point still gives a valid next linearisation point
-                if sol.lmis_hold and sol.gamma < best_gamma:
-                    best_gamma = sol.gamma
-                    result.best, result.best_start = sol, s
-                    result.point = {n: np.asarray(current.data[n]) for n in theorem.linearisation}
-                if previous is not None and sol.gamma - previous > rtol * previous + atol:
+                if sol.lmis_hold:
+                    candidates.append((sol.point_gamma, s, k, sol,
+                                       {n: np.asarray(current.data[n]) for n in theorem.linearisation}))
+                if previous is not None and sol.point_gamma - previous > rtol * previous + atol:
                     # exact solves never rise (the previous solution stays feasible): an
                     # inaccurate step moved the point; going on would follow the error
-                    reason = (f"gamma rose at iteration {k} ({previous:.6g} -> {sol.gamma:.6g}): the "
+                    reason = (f"gamma rose at iteration {k} ({previous:.6g} -> {sol.point_gamma:.6g}): the "
                               f"solver's accuracy is reached")
                     break
-                if previous is not None and previous - sol.gamma <= rtol * previous + atol:
+                if previous is not None and previous - sol.point_gamma <= rtol * previous + atol:
                     reason = f"converged at iteration {k} (improvement below rtol = {rtol:g})"
                     break
-                previous = sol.gamma
+                previous = sol.point_gamma
                 current = with_data(current, next_point(current, sol.values))
             result.stop_reason += ("; " if result.stop_reason else "") + f"start {s}: {reason}"
             if bar is not None:
@@ -153,6 +159,14 @@ def successive_lmi(instance: Instance, *, starts: list[dict] | None = None, max_
     finally:
         if bar is not None:
             bar.close()
-    if result.best is not None:
-        finish_solution(result.best, plan=plan, certify=certify)
+    for gamma, s, k, sol, point in sorted(candidates, key=lambda c: (c[0], c[1], c[2])):
+        finish_solution(sol, plan=plan, certify=certify)
+        result.best, result.best_start, result.best_iteration, result.point = sol, s, k, point
+        if sol.verdict.certified or not certify:
+            break
+        result.rejected.append((s, k, gamma, sol.verdict.reasons[0] if sol.verdict.reasons else sol.verdict.word))
+    else:
+        if candidates:           # none certified: the lowest, with its verdict saying why
+            gamma, s, k, sol, point = min(candidates, key=lambda c: (c[0], c[1], c[2]))
+            result.best, result.best_start, result.best_iteration, result.point = sol, s, k, point
     return result

@@ -25,6 +25,7 @@ A solver that fails (not installed, raises, returns no point) is a row carrying 
 """
 from __future__ import annotations
 
+import statistics
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -33,12 +34,24 @@ from ..pipeline import make_instance, solve_instance
 from ..solver.plan import Plan
 from ..solver.verdict import CERTIFIED, DISAGREEMENT, NOT_CERTIFIED, Verdict
 from ..solver.status import OPTIMAL
-from ..solver.backends import (BACKENDS, options_for, SOLVER_INFO, backend_sdp_solvers, is_first_order,
+from ..solver.backends import (BACKENDS, DEFAULT_BACKEND, backend_info, options_for, SOLVER_INFO, backend_sdp_solvers, is_first_order,
                                resolve_solver)
 from ..errors import InputError, LmidslError
 from .parallel import Runner, Task, check_workers, items_as_finished
 
 DEFAULT_TOLERANCE = 1e-3
+FIRST_ORDER_CAP = 3.0
+"""A first-order row's default time limit, as a multiple of the interior-point rows' median time."""
+MIN_CAP = 2.0
+"""The shortest time limit a first-order row gets, seconds."""
+
+
+def capped(solver: str, options: dict, cap: float | None) -> dict:
+    """A first-order row's options with the time limit ``cap`` (SCS's ``time_limit_secs``), unless
+    the user set one."""
+    if cap is None or not is_first_order(solver) or "time_limit_secs" in options:
+        return options
+    return {**options, "time_limit_secs": cap}
 
 #: Solvers whose "optimal" is a first-order residual test (~1e-4 scaled), not an
 #: interior-point duality gap; their certified rows are bounds, never the reference.
@@ -55,7 +68,8 @@ class CheckRow:
     message: str = ""
     error: str | None = None
     objective: float | None = None
-    gamma: float | None = None
+    gamma: float | None = None                         # the verdict's level (the row's one number)
+    optimum_level: float | None = None                 # the SDP optimum's level: what rows compare
     lmis: list = field(default_factory=list)          # LMIReport.as_dict() per LMI (and vertex)
     analysis_theorem: str | None = None
     analysis_gamma: float | None = None
@@ -71,6 +85,7 @@ class CheckRow:
     rel_diff: float | None = None                      # (value − reference) / |reference|
     disagrees: bool = False
     verdict: dict | None = None                        # the row's solve's verdict record
+    capped: float | None = None                        # a first-order row's time limit, seconds
 
     @property
     def name(self) -> str:
@@ -87,7 +102,8 @@ class CheckRow:
         return {
             "backend": self.backend, "solver": self.solver, "options": self.options,
             "status": self.status, "message": self.message, "error": self.error,
-            "objective": self.objective, "gamma": self.gamma, "lmis": self.lmis,
+            "objective": self.objective, "gamma": self.gamma, "optimum_level": self.optimum_level,
+            "lmis": self.lmis,
             "max_eig": self.max_eig_by_label(),
             "analysis": None if self.analysis_passed is None and self.analysis_gamma is None else
             {"theorem": self.analysis_theorem, "gamma": self.analysis_gamma, "passed": self.analysis_passed},
@@ -95,7 +111,7 @@ class CheckRow:
             "backoff_gamma": self.backoff_gamma,
             "certified": self.certified, "trusted": self.trusted, "reason": self.reason,
             "value": self.value, "rel_diff": self.rel_diff, "disagrees": self.disagrees,
-            "verdict": self.verdict,
+            "verdict": self.verdict, "capped": self.capped,
         }
 
 
@@ -138,10 +154,15 @@ class CheckResult:
 
     @property
     def verdict(self) -> Verdict:
-        """Certified when trusted rows agree; the headline is the reference row's certified level."""
+        """Certified when trusted rows agree; the headline is the level of the row `lmidsl solve`'s
+        own route gives (the default backend and solver) when that row is trusted, so that `check`
+        and `solve` print one number; else the reference row's."""
         ref = self.reference
-        gamma = None if ref is None or ref.verdict is None else ref.verdict["gamma"]
-        quantity = "" if ref is None or ref.verdict is None else ref.verdict["quantity"]
+        default = backend_info(DEFAULT_BACKEND).default.lower()
+        own = next((r for r in self.trusted if r.backend == DEFAULT_BACKEND and r.solver.lower() == default
+                    and not r.disagrees), ref)
+        gamma = None if own is None or own.verdict is None else own.verdict["gamma"]
+        quantity = "" if own is None or own.verdict is None else own.verdict["quantity"]
         word = CERTIFIED if self.agree else (DISAGREEMENT if self.disagreeing else NOT_CERTIFIED)
         reasons = () if self.agree else (self.summary(),)
         return Verdict(self.agree, word, gamma, self.summary(), quantity, "",
@@ -284,7 +305,10 @@ def run_row(instance, backend: str, solver: str, options: dict, margin=None, cer
             # point is not accurate enough for the back-off's level problem and search)
             automatic = certify and not is_first_order(solver)
             plan = Plan(backend, solver, options, margin, fallbacks=False, closed_forms=False)
-            sol = solve_instance(instance, certify=certify, backoff="auto" if automatic else None, plan=plan)
+            # nor its proved dual bound: a first-order row is never trusted, and the bound's own
+            # solves would each take up to the row's time limit
+            sol = solve_instance(instance, certify=certify, backoff="auto" if automatic else None, plan=plan,
+                                 bounds=not is_first_order(solver))
     except LmidslError as exc:
         row.status, row.error = "error", str(exc)
     except Exception as exc:  # a solver crash is an answer too: a row with its error
@@ -297,19 +321,20 @@ def run_row(instance, backend: str, solver: str, options: dict, margin=None, cer
             if text and text not in notes:
                 notes.append(text)
         row.status, row.message = sol.status, "; ".join(notes)
-        row.objective, row.gamma = sol.objective, sol.gamma
+        row.objective, row.optimum_level = sol.objective, sol.point_gamma
         backoff = sol.backoff or {}
         if "objective_opt" in backoff:
             # as `lmidsl solve`: the design recovered at the optimum was not certified, so the
             # design is the back-off point's; the value compared is the optimum's, on which the
             # solvers must agree (back-off points of different solvers differ by up to δ)
-            row.objective, row.gamma = backoff["objective_opt"], backoff.get("gamma_opt")
+            row.objective, row.optimum_level = backoff["objective_opt"], backoff.get("gamma_opt")
             row.status = backoff.get("status_opt", row.status)     # the solve whose value is compared
-            row.backoff_gamma = sol.gamma
+            row.backoff_gamma = sol.point_gamma
             row.optimum_lmis = list(backoff.get("optimum_lmis") or [])
             row.message = "; ".join([*notes, f"design from the automatic back-off at {_gamma_text(sol)}"])
         row.lmis = [r.as_dict() for r in sol.lmis]
         row.verdict = sol.verdict.as_dict()
+        row.gamma = row.verdict["gamma"]
         row.solver_time = sol.times.get("solver")
         analysis = getattr(sol, "analysis", None)
         if analysis is not None:
@@ -355,8 +380,8 @@ def _judge(row: CheckRow, sol, instance) -> None:
 
 
 def _gamma_text(sol) -> str:
-    value = sol.gamma if sol.gamma is not None else sol.objective
-    return "no value" if value is None else f"{'γ' if sol.gamma is not None else 'objective'} {value:.8g}"
+    value = sol.point_gamma if sol.point_gamma is not None else sol.objective
+    return "no value" if value is None else f"{'γ' if sol.point_gamma is not None else 'objective'} {value:.8g}"
 
 
 def compare(rows: list[CheckRow], tolerance: float) -> CheckRow | None:
@@ -376,7 +401,7 @@ def check(theorem, example: str | None = None, data: dict | None = None,
           overrides: dict | None = None, solvers=None, options: dict | None = None,
           tolerance: float = DEFAULT_TOLERANCE, margin: float | None = None,
           certify: bool = True, progress=None, workers: int | None = None,
-          scheduler: str | None = None) -> CheckResult:
+          scheduler: str | None = None, first_order_cap: float = FIRST_ORDER_CAP) -> CheckResult:
     """Solve one instance on every requested backend × solver and compare the answers.
 
     ``solvers``: see :func:`plan_rows`.  ``options``: ``{"clarabel": {...}}`` or
@@ -385,7 +410,10 @@ def check(theorem, example: str | None = None, data: dict | None = None,
     row.  ``progress(plan)`` wraps the planned (backend, solver, error) rows that are solved, in
     the order they finish (e.g. a progress bar).  ``workers`` / ``scheduler``: the rows run in
     parallel on Dask (:mod:`lmidsl.studies.parallel`); each row's ``time s`` is then measured on
-    a machine shared with the other rows.
+    a machine shared with the other rows.  ``first_order_cap``: a first-order solver's row (SCS,
+    never trusted) runs after the others with a time limit of this multiple of the slowest
+    interior-point rows' median wall time (at least :data:`MIN_CAP` seconds; 0: no limit; an explicit
+    ``time_limit_secs`` option wins); a capped row says so.
     """
     check_workers(workers, scheduler)
     if not tolerance > 0:
@@ -397,17 +425,32 @@ def check(theorem, example: str | None = None, data: dict | None = None,
     rows = [CheckRow(backend, solver, status="error", error=error, reason="error") if error else None
             for backend, solver, error in plan]
     todo = [i for i, row in enumerate(rows) if row is None]
+    exact = [i for i in todo if not is_first_order(plan[i][1])]
+    first_order = [i for i in todo if is_first_order(plan[i][1])]
     with Runner(workers if len(todo) > 1 or scheduler else None, scheduler) as runner:
         task = CheckTask(instance, margin, certify)
-        items = [(plan[i][0], plan[i][1], options_for(plan[i][0], plan[i][1], options)) for i in todo]
 
-        def put(index, row):
-            rows[todo[index]] = row
+        def run(indices, cap=None):
+            items = [(plan[i][0], plan[i][1], capped(plan[i][1], options_for(plan[i][0], plan[i][1], options), cap))
+                     for i in indices]
 
-        finished = items_as_finished(runner.map(task, items), [plan[i] for i in todo], put)
-        for _ in (progress(finished) if progress else finished):
-            pass
+            def put(index, row):
+                rows[indices[index]] = row
+                backend, solver, _ = plan[indices[index]]
+                if cap is not None and "time_limit_secs" not in options_for(backend, solver, options):
+                    row.capped = cap
+                    row.reason += f"; capped at {cap:.1f} s ({first_order_cap:g}× the interior-point time)"
+
+            finished = items_as_finished(runner.map(task, items), [plan[i] for i in indices], put)
+            for _ in (progress(finished) if progress else finished):
+                pass
+
+        run(exact)
+        # a first-order row (SCS) is never trusted: it gets a small multiple of the interior-point
+        # rows' time, not the minutes it can take on these LMIs (0 or no interior-point row: no cap)
+        times = [rows[i].wall_time for i in exact if rows[i].error is None]
+        run(first_order, max(first_order_cap * statistics.median(times), MIN_CAP) if first_order_cap and times else None)
     for r in rows:
-        r.value = r.gamma if thm.performance is not None else r.objective
+        r.value = r.optimum_level if thm.performance is not None else r.objective
     reference = compare(rows, tolerance)
     return CheckResult(thm.id, instance.example, compared, tolerance, rows, reference)

@@ -119,7 +119,7 @@ def reproduce_one(theorem_id: str, example: str, solver: str | None = None, **so
                                None, False, "error", provenance=provenance, expect=expect,
                                verdict=Verdict(False, NOT_SOLVED, None, str(exc), reasons=(str(exc),)).as_dict())
     # after an automatic back-off the optimum is what compares with the printed value
-    computed = (sol.backoff or {}).get("gamma_opt", sol.gamma) if sol.backoff else sol.gamma
+    computed = (sol.backoff or {}).get("gamma_opt", sol.point_gamma) if sol.backoff else sol.point_gamma
     rel = None
     if printed is not None and computed is not None:
         rel = abs(computed - printed) / abs(printed)
@@ -127,8 +127,8 @@ def reproduce_one(theorem_id: str, example: str, solver: str | None = None, **so
     certified = sol.verdict.certified      # every LMI proved, the analysis and the checks pass
     figure = _exact(sol)
     exact_ok = None
-    if figure is not None and sol.gamma is not None:
-        exact_ok = figure.value is not None and figure.value <= sol.gamma * (1 + EXACT_TOLERANCE)
+    if figure is not None and sol.point_gamma is not None:
+        exact_ok = figure.value is not None and figure.value <= sol.point_gamma * (1 + EXACT_TOLERANCE)
         certified = certified and exact_ok
     verdict = _verdict(kind, printed, computed, rel, certified, sol.status)
     if exact_ok is False:

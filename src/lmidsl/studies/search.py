@@ -131,12 +131,12 @@ class Evaluator:
                 return SearchPoint(dict(params), math.inf if t is None else t, status=status,
                                    certified=t is not None and t < 0)
             sol = solve_model(self.model, self.solver, restore_margin=True, **self.options)
-        value = sol.gamma if sol.ok and sol.gamma is not None else math.inf
+        value = sol.point_gamma if sol.ok and sol.point_gamma is not None else math.inf
         certified = False
         if sol.ok and sol.lmis_hold:
             proofs = lmi_certificate(instance, {**instance.data, **sol.values}, prove=True)
             certified = bool(proofs) and all(r.proof == PROVED for r in proofs)
-        return SearchPoint(dict(params), value, sol.gamma, sol.status, certified, sol.worst_eig,
+        return SearchPoint(dict(params), value, sol.point_gamma, sol.status, certified, sol.worst_eig,
                            sol.objective if sol.ok else None)
 
 

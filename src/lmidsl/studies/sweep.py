@@ -166,12 +166,17 @@ class SweepResult:
 
     @property
     def verdict(self) -> Verdict:
-        """Certified when every point's LMIs are proved; no single headline level."""
+        """Certified when every point's LMIs are proved; the headline γ is the largest proved
+        point's level (the level proved at every point of the grid), the smallest named ``best``."""
         bad = [p for p in self.points if not p.proved]
+        levels = [p.gamma for p in self.points if p.proved and p.gamma is not None]
+        gamma = max(levels, default=None)
+        named = {"best": min(levels, default=None), "worst": gamma}
         if self.points and not bad:
-            return Verdict(True, CERTIFIED, None, f"every LMI proved at all {len(self.points)} points")
+            return Verdict(True, CERTIFIED, gamma, f"every LMI proved at all {len(self.points)} points",
+                           levels=named)
         why = f"{len(bad)} of {len(self.points)} points not proved" if self.points else "no point"
-        return Verdict(False, NOT_CERTIFIED, None, why, reasons=(why,))
+        return Verdict(False, NOT_CERTIFIED, gamma, why, levels=named, reasons=(why,))
 
     def certified_count(self) -> int:
         """Points whose every LMI is proved at the returned point (ball arithmetic)."""
@@ -343,7 +348,7 @@ def _solve_point(model, base, params: dict, solver, options) -> SweepPoint:
     proved = sol.ok and sol.lmis_hold and all(
         r.proof == PROVED for r in lmi_certificate(sol.instance, {**sol.instance.data, **sol.values},
                                                    prove=True))
-    return SweepPoint(params, sol.status, sol.gamma, sol.objective, sol.worst_eig, call,
+    return SweepPoint(params, sol.status, sol.point_gamma, sol.objective, sol.worst_eig, call,
                       internal if internal != call else None, total, proved, time.perf_counter() - t2,
                       values=sol.values if proved else None)
 

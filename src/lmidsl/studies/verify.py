@@ -281,7 +281,7 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
         sol, _ = plan.solve(instance)
         reports = (lmi_certificate(instance, {**instance.data, **sol.values}, prove=True)
                    if sol.ok else sol.lmis)
-        _set_analysis(result, sol.status, sol.gamma if sol.ok else None,
+        _set_analysis(result, sol.status, sol.point_gamma if sol.ok else None,
                       [r.as_dict() for r in reports])
         analysis_instances = [instance]
     elif thm.analysis is not None:             # a synthesis theorem with an analysis counterpart
@@ -306,12 +306,12 @@ def verify(theorem, example: str | None = None, data: dict | None = None, overri
                 result.checks = {"synthesis_lmis": False, "analysis": None}
                 result.notes.append(f"the synthesis did not solve ({sol.status}); no filter to certify")
                 return result
-            result.synthesis_gamma = sol.gamma
+            result.synthesis_gamma = sol.point_gamma
             result.lmis = synthesis_lmis(sol)
             result.inverted = sol.inverted
             fil = {n: np.atleast_2d(sol.recovered[n]) for n in names}
             if result.claimed_gamma is None:
-                result.claimed_gamma = sol.gamma
+                result.claimed_gamma = sol.point_gamma
         elif design == "printed":
             if not all(n in printed for n in names):
                 raise InputError(f"{thm.id}: example {instance.example!r} prints no filter ({', '.join(names)})")

@@ -12,6 +12,11 @@ sizes of the block rows are read off the blocks that have a shape; a row whose s
 fixes is an error.  The result keeps the triangle (for printing with ``\\star``) and gives the
 full block (i, j) = block (j, i)ᵀ for the other triangle.
 
+An LMI may also be written with cvxpy's operators on a matrix expression (or a
+:class:`BlockMatrixSpec`): ``A.T @ P + P @ A << 0`` and ``P >> 0`` are strict (≺, ≻: imposed with
+the strictness margin, as ``sense="<"``), so are ``<`` and ``>``; ``<=`` and ``>=`` are
+non-strict (⪯, ⪰).  Each builds a :class:`MatrixInequality` that ``Theorem.lmi`` takes.
+
 Helpers: ``He(X) = X + Xᵀ``, ``diag(...)``, ``schur(M, k)`` (Schur complement of the diagonal
 block k), ``congruence(T, M) = Tᵀ M T`` block by block for block-diagonal ``T``.
 """
@@ -22,8 +27,9 @@ from dataclasses import dataclass
 import sympy as sp
 from sympy import Identity, ZeroMatrix
 
-from ..errors import ShapeMismatchError
+from ..errors import ShapeMismatchError, TheoremDefinitionError
 from .shapes import dims_equal, fmt_shape
+from .symbols import as_symbolic, theorem_of
 
 
 class SizedIdentity:
@@ -203,6 +209,59 @@ def block_matrix(rows, *, triangle: str = "lower", sizes=None, where: str = "") 
             row.append(entry)
         sized.append(row)
     return BlockMatrixSpec(sized, found, triangle)
+
+
+class MatrixInequality:
+    """``lhs ≺ rhs`` (``sense`` '<'), ``lhs ≻ rhs`` ('>'), or non-strict ('<=', '>='), written with
+    operators; ``Theorem.lmi`` declares it as the one-block LMI ``lhs − rhs`` (a
+    :class:`BlockMatrixSpec` keeps its blocks, with ``rhs`` 0).  ``rhs`` may be 0, ``I``
+    (``g * I``, sized from ``lhs``), a matrix expression or a numpy array."""
+
+    SIGNS = {"<": "≺", ">": "≻", "<=": "⪯", ">=": "⪰"}
+
+    def __init__(self, lhs, rhs, sense: str):
+        self.sense = sense
+        if isinstance(lhs, BlockMatrixSpec):
+            if not _is_zero_marker(rhs):
+                raise TheoremDefinitionError(
+                    f"a block matrix {self.SIGNS[sense]} {rhs!r}: compare a block matrix with 0 "
+                    f"(move the right-hand side into its blocks)")
+            self.lhs, self.rhs, self.rows = lhs, 0, lhs
+            return
+        rhs = as_symbolic(rhs)
+        if isinstance(rhs, SizedIdentity):
+            rhs = rhs.sized(lhs.shape[0])
+        self.lhs, self.rhs = lhs, rhs
+        self.rows = [[lhs if _is_zero_marker(rhs) else lhs - rhs]]
+
+    def __bool__(self):
+        owner = theorem_of(self.lhs if isinstance(self.lhs, sp.Basic) else sp.S.Zero)
+        raise TheoremDefinitionError(
+            f"{owner + ': ' if owner else ''}{self} is a matrix inequality, not a truth value: declare "
+            f"it with Theorem.lmi(...)")
+
+    def __repr__(self):
+        lhs = "block matrix" if isinstance(self.lhs, BlockMatrixSpec) else str(self.lhs)
+        return f"{lhs} {self.SIGNS[self.sense]} {self.rhs}"
+
+
+def _inequality(sense: str):
+    """``self OP other`` as the :class:`MatrixInequality` ``self sense other``."""
+
+    def method(self, other):
+        if isinstance(other, (MatrixInequality, list, tuple)):
+            return NotImplemented
+        return MatrixInequality(self, other, sense)
+    return method
+
+
+# cvxpy's convention on matrices (``X << Y``: X ≺ Y; ``0 << P``: P ≻ 0), and the comparison
+# operators (sympy's would build a scalar relational and fail on a matrix, "Invalid comparison of
+# non-real"; Python reflects ``0 < P`` to ``P > 0`` itself)
+for _target in (sp.MatrixExpr, BlockMatrixSpec):
+    for _name, _sense in (("__lshift__", "<"), ("__rshift__", ">"), ("__rlshift__", ">"), ("__rrshift__", "<"),
+                          ("__lt__", "<"), ("__gt__", ">"), ("__le__", "<="), ("__ge__", ">=")):
+        setattr(_target, _name, _inequality(_sense))
 
 
 def schur(M: BlockMatrixSpec, k: int) -> BlockMatrixSpec:

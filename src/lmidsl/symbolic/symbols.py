@@ -22,6 +22,9 @@ import numpy as np
 import sympy as sp
 from sympy import MatrixSymbol
 from sympy.core.symbol import Str
+from sympy.matrices.exceptions import ShapeError
+
+from ..errors import ShapeMismatchError, TheoremDefinitionError
 
 from ..errors import ShapeMismatchError, TheoremDefinitionError
 
@@ -253,43 +256,58 @@ def as_symbolic(x):
     return x
 
 
-_OPERATORS = {"add": "+", "sub": "-", "mul": "*", "matmul": "@"}
+_OPERATORS = {"__add__": ("+", False), "__radd__": ("+", True), "__sub__": ("-", False),
+              "__rsub__": ("-", True), "__mul__": ("*", False), "__rmul__": ("*", True),
+              "__matmul__": ("@", False), "__rmatmul__": ("@", True)}
 
 
-def _shape_text(x) -> str:
-    shape = getattr(x, "shape", None)
-    return "scalar" if shape is None else "×".join(str(d) for d in shape)
+def theorem_of(*exprs) -> str:
+    """The id of the theorem whose symbols an expression uses ('' for numpy constants alone)."""
+    tags = sorted({getattr(s, "tag", "") for e in exprs if isinstance(e, sp.Basic) for s in e.free_symbols}
+                  - {"", CONSTANT_TAG})
+    return ", ".join(tags)
 
 
-def _operand(x) -> str:
-    """An operand as the user knows it: a numpy array written in the LMI is 'the numpy constant M1'."""
-    base = x.arg if isinstance(x, sp.Transpose) else x
-    return f"the numpy constant {x}" if isinstance(base, ConstantMatrix) else str(x)
+def shape_slip(op: str, left, right) -> ShapeMismatchError:
+    """The one-line error of ``left op right`` with sizes that do not conform (sympy raises its
+    ``ShapeError`` when the sizes are numbers): the theorem, both operands and their sizes."""
+    product = op in ("*", "@")
+    rule = ("a product needs the columns of the left factor to equal the rows of the right"
+            if product else "a sum needs equal sizes")
+    owner = theorem_of(left, right)
+    return ShapeMismatchError(
+        f"{owner + ': ' if owner else ''}{'product' if product else 'sum'} {left} {op} {right}: "
+        f"{left} is {left.shape[0]}×{left.shape[1]} but {right} is {right.shape[0]}×{right.shape[1]}; "
+        f"{rule} (checked when written, before the LMI is declared)")
 
 
 def _accept_numpy(op: str):
     original = getattr(sp.MatrixExpr, op)
-    symbol = _OPERATORS[op.strip("_").removeprefix("r")]
+    symbol, reflected = _OPERATORS[op]
 
     def method(self, other):
         other = as_symbolic(other)
         try:
             return original(self, other)
-        except sp.ShapeError:          # sympy's "Matrices are not aligned": name both operands
-            left, right = (other, self) if op.startswith("__r") else (self, other)
-            tags = sorted({t for t in (getattr(a, "tag", "") for a in
-                                       (*left.atoms(sp.MatrixSymbol), *right.atoms(sp.MatrixSymbol))
-                                       if isinstance(a, _Described)) if t and t != CONSTANT_TAG})
-            raise ShapeMismatchError(
-                f"{(tags[0] + ': ') if tags else ''}{left} {symbol} {right}: {_operand(left)} is "
-                f"{_shape_text(left)} and {_operand(right)} is {_shape_text(right)}, which do not "
-                f"conform") from None
+        except ShapeError:
+            left, right = (other, self) if reflected else (self, other)
+            raise shape_slip(symbol, left, right) from None
     method.__name__, method.__doc__ = op, original.__doc__
     return method
 
 
-# numpy defers to a matrix expression (``A.T * P`` with a numpy ``A`` reaches ``P.__rmul__``),
-# and the expression takes the array as a constant: in sympy such mixed products are errors
-for _op in ("__add__", "__radd__", "__sub__", "__rsub__", "__mul__", "__rmul__", "__matmul__", "__rmatmul__"):
+def _refuse_array(self, *args, **kwargs):
+    """numpy converting an lmidsl expression (``A.dot(P)``, ``np.dot(A, P)``): refused in one line."""
+    owner = theorem_of(self)
+    raise TheoremDefinitionError(
+        f"{owner + ': ' if owner else ''}numpy cannot take {self} (an lmidsl matrix expression) as an "
+        f"array (A.dot(P), np.dot, np.array): write the product with @, e.g. A.T @ P")
+
+
+# numpy defers to a matrix expression (``A.T @ P`` with a numpy ``A`` reaches ``P.__rmatmul__``),
+# and the expression takes the array as a constant: in sympy such mixed products are errors.
+# Sizes that do not conform are one lmidsl error naming the theorem and both operands.
+for _op in _OPERATORS:
     setattr(sp.MatrixExpr, _op, _accept_numpy(_op))
 sp.MatrixExpr.__array_ufunc__ = None
+sp.MatrixExpr.__array__ = _refuse_array

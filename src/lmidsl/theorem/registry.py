@@ -41,7 +41,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import InputError, LmidslError, LmidslWarning, did_you_mean
-from . import build_cache
+from . import build_cache, index
 
 if TYPE_CHECKING:       # the registry itself never builds a theorem: `lmidsl list` reads an index
     from .theorem import Theorem
@@ -296,10 +296,24 @@ def _location_files(kind: str, where) -> list[Path]:
     return [where]
 
 
+def _indexed_ids() -> list[str] | None:
+    """Every theorem id, from the index of ``lmidsl list`` (:mod:`.index`: cached while no theorem
+    file changes, so no theorem file runs); None when a theorem file fails to load (its own error
+    must then be shown)."""
+    ids = [entry["id"] for entry in index.theorem_index()]
+    return None if load_problems(unreported=False) else ids
+
+
 def get_theorem(theorem_id: str) -> Theorem:
-    """The theorem with this id, or an error listing the known ids."""
+    """The theorem with this id, or an error listing the known ids (an id of no theorem module is
+    answered from the index, without running every theorem file)."""
     module_name = theorem_id.split(".", 1)[0]
     dirs = _dirs_key()
+    if module_name not in _module_locations(dirs):
+        known = _indexed_ids()
+        if known is not None and theorem_id not in known:
+            raise InputError(f"unknown theorem {theorem_id!r}{did_you_mean(theorem_id, known)}; "
+                             f"`lmidsl list` shows the {len(known)} theorems")
     if module_name in _module_locations(dirs):
         theorems = _load_module(module_name, dirs)
         if theorem_id in theorems:

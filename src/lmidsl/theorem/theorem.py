@@ -17,7 +17,7 @@ from typing import Any
 
 import sympy as sp
 
-from ..symbolic.blocks import block_matrix
+from ..symbolic.blocks import BlockMatrixSpec, MatrixInequality, block_matrix
 from ..errors import TheoremDefinitionError
 from ..symbolic.linearity import check_affine
 from ..symbolic.shapes import check_conformance, dims_equal, fmt_shape
@@ -337,11 +337,15 @@ class Theorem:
                     f"first, or use a variable of the LMIs)")
 
     # -- conditions ---------------------------------------------------------------------
-    def lmi(self, label, rows=None, *, sense: str = "<", triangle: str = "lower", sizes=None,
+    def lmi(self, label, rows=None, *, sense: str | None = None, triangle: str = "lower", sizes=None,
             strict: bool = True, description: str = "", forall=None, where=None) -> LMI:
-        """Declare the block LMI ``label``: one triangle of blocks, ``sense`` '<' or '>'.
-        ``thm.lmi(rows)`` labels it itself: (1), (2), ...; a numpy array in a block is constant
-        data (:func:`~lmidsl.symbolic.symbols.constant_matrix`), given in the example 'data'.
+        """Declare the block LMI ``label``: one triangle of blocks, ``sense`` '<' (default) or '>'
+        (strict, imposed with the margin), '<=' or '>=' (non-strict).  ``thm.lmi(rows)`` labels
+        it itself: (1), (2), ...; a single matrix is the one-block LMI ``[[M]]``; an inequality
+        written with operators (``A.T @ P + P @ A << 0``, ``P >> 0``, ``X <= Y``:
+        :class:`~lmidsl.symbolic.blocks.MatrixInequality`) gives its own sense; a numpy array in
+        a block is constant data (:func:`~lmidsl.symbolic.symbols.constant_matrix`), given in the
+        example 'data'.
 
         With indices (:meth:`index_set`): ``forall`` the quantified indices (default: every free
         index), ``where`` a condition on them (``i < j``, ``Ne(i, j)``); one LMI per instance
@@ -349,19 +353,24 @@ class Theorem:
         condition = where
         if rows is None:
             label, rows = f"({len(self.lmis) + 1})", label
-        if isinstance(rows, (list, tuple)):
-            rows = [[as_symbolic(b) for b in row] if isinstance(row, (list, tuple)) else as_symbolic(row)
-                    for row in rows]
+        where = f"{self.id}: LMI {label}"
+        rows, sense = self._lmi_rows(where, rows, sense)
         if sense not in ("<", ">", "<=", ">="):
-            raise TheoremDefinitionError(f"{self.id}: LMI {label}: sense must be '<' or '>'")
+            raise TheoremDefinitionError(f"{where}: sense must be '<', '>', '<=' or '>=', got {sense!r}")
         if any(l.label == label for l in self.lmis):
             raise TheoremDefinitionError(f"{self.id}: LMI label {label} is used twice")
-        where = f"{self.id}: LMI {label}"
+        given = isinstance(rows, BlockMatrixSpec)
+        if not given:      # each block's own products and sums first: a block's size is then its own
+            for i, row in enumerate(rows):
+                for j, blk in enumerate(row if isinstance(row, list) else [row]):
+                    if isinstance(blk, sp.MatrixExpr):
+                        check_conformance(blk, where=f"{where} block ({i + 1},{j + 1 + (i if triangle == 'upper' else 0)})")
         spec = block_matrix(rows, triangle=triangle, sizes=sizes, where=where)
         for i, row in enumerate(spec.lower):
             for j, blk in enumerate(row):
                 at = f"{where} block ({i + 1},{j + 1})"
-                check_conformance(blk, where=at)
+                if given:
+                    check_conformance(blk, where=at)
                 check_affine(blk, where=at)
         lmi = LMI(label, spec, sense, strict and sense in ("<", ">"), description)
         if any(isinstance(a, RecoveredMatrix) for a in lmi.symbols()):
@@ -374,6 +383,36 @@ class Theorem:
         self._declare_constants(lmi.symbols())
         self.lmis.append(lmi)
         return lmi
+
+    @staticmethod
+    def _lmi_rows(where: str, rows, sense):
+        """The rows of an LMI as ``block_matrix`` takes them, and its sense: an inequality written
+        with operators gives both, a single matrix is ``[[M]]``; every other slip is one line."""
+        if isinstance(rows, MatrixInequality):
+            if sense is not None and sense != rows.sense:
+                raise TheoremDefinitionError(f"{where}: {rows} already states its sense "
+                                             f"{rows.sense!r}; sense={sense!r} contradicts it")
+            rows, sense = rows.rows, rows.sense
+        sense = "<" if sense is None else sense
+        if isinstance(rows, (sp.MatrixExpr, BlockMatrixSpec)) or type(rows).__module__ == "numpy":
+            rows = rows if isinstance(rows, BlockMatrixSpec) else [[as_symbolic(rows)]]
+        elif isinstance(rows, (bool, sp.logic.boolalg.Boolean)) or not isinstance(rows, (list, tuple)):
+            raise TheoremDefinitionError(
+                f"{where}: expected blocks [[...], ...], a matrix or an inequality such as "
+                f"A.T @ P + P @ A << 0, got {type(rows).__name__} {rows!r}"
+                + (" (a scalar comparison is not an LMI: compare a matrix, e.g. P >> 0)"
+                   if isinstance(rows, (bool, sp.logic.boolalg.Boolean)) else ""))
+        if isinstance(rows, BlockMatrixSpec):
+            return rows, sense
+        out = []
+        for i, row in enumerate(rows):
+            for j, blk in enumerate(row if isinstance(row, (list, tuple)) else [row]):
+                if isinstance(blk, MatrixInequality):
+                    raise TheoremDefinitionError(
+                        f"{where} block ({i + 1},{j + 1}): {blk} is an inequality inside the blocks: "
+                        f"write thm.lmi([[...]] , sense=...) or thm.lmi(M << 0), the inequality outside")
+            out.append([as_symbolic(b) for b in row] if isinstance(row, (list, tuple)) else as_symbolic(row))
+        return out, sense
 
     def _declare_constants(self, symbols) -> None:
         """Declare the numpy constants an LMI uses as data, their values in the example 'data'."""

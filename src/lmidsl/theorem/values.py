@@ -59,6 +59,9 @@ class Source:
 
 
 LATEX_RENDERER: dict = {}
+HTML_RENDERER: dict = {}
+"""``{"html": f(result) -> str}``: how a result's ``_repr_html_`` writes it (the render layer
+registers :func:`lmidsl.render.notebook.html` here when it is imported, as for LaTeX below)."""
 """``{"theorem": f(theorem) -> str, "lmi": f(lmi) -> str}``: how a theorem's and an LMI's
 ``_repr_latex_`` write them.  The printer lives in the render layer, above this one, which
 registers itself here when it is imported (:mod:`lmidsl.render.notebook`; ``lmidsl``'s public face

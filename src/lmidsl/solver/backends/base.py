@@ -338,9 +338,9 @@ class CompiledModel:
             solution.congruence = self._congruence
             numbers = self.lmi_values() if self.backend == "direct" else None    # the affine form's values
             solution.lmis = lmi_certificate(instance, point, congruence=self._congruence, matrices=numbers)
-            solution.gamma = evaluate_performance(instance, point)
+            solution.point_gamma = evaluate_performance(instance, point)
             solution.objective_bounds = objective_enclosure(instance, point)
-            if solution.gamma is None and instance.theorem.performance is not None:
+            if solution.point_gamma is None and instance.theorem.performance is not None:
                 solution.notes.append(f"{instance.theorem.performance[0]} is not real at the returned "
                                       f"point ({instance.theorem.performance[1]} with a negative radicand)")
             solution.times["certificate"] = time.perf_counter() - t1
