@@ -400,7 +400,8 @@ def test_h2_state_feedback_equals_lqr(time, case):
     _record(name, case, lqr=float(opt), h2=sol.gamma, rel=(sol.gamma - opt) / opt,
             closed_loop_h2=h2cl, ratio=h2cl / sol.gamma - 1, gain_rel=gain_rel,
             certified=bool(sol.analysis and sol.analysis.passed))
-    assert abs(sol.gamma - opt) <= H2_TOL * opt, (sol.gamma, opt)
+    # the SDP optimum is the LQR cost; the delivered design (sol.gamma) may sit a back-off above it
+    assert abs(sol.optimum_level - opt) <= H2_TOL * opt, (sol.optimum_level, opt)
     assert gain_rel <= GAIN_TOL, gain_rel
     assert _stable(cl) and h2cl <= sol.gamma * (1 + BOUND_TOL), (h2cl, sol.gamma)
     assert sol.analysis is not None and sol.analysis.passed, (sol.analysis.status, sol.analysis.gamma)

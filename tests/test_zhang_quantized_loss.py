@@ -189,13 +189,16 @@ def test_successive_lmi_is_monotone_and_stops():
     inst = make_instance(f"{Z}.thm2", example="paper-N2-robust", overrides={"N": 1})
     res = successive_lmi(inst, starts=[{"Sbar": np.eye(2), "P3bar": 100 * np.eye(2)}], max_iter=25,
                          rtol=1e-4, progress=False)
-    gam = [x for x in res.gammas if x is not None]
+    gam = [x for x in res.gammas if x is not None]             # the iterates' levels at their points
     assert len(gam) >= 2 and ("converged" in res.stop_reason or "rose" in res.stop_reason)
     if "rose" in res.stop_reason:      # the last step went past the solver's accuracy: stopped there
         assert gam[-1] > gam[-2] * (1 + 1e-4)
         gam = gam[:-1]
     assert all(b <= a * (1 + 1e-5) for a, b in zip(gam, gam[1:]))
-    assert res.gamma == min(gam)
+    # the result is the lowest *certified* iterate: every lower one is listed as rejected, with why
+    assert res.best.verdict.certified and res.best.point_gamma in gam
+    lower = [g for g in gam if g < res.best.point_gamma]
+    assert sorted(g for _, _, g, _ in res.rejected) == sorted(lower), (res.rejected, lower)
     exact = solve_instance(make_instance(f"{Z}.exact", example="paper-N2-robust", overrides={"N": 1}),
                            certify=False)
     assert exact.gamma * (1 - 1e-4) <= res.gamma <= exact.gamma * 1.001

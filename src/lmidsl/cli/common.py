@@ -23,7 +23,7 @@ from ..errors import InputError
 from ..solver.backends import BACKENDS, DEFAULT_BACKEND, choose_backend, options_for, resolve_solver
 from ..solver.backends.options import check_solver_options, finite_value, solver_settings
 from ..studies.store import strict_json
-from ..theorem.budget import MAX_LMIS, MAX_PSD_ROWS, set_limits
+from ..theorem.limits import MAX_LMIS, MAX_PSD_ROWS, set_limits
 
 #: the flags every solving command accepts (tests/test_cli_output.py checks each command)
 COMMON_FLAGS = ("--backend", "--solver", "--solver-option", "--margin", "--data", "--set", "--json",
@@ -56,7 +56,7 @@ def add_solve_arguments(parser, *, theorem: bool = True, solver_help: str | None
 
 def add_limit_arguments(parser) -> None:
     """``--max-lmis`` and ``--max-psd-rows``: the largest expansion (an index set's member, a
-    Pólya relaxation) accepted before it is built (:mod:`lmidsl.theorem.budget`)."""
+    Pólya relaxation) accepted before it is built (:mod:`lmidsl.theorem.limits`, :mod:`lmidsl.theorem.budget`)."""
     parser.add_argument("--max-lmis", type=positive_int, metavar="N",
                         help=f"refuse an expansion into more than N LMIs (default {MAX_LMIS:,})")
     parser.add_argument("--max-psd-rows", type=positive_int, metavar="N",

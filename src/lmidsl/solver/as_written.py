@@ -42,18 +42,18 @@ A parameter with an irrational value (√ of a parameter) has no such coefficien
 """
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
-from flint import arb
-
-from flint import fmpq, fmpq_mat
+from flint import arb, fmpq, fmpq_mat
 
 from ..numeric.evaluate import NumericEvaluator
 from ..numeric.exact import ExactEvaluator, NotRational, to_matrix
 from ..numeric.proof import PRECISION, BallEvaluator, ball_precision, round_up
+from ..symbolic.symbols import DECISION_TYPES, DerivedParam, StructuredVariable
 from .backends.affine import Affine, block as affine_block
 from .backends.base import BackendCompiler, CompiledModel, classify
 
@@ -371,7 +371,6 @@ def _involves(expr, name: str) -> bool:
     hit = _INVOLVES.get(key)
     if hit is not None and hit[0] is expr:
         return hit[1]
-    from ..symbolic.symbols import DECISION_TYPES, StructuredVariable
     found = any(getattr(s, "name", None) == name or isinstance(s, StructuredVariable)
                 for s in expr.atoms(*DECISION_TYPES)) if classify(expr)[0] else False
     if len(_INVOLVES) > 200_000:
@@ -474,8 +473,6 @@ def irrational_grid(snap, limit: int = 64) -> list[dict] | None:
     vanishes on such a grid is zero (induction on the symbols), so an identity between the
     coefficients checked at every grid point holds at the parameters' true values.  [] when no
     parameter is irrational; None when one is not polynomial or the grid exceeds ``limit``."""
-    from ..symbolic.symbols import DerivedParam
-
     theorem = snap.instance.theorem
     exprs = [b for lmi in theorem.lmis for row in lmi.negative_form().lower for b in row]
     if theorem.objective is not None:
@@ -499,7 +496,6 @@ def irrational_grid(snap, limit: int = 64) -> list[dict] | None:
         degrees.append(max(found))
     if math.prod(k + 1 for k in degrees) > limit:
         return None
-    import itertools
     return [{d.name: fmpq(v) for d, v in zip(irrational, point)}
             for point in itertools.product(*(range(1, k + 2) for k in degrees))]
 

@@ -30,6 +30,7 @@ from functools import lru_cache
 
 import sympy as sp
 from flint import arb
+from sympy.calculus.util import continuous_domain
 
 from ..numeric.proof import ball_precision, round_down, round_up
 
@@ -167,7 +168,6 @@ def _sympy_side(f, lower: float | None, upper: float | None) -> str | None:
         return None
     interval = sp.Interval(lo, hi)
     try:
-        from sympy.calculus.util import continuous_domain
         if continuous_domain(f, _LEVEL, interval) != interval:
             return None
         if sp.is_increasing(f, interval, _LEVEL):

@@ -345,10 +345,13 @@ def _solve_point(model, base, params: dict, solver, options) -> SweepPoint:
     internal = sol.times.get("solver")
     call = sol.times["solver_calls"]
     t2 = time.perf_counter()
-    proved = sol.ok and sol.lmis_hold and all(
-        r.proof == PROVED for r in lmi_certificate(sol.instance, {**sol.instance.data, **sol.values},
-                                                   prove=True))
-    return SweepPoint(params, sol.status, sol.point_gamma, sol.objective, sol.worst_eig, call,
+    reports = lmi_certificate(sol.instance, {**sol.instance.data, **sol.values}, prove=True) \
+        if sol.ok and sol.lmis_hold else []
+    proved = bool(reports) and all(r.proof == PROVED for r in reports)
+    # the worst eigenvalue of the statement at the point: the number a resumed run recomputes
+    # from the stored point (_certificate_problem), bit for bit
+    worst = max(r.max_eig for r in reports) if reports else sol.worst_eig
+    return SweepPoint(params, sol.status, sol.point_gamma, sol.objective, worst, call,
                       internal if internal != call else None, total, proved, time.perf_counter() - t2,
                       values=sol.values if proved else None)
 

@@ -277,8 +277,14 @@ def shape_slip(op: str, left, right) -> ShapeMismatchError:
     owner = theorem_of(left, right)
     return ShapeMismatchError(
         f"{owner + ': ' if owner else ''}{'product' if product else 'sum'} {left} {op} {right}: "
-        f"{left} is {left.shape[0]}×{left.shape[1]} but {right} is {right.shape[0]}×{right.shape[1]}; "
-        f"{rule} (checked when written, before the LMI is declared)")
+        f"{_operand(left)} is {left.shape[0]}×{left.shape[1]} but {_operand(right)} is "
+        f"{right.shape[0]}×{right.shape[1]}; {rule} (checked when written, before the LMI is declared)")
+
+
+def _operand(x) -> str:
+    """An operand as the user knows it: a numpy array written in an LMI is 'the numpy constant M1'."""
+    base = x.arg if isinstance(x, sp.Transpose) else x
+    return f"the numpy constant {x}" if isinstance(base, ConstantMatrix) else str(x)
 
 
 def _accept_numpy(op: str):
