@@ -45,6 +45,7 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass, field
+from functools import reduce
 
 import numpy as np
 import sympy as sp
@@ -217,18 +218,10 @@ class MagnitudeWalker(BackendCompiler):
         raise EnclosureUnavailable(f"{self.context()}: the inverse of {expr} depends on a decision variable")
 
     def _visit_Mul(self, expr):
-        values = [self.visit(a) for a in expr.args]
-        out = values[0]
-        for v in values[1:]:
-            out = self.scale(out, v)
-        return out
+        return reduce(self.scale, (self.visit(a) for a in expr.args))
 
     def _visit_Add(self, expr):
-        values = [self.visit(a) for a in expr.args]
-        out = values[0]
-        for v in values[1:]:
-            out = self.add(out, v)
-        return out
+        return reduce(self.add, (self.visit(a) for a in expr.args))
 
     def _visit_Pow(self, expr):
         base, exp = expr.args
