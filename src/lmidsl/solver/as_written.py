@@ -296,6 +296,19 @@ class _ExactWalk(ExactEvaluator):
         self.memo = {} if memo is None else memo    # (id, vertex) -> value at x = 0, every sub-tree
         self.active = active                        # the variable of ``unit`` (None: x = 0)
 
+    def visit(self, expr):
+        """A block with no rational value is :data:`IRRATIONAL` (its LMI has no exact
+        coefficients; the others still do)."""
+        if self._root is not None:
+            return super().visit(expr)
+        try:
+            return super().visit(expr)
+        except NotRational:
+            return IRRATIONAL
+
+    def transpose(self, a):
+        return a if a is IRRATIONAL else super().transpose(a)
+
     def _dispatch(self, expr):
         """At x = 0 every sub-tree is kept; at a unit vector a sub-tree without its variable has
         its value at x = 0."""
@@ -350,8 +363,17 @@ class _ExactWalk(ExactEvaluator):
     def element(self, a, i, j, expr):
         return a[i, j]
 
+    def unknown(self, expr):
+        """A node with no exact rule (sin θ of a sector) has no rational value."""
+        raise NotRational(f"no exact rule for {type(expr).__name__} ({expr})")
+
     def congruence(self, value, factor: float):
-        return value if factor == 1.0 else to_matrix(value) * _exact_factor(factor)
+        return value if factor == 1.0 or value is IRRATIONAL else to_matrix(value) * _exact_factor(factor)
+
+
+IRRATIONAL = object()
+"""A block of an LMI whose value as written is not rational (sin θ, √ξ): that LMI has no exact
+coefficients (None in :class:`ExactCoefficients`); a certificate that is zero on it needs none."""
 
 
 _INVOLVES: dict = {}
@@ -375,7 +397,8 @@ def _involves(expr, name: str) -> bool:
 class ExactCoefficients:
     """The compiled LMIs and objective as written, in rational arithmetic (module docstring):
     N(0) and the coefficient N^c of every variable asked for, per LMI instance in the compile's
-    order.  ``why`` says why there are none (an irrational parameter, too many variables)."""
+    order (None for an LMI with an irrational block).  ``why`` says why there are none at all
+    (an irrational objective, too many variables)."""
 
     #: at most this many variables' coefficients (each costs one walk of every LMI)
     MAX_COLUMNS = 600
@@ -403,6 +426,9 @@ class ExactCoefficients:
         try:
             lmis = []
             for _, _, _, _, rows, _ in snap.walk_lmis(lambda v: _ExactWalk(snap, v, unit, free, memo, active)):
+                if any(value is IRRATIONAL for row in rows for value in row):
+                    lmis.append(None)
+                    continue
                 cells, r0 = [], 0
                 for row in rows:
                     c0 = 0
@@ -413,10 +439,16 @@ class ExactCoefficients:
                 lmis.append(cells)
             objective = snap.instance.theorem.objective
             q = None if objective is None else _ExactWalk(snap, None, unit, free, memo, active).visit(objective)
+            if q is IRRATIONAL:
+                raise NotRational("the objective")
         except (NotRational, ZeroDivisionError, ValueError, TypeError, KeyError) as exc:
             self.why = f"no rational coefficients as written ({type(exc).__name__}: {exc})"
             return None
         return lmis, q
+
+    def irrational(self) -> set:
+        """Indices (compile order) of the LMI instances with no rational coefficients."""
+        return set() if self._zero is None else {k for k, cells in enumerate(self._zero[0]) if cells is None}
 
     def constant(self):
         """(N(0) per LMI instance as cells [(row offset, column offset, fmpq_mat)], the objective's
@@ -434,8 +466,9 @@ class ExactCoefficients:
             if at is None:
                 return None
             zero_lmis, zero_q = self._zero
-            lmis = [[(r0, c0, to_matrix(v) - to_matrix(z)) for (r0, c0, v), (_, _, z) in zip(cells, zeros)
-                     if v is not z] for cells, zeros in zip(at[0], zero_lmis)]
+            lmis = [None if cells is None or zeros is None else
+                    [(r0, c0, to_matrix(v) - to_matrix(z)) for (r0, c0, v), (_, _, z) in zip(cells, zeros) if v is not z]
+                    for cells, zeros in zip(at[0], zero_lmis)]
             self._columns[c] = (lmis, None if at[1] is None else at[1] - zero_q)
         return self._columns[c]
 
@@ -474,7 +507,8 @@ def irrational_grid(snap, limit: int = 64) -> list[dict] | None:
     irrational = []
     for d in sorted(derived, key=lambda s: s.name):
         try:
-            ExactEvaluator(snap.instance.dims, lambda sym: decimal(snap.instance.params[sym.name])).visit(d.definition)
+            if _ExactWalk(snap, None, None).visit(d.definition) is IRRATIONAL:
+                irrational.append(d)
         except NotRational:
             irrational.append(d)
         except (KeyError, ValueError, TypeError, ZeroDivisionError):

@@ -250,11 +250,22 @@ class DualData:
         """Where an identity between coefficients as written is checked exactly: [None] (the true
         coefficients are rational), the grid of :func:`~lmidsl.solver.as_written.irrational_grid`
         (irrational parameters taken as free symbols), or None (neither)."""
-        if not self.exact_coefficients().why:
+        exact = self.exact_coefficients()
+        if not exact.why and not exact.irrational():
             return [None]
-        if "NotRational" not in self.exact_coefficients().why:
+        if exact.why and "NotRational" not in exact.why:
             return None
         return irrational_grid(self._snapshot) or None
+
+    def irrational_unknowns(self) -> np.ndarray:
+        """A mask of the unknowns of the LMIs with no rational coefficients as written (an exact
+        certificate must be zero there)."""
+        mask = np.zeros(self.nz, dtype=bool)
+        psd = [b for b in self.blocks if b.kind == "psd"]
+        for k in self.exact_coefficients().irrational():
+            b = psd[k]
+            mask[b.offset: b.offset + b.size] = True
+        return mask
 
     def exact_row(self, c: int, free: dict | None = None):
         """(row c of M as written — {unknown: fmpq}, q_c as written), or None (no rational
@@ -275,7 +286,9 @@ class DualData:
                 for e, v in zip(b.rows[hit], b.vals[hit]):
                     row[b.offset + int(e)] = row.get(b.offset + int(e), fmpq(0)) + _fmpq(v)
                 continue
-            _add_pairing(row, next(psd), b)
+            cells = next(psd)
+            if cells is not None:                     # an irrational LMI: see irrational_unknowns
+                _add_pairing(row, cells, b)
         row = {u: v for u, v in row.items() if v != 0}
         self._exact_rows[key] = (row, fmpq(0) if q is None else q)
         return self._exact_rows[key]
@@ -289,7 +302,9 @@ class DualData:
         psd = iter(found[0])
         for b in self.blocks:
             if b.kind == "psd":
-                _add_pairing(out, next(psd), b)
+                cells = next(psd)
+                if cells is not None:                 # an irrational LMI: see irrational_unknowns
+                    _add_pairing(out, cells, b)
         return out
 
     # -- clarabel's dual in these unknowns -----------------------------------------------
@@ -543,7 +558,11 @@ def _independent_equations(data: DualData, M, target_is_q: bool, rows: np.ndarra
 def _exact_rows(data: DualData, rows: np.ndarray, keep, free: dict | None = None) -> list[dict] | None:
     """The given rows of M (positions in ``data.columns``) as written, exactly: {unknown: fmpq},
     restricted to the support ``keep``; None when there are no rational coefficients
-    (:class:`~lmidsl.solver.as_written.ExactCoefficients`)."""
+    (:class:`~lmidsl.solver.as_written.ExactCoefficients`) on the kept unknowns."""
+    if free is None:
+        irrational = data.irrational_unknowns()
+        if irrational.any() and (keep is None or np.any(keep & irrational)):
+            return None
     out = []
     for row in rows:
         found = data.exact_row(int(data.columns[row]), free)
@@ -727,7 +746,9 @@ def exact_support_point(data: DualData, z0: np.ndarray, threshold: float, max_un
     # the variables whose coefficients may be non-zero on the support as written (compiled or radius)
     touching = ((data.Mabs + data.Mrad)[:, support]).tocsr()
     candidates = np.flatnonzero(np.diff(touching.indptr))
-    exact = _exact_rows(data, candidates, None)
+    on_support = np.zeros(data.nz, dtype=bool)
+    on_support[support] = True
+    exact = _exact_rows(data, candidates, on_support)
     if exact is None:
         return None
     rows = [[row.get(int(u), fmpq(0)) for u in support] for row in exact]

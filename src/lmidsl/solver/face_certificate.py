@@ -141,7 +141,9 @@ def exact_face_point(data: DualData, z0: np.ndarray, rank_tol: float = 1e-3,
         else:
             for t, e in enumerate(face):
                 lift[b.offset + e] = {first + t: fmpq(1)}
-    exact_rows = _exact_rows(data, np.arange(len(data.columns)), None)
+    used = np.zeros(data.nz, dtype=bool)          # the unknowns the face can make non-zero
+    used[list(lift)] = True
+    exact_rows = _exact_rows(data, np.arange(len(data.columns)), used)
     if exact_rows is None:
         return None
     dense = []
