@@ -237,20 +237,10 @@ def performance_bound(theorem, params: dict, lower: float, upper: float | None =
     return None if value is None else (value, side)
 
 
-def performance_at_point(theorem, params: dict, objective: tuple[float, float], side: str) -> float | None:
-    """The optimum's end of the bracket from a proved point whose exact objective lies in
-    [objective]: f(hi)↑ for a non-decreasing f (an upper end), f(hi)↓ for a non-increasing one."""
-    found = objective_map(theorem, params)
-    if found is None:
-        return None
-    return found.value(objective[1], "up" if side == "lower" else "down")
-
-
 def performance_lower(theorem, params: dict, lower: float, upper: float | None = None) -> float | None:
     """The proved lower bound on the performance at objective ``lower`` (an increasing map), or None."""
     found = performance_bound(theorem, params, lower, upper)
     return found[0] if found is not None and found[1] == "lower" else None
 
 
-__all__ = ["ObjectiveMap", "objective_map", "performance_side", "performance_bound", "performance_at_point",
-           "performance_lower"]
+__all__ = ["ObjectiveMap", "objective_map", "performance_side", "performance_bound", "performance_lower"]

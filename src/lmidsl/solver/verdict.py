@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from ..numeric.interconnection import design_kind
 from ..errors import ProofConflict
 from .backoff import backoff_cost
-from .performance import performance_at_point, performance_bound, performance_side
+from .performance import objective_map
 from .status import INFEASIBLE as STATUS_INFEASIBLE, MARGINAL, OPTIMAL, SOLVED
 
 OPTIMAL_WORD = "optimal"            # certified, and proved near the optimum (a dual bound)
@@ -262,7 +262,8 @@ def bracket(solution) -> dict | None:
     at_point = point if point_proved and point is not None else None
     b = solution.bounds
     lower = b.lower if b is not None and b.proved else None
-    side = performance_side(theorem, params, lower, None if at_point is None else at_point[1])
+    performance = objective_map(theorem, params)     # one proof of the direction serves both ends
+    side = None if performance is None else performance.side(lower, None if at_point is None else at_point[1])
     dual, why = None, ""
     if b is None:
         why = "not computed (--no-bounds, or not the direct backend)"
@@ -272,14 +273,13 @@ def bracket(solution) -> dict | None:
         why = (f"{theorem.performance[0] if theorem.performance else 'the performance'} is not proved monotone "
                "in the objective between the dual bound and the point")
     else:
-        found = performance_bound(theorem, params, lower, None if at_point is None else at_point[1])
-        dual = found[0] if found is not None and found[1] == side else None
+        dual = performance.value(lower, "down" if side == "lower" else "up")
         why = "" if dual is not None else "the performance is not real at the dual bound"
     if side is None:
         return {"lower": None, "upper": None, "lower_proved": False, "upper_proved": False,
                 "why": why, "maximised": False}
     if at_point is not None:
-        end = performance_at_point(theorem, params, at_point, side)
+        end = performance.value(at_point[1], "up" if side == "lower" else "down")
         level = end if end is not None else level
         point_proved = end is not None
     maximised = side == "upper"
