@@ -5,7 +5,7 @@ certificates, evidence) is timed with its bounds (the default) and with ``bounds
 CLI's ``--no-bounds``), interleaved, medians over the repeats.  Two ratios are printed:
 
 * wall: what the user waits, (solve with bounds) / (solve without).  The lower bound runs on a
-  worker thread from the end of the main solve (:class:`lmidsl.solver.dual_bound.PendingBound`),
+  worker thread from the end of the main solve (:class:`lmidsl.certify.dual_bound.PendingBound`),
   beside recovery and certification, so on a machine with a free core much of it is hidden;
 * cpu: the process's CPU time (every thread), the work the bound adds whatever the machine.
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import lmidsl
-from lmidsl.solver.verdict import useless_lower_end
+from lmidsl.certify.verdict import useless_lower_end
 
 pytest.importorskip("control")
 pytest.importorskip("slycot")

@@ -1,4 +1,4 @@
-"""Proved lower bounds (lmidsl.solver.dual_bound) against independent computations.
+"""Proved lower bounds (lmidsl.certify.dual_bound) against independent computations.
 
 * wang_l2linf.thm3, paper-full: the printed 0.336741 inside [lower, upper], gap ≤ 1e-4;
 * bounded real lemma, both time domains, on the gallery's plants and a stress set (lightly
@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 import lmidsl
-from lmidsl.solver.dual_bound import lower_bound, performance_lower
+from lmidsl.certify.dual_bound import lower_bound, performance_lower
 from lmidsl.theorems.textbook.hinf_sf import SF_DATA
 from lmidsl.theorems.textbook.h2 import SF_DATA as H2_SF_DATA
 from lmidsl.theorems.textbook.plants import brl_cases, plant_cases, subset
@@ -157,7 +157,7 @@ def test_performance_mapping_is_monotone_and_rounded_down():
     sf = get_theorem("textbook.hinf_sf_ct")
     assert performance_lower(sf, {}, 1.5) == 1.5
     # min −ν with performance ν: objective ≥ −2 proves ν ≤ 2 (an upper bound, rounded up)
-    from lmidsl.solver.dual_bound import performance_bound
+    from lmidsl.certify.dual_bound import performance_bound
     value, side = performance_bound(get_theorem("textbook.kyp_pr_ct"), {}, -2.0)
     assert side == "upper" and 2.0 <= value < 2.0 + 1e-14
     assert performance_lower(get_theorem("textbook.kyp_pr_ct"), {}, -2.0) is None
@@ -267,7 +267,7 @@ def test_background_bound_is_the_synchronous_bound():
     precision is under one lock: a proof needs its 212 bits, the bound sets 128)."""
     import threading
     from lmidsl.numeric.proof import PRECISION, ball_precision
-    from lmidsl.solver.dual_bound import PendingBound
+    from lmidsl.certify.dual_bound import PendingBound
     from flint import ctx
     model, sol = solved_model("li_delay_dropout.thm2", "paper")
     expected = lower_bound(model, sol)

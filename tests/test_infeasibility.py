@@ -1,4 +1,4 @@
-"""Proved infeasibility (lmidsl.solver.infeasibility) against independent evidence.
+"""Proved infeasibility (lmidsl.certify.infeasibility) against independent evidence.
 
 * pan_impulsive.thm1 as printed (seed 003): proved infeasible (the certificate has ⟨Z, S⁰⟩ < 0:
   even the closure of the LMIs is empty);
@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lmidsl.solver.infeasibility import prove_infeasible
+from lmidsl.certify.infeasibility import prove_infeasible
 from lmidsl.theorems.textbook.h2 import SF_DATA as H2_SF_DATA
 from lmidsl.theorems.textbook.hinf_sf import SF_DATA
 from lmidsl.theorems.textbook.plants import brl_cases, plant_cases, subset

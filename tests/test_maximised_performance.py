@@ -5,7 +5,7 @@ Judges: the circle criterion's k* = −1/min_ω Re G(jω) from python-control's 
 (dense grid, refined by scipy); the invariant ellipsoid of the saturated feedback by simulating
 the nonlinear system (scipy) from points on the certified ball: V = xᵀQ⁻¹x never increases and
 x → 0.  The bracket is oriented by the performance map proved monotone
-(src/lmidsl/solver/performance.py): the point is the lower end, the dual bound the upper one.
+(src/lmidsl/certify/performance.py): the point is the lower end, the dual bound the upper one.
 """
 from __future__ import annotations
 

@@ -19,8 +19,8 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 import lmidsl
 from lmidsl import Theorem
 from lmidsl.errors import ProofConflict
-from lmidsl.solver.performance import objective_map, performance_bound, performance_side
-from lmidsl.solver.verdict import bracket
+from lmidsl.certify.performance import objective_map, performance_bound, performance_side
+from lmidsl.certify.verdict import bracket
 
 I1 = sp.Identity(1)
 

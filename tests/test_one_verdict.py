@@ -1,5 +1,5 @@
 """One road to a certified point (lmidsl.solver.plan) and one verdict told the same way by every
-command (lmidsl.solver.verdict): the order of the road, the headline level, the record's keys,
+command (lmidsl.certify.verdict): the order of the road, the headline level, the record's keys,
 --no-certify, the words of a design's kind, and the bounded real lemma's headline against
 python-control on systems whose SDP route is inaccurate."""
 from __future__ import annotations
@@ -14,7 +14,7 @@ import pytest
 import lmidsl
 from lmidsl.solver.backends import Route, fallback_routes
 from lmidsl.solver.plan import Plan
-from lmidsl.solver.verdict import CERTIFIED_BOUND, CERTIFIED_WORDS
+from lmidsl.certify.verdict import CERTIFIED_BOUND, CERTIFIED_WORDS
 
 from conftest import ROOT, run_cli
 
@@ -122,7 +122,7 @@ def test_the_verdict_record_has_the_same_keys_in_every_command(tmp_path):
 
 def test_docs_json_lists_the_record_and_the_words():
     """docs/json.md states the record's keys and every verdict word the code can give."""
-    from lmidsl.solver.verdict import WORDS
+    from lmidsl.certify.verdict import WORDS
     text = (ROOT / "docs" / "json.md").read_text()
     assert all(f"`{key}`" in text for key in RECORD_KEYS)
     assert all(f"`{word}`" in text for word in WORDS)

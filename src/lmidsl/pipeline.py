@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import time
 
-from .solver.dual_bound import PendingBound
-from .solver.infeasibility import prove_infeasible
+from .certify.dual_bound import PendingBound
+from .certify.infeasibility import prove_infeasible
 from .solver.plan import Plan
-from .solver.verdict import headline_level
+from .certify.verdict import decide, headline_level, judge
 from .certify import certify_by_analysis
 from .certify.evidence import claim_evidence
 from .theorem.budget import expansion_limits
@@ -91,8 +91,8 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str |
     of condition number above :data:`ILL_CONDITIONED` (the smallest δ of :data:`lmidsl.solver.backoff.AUTO_DELTAS` that certifies).
     ``plan`` (default: from ``backend``, ``solver``, ``margin`` and ``options``) decides every solve.
     ``bounds``: the other side of the answer — a proved lower bound on the optimum from the
-    solver's dual (:mod:`lmidsl.solver.dual_bound`), and for a solve without a point a proved
-    infeasibility certificate (:mod:`lmidsl.solver.infeasibility`); direct backend only.
+    solver's dual (:mod:`lmidsl.certify.dual_bound`), and for a solve without a point a proved
+    infeasibility certificate (:mod:`lmidsl.certify.infeasibility`); direct backend only.
     """
     plan = plan or Plan(backend, solver, options, margin)
     applied = apply_scaling(instance, scaling)
@@ -102,7 +102,7 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str |
     solution.certify = certify
     finish = dict(plan=plan, certify=certify, diagnose=diagnose)
     if not (bounds and certify and solution.ok and instance.theorem.objective is not None):
-        return _recover_and_certify(model, applied, solution, backoff, bounds, finish)
+        return judge(_recover_and_certify(model, applied, solution, backoff, bounds, finish))
     # the bound reads the models' duals now (a back-off or level solve replaces them) and runs on
     # a worker thread while the design is recovered and certified
     pending = PendingBound(model, solution, [m for m in solved if m is not model], solution.point_gamma)
@@ -115,7 +115,7 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str |
     solution.bounds = final.bounds = pending.result()
     final.times["lower_bound_wait"] = time.perf_counter() - t0
     final.times["lower_bound"] = solution.bounds.times.get("total", 0.0)
-    return final
+    return judge(final)
 
 
 def _recover_and_certify(model, applied, solution: Solution, backoff, bounds: bool, finish: dict) -> Solution:
@@ -210,8 +210,9 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
             continue
         found.certify = optimum.certify
         finish_solution(found, **finish)
-        if automatic and not found.verdict.certified:
-            optimum.notes.append(f"the {name}'s back-off point is not certified: {'; '.join(found.verdict.reasons)}")
+        screened = decide(found) if automatic else None
+        if screened is not None and not screened.certified:
+            optimum.notes.append(f"the {name}'s back-off point is not certified: {'; '.join(screened.reasons)}")
             continue
         found.backoff["method"] = name
         candidate = found

@@ -3,7 +3,7 @@ invariant ellipsoid of a saturated feedback.
 
 Both minimise an objective whose performance *decreases* with it (k = 1/δ, radius √β for
 min −β): the optimum's point is the lower end of the performance's bracket and a dual bound its
-upper end (:func:`lmidsl.solver.verdict.bracket`).
+upper end (:func:`lmidsl.certify.verdict.bracket`).
 
 * ``textbook.circle_sector`` — Lur'e system ẋ = Ax + Bu, y = Cx + Du, u = −φ(t, y) with φ in the
   sector [0, k] (SISO).  Circle criterion (Khalil, *Nonlinear Systems*, 3rd ed., Thm 7.1; Boyd et

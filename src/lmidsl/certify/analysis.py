@@ -6,7 +6,7 @@ for polytopic theorems) and the recovered filter; minimising its γ² gives the 
 paper's own analysis certifies for this filter.  For a polytopic synthesis the analysis is run
 at every vertex and the worst γ is reported: a *vertex-wise* certificate (``coverage``), which does
 not prove the level inside the polytope; the verdict says so and does not call it certified
-(:mod:`lmidsl.solver.verdict`).
+(:mod:`lmidsl.certify.verdict`).
 
 The minimum sits on the boundary of the strict set, where a solver's point may miss the strict
 LMIs by its tolerance.  When it does, the analysis is solved again as a feasibility problem at a

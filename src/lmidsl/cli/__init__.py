@@ -339,8 +339,8 @@ def _background_work_ended() -> bool:
     """Cancel the proved bound's workers a command left (an interrupt, a deadline) and wait
     for the shifted solve in flight at most :data:`Deadline.GRACE` seconds; whether they ended.
     (A worker inside Clarabel must not meet the interpreter's exit:
-    :class:`lmidsl.solver.dual_bound.PendingBound`.)"""
-    dual_bound = sys.modules.get("lmidsl.solver.dual_bound")     # not imported: nothing pending
+    :class:`lmidsl.certify.dual_bound.PendingBound`.)"""
+    dual_bound = sys.modules.get("lmidsl.certify.dual_bound")     # not imported: nothing pending
     if dual_bound is None:
         return True
     try:

@@ -44,7 +44,7 @@ from .evaluate import assemble_blocks, evaluate_block_matrix
 PRECISION = 212          # bits of the balls' midpoints (about 64 decimal digits)
 
 #: python-flint's working precision is one process-wide setting; the proved lower bound runs on a
-#: worker thread (:mod:`lmidsl.solver.dual_bound`) while the main thread proves LMIs, so every
+#: worker thread (:mod:`lmidsl.certify.dual_bound`) while the main thread proves LMIs, so every
 #: ball computation holds this lock for as long as it sets the precision.
 _BALL_LOCK = threading.RLock()
 

@@ -28,7 +28,7 @@ from ..errors import InputError, LmidslError, did_you_mean
 from ..theorem.registry import get_theorem, linked_analysis
 from ..theorem.theorem import Theorem
 from ..theorem.values import FactorStep
-from ..solver.verdict import LEVEL_NAMES
+from ..certify.verdict import LEVEL_NAMES
 
 PREAMBLE = r"""\documentclass[10pt]{article}
 \usepackage{amsmath,amssymb,graphicx}

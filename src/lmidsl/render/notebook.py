@@ -6,7 +6,7 @@
   reach them through :data:`lmidsl.theorem.theorem.LATEX_RENDERER` (the theorem layer cannot
   import this one), registered by :mod:`lmidsl.render.latex`.
 * :func:`solution_html`, :func:`verification_html`, :func:`sweep_html`: the verdict record
-  (:class:`lmidsl.solver.verdict.Verdict`: its line and its levels — optimum, back-off, analysis,
+  (:class:`lmidsl.certify.verdict.Verdict`: its line and its levels — optimum, back-off, analysis,
   exact, claimed), the design and each LMI's largest eigenvalue, as a small HTML table.  The result classes live in lower layers, so they carry no
   ``_repr_html_``: :func:`register_ipython` registers these renderers with IPython's HTML
   formatter *by class name* (``for_type_by_name``), which imports none of them; ``import lmidsl``
@@ -99,7 +99,7 @@ def _table(rows: list[tuple[str, str]]) -> str:
 
 
 def _verdict_html(record) -> str:
-    """The verdict record's line (:class:`lmidsl.solver.verdict.Verdict`), green when certified."""
+    """The verdict record's line (:class:`lmidsl.certify.verdict.Verdict`), green when certified."""
     color = "green" if record.certified else "#b00"
     return f"<b style='color:{color}'>{_html.escape(record.line())}</b>"
 

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from ..numeric.interconnection import design_kind
 from .table import format_matrix
-from ..solver.verdict import LEVEL_NAMES, design_certified_level
+from ..certify.verdict import LEVEL_NAMES, design_certified_level
 from ..errors import LmidslError
 from ..theorem.registry import get_theorem
 

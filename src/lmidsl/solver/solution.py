@@ -20,7 +20,6 @@ from ..numeric.proof import PRECISION, PROVED, BallEvaluator, ball_precision, pr
 from ..numeric.evaluate import NumericEvaluator, eigenvalues, evaluate_block_matrix
 from ..symbolic.uncertainty import scenarios, spec_at
 from .status import solved
-from .verdict import Verdict, decide
 
 
 def with_location(d: dict, vertex: int | None, point: str) -> dict:
@@ -88,9 +87,10 @@ class Solution:
     analysis: object = None         # lmidsl.certify.AnalysisCertificate of the recovered design
     certify: bool = True            # certification asked for (False: --no-certify)
     evidence: list = field(default_factory=list)   # lmidsl.certify.evidence.Evidence: claims tested independently
-    bounds: object = None           # lmidsl.solver.dual_bound.DualBound: proved lower bound on the optimum
+    bounds: object = None           # lmidsl.certify.dual_bound.DualBound: proved lower bound on the optimum
     objective_bounds: tuple | None = None  # [lo, hi] ∋ the objective at the point, data as written (proved)
-    infeasibility: object = None    # lmidsl.solver.infeasibility.InfeasibilityCertificate
+    infeasibility: object = None    # lmidsl.certify.infeasibility.InfeasibilityCertificate
+    verdict: object = None          # lmidsl.certify.verdict.Verdict: set once, by the judge, when the result is final
 
     @property
     def gamma(self) -> float | None:
@@ -98,17 +98,26 @@ class Solution:
         (its analysis level), else the level at the returned point.  The other levels keep their
         names: ``optimum_level`` (the SDP optimum's), ``backoff_level`` (the back-off point's),
         ``point_gamma`` (the returned point's)."""
-        return self.verdict.gamma
+        return self.judged.gamma
+
+    @property
+    def judged(self):
+        """The verdict, which the judge (:func:`lmidsl.certify.verdict.judge`) sets once when the
+        result is final; reading a level before that is a programming error, not a user's."""
+        if self.verdict is None:
+            raise RuntimeError(f"{self.theorem}: this solution has not been judged yet "
+                               "(lmidsl.certify.verdict.judge)")
+        return self.verdict
 
     @property
     def optimum_level(self) -> float | None:
         """The level at the SDP optimum (for a back-off point, the optimum it backed off from)."""
-        return self.verdict.levels.get("optimum")
+        return self.judged.levels.get("optimum")
 
     @property
     def backoff_level(self) -> float | None:
         """The synthesis level at the back-off point the design was recovered at, or None."""
-        return self.verdict.levels.get("backoff")
+        return self.judged.levels.get("backoff")
 
     def value(self, item):
         """The value at the returned point of a decision variable (the symbol or its name), of a
@@ -158,14 +167,9 @@ class Solution:
         return bool(self.lmis) and all(r.proof == PROVED for r in self.lmis)
 
     @property
-    def verdict(self) -> Verdict:
-        """The one verdict (:func:`lmidsl.solver.verdict.decide`)."""
-        return decide(self)
-
-    @property
     def certified(self) -> bool:
         """Every claim proved (``verdict.certified``)."""
-        return self.verdict.certified
+        return self.judged.certified
 
     @property
     def original_instance(self) -> Instance | None:
@@ -199,6 +203,8 @@ class Solution:
         full report: :func:`lmidsl.render.report.format_solution`; the data: :meth:`as_dict`)."""
         where = f" [{self.example}]" if self.example else ""
         v = self.verdict
+        if v is None:
+            return f"<Solution {self.theorem}{where}: {self.status}, not judged yet; {self.backend}/{self.solver}>"
         value = (f", gamma={v.gamma:.8g}" if v.gamma is not None else "") + (
             f", objective={self.objective:.8g}" if self.objective is not None and self.objective != v.gamma else "")
         verdict = v.word.upper() + ("" if v.certified or not v.reasons else f" ({v.reasons[0]})")
@@ -219,7 +225,7 @@ class Solution:
                 return [listify(x) for x in v]
             return np.asarray(v).tolist()
 
-        verdict = self.verdict
+        verdict = self.judged
         return {
             "theorem": self.theorem,
             "example": self.example,

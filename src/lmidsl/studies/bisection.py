@@ -23,10 +23,10 @@ from ..errors import InputError
 from ..numeric.instance import Instance
 from ..pipeline import finish_solution
 from ..solver.backends import get_backend
-from ..solver.infeasibility import prove_infeasible
+from ..certify.infeasibility import prove_infeasible
 from ..solver.plan import Plan
 from ..solver.solution import Solution
-from ..solver.verdict import CERTIFIED, NOT_CERTIFIED, NOT_SOLVED, Verdict, quantity_words
+from ..certify.verdict import CERTIFIED, NOT_CERTIFIED, NOT_SOLVED, Verdict, judge, quantity_words
 from ..theorem.values import Bisection
 
 
@@ -44,7 +44,7 @@ class BisectionResult:
     steps: list = field(default_factory=list)   # {value, feasible, status, worst_eig}
     solution: Solution | None = None        # certified (and proved) point at the feasible end
     message: str = ""
-    infeasible_end_proof: object = None      # lmidsl.solver.infeasibility.InfeasibilityCertificate
+    infeasible_end_proof: object = None      # lmidsl.certify.infeasibility.InfeasibilityCertificate
     compile_time: float = 0.0
     total_time: float = 0.0
 
@@ -186,7 +186,7 @@ def bisect(instance: Instance, *, lower: float | None = None, upper: float | Non
         solution = stepper.solve_at(result.feasible_end)
         solution.notes.append(f"bisection on {spec.parameter}: {len(stepper.steps)} solves of one compiled "
                               f"model; certificate at the feasible end {result.feasible_end:.10g}")
-        result.solution = finish_solution(solution, plan=plan, certify=True, diagnose=False)
+        result.solution = judge(finish_solution(solution, plan=plan, certify=True, diagnose=False))
     if result.infeasible_end is not None:       # the other end of the bracket, proved where possible
         stepper.solve_at(result.infeasible_end)
         result.infeasible_end_proof = prove_infeasible(stepper.model)

@@ -30,6 +30,7 @@ import numpy as np
 from ..errors import InputError
 from ..numeric.instance import Instance
 from ..numeric.evaluate import NumericEvaluator
+from ..certify.verdict import judge
 from ..pipeline import finish_solution
 from ..solver.plan import Plan
 
@@ -160,7 +161,7 @@ def successive_lmi(instance: Instance, *, starts: list[dict] | None = None, max_
         if bar is not None:
             bar.close()
     for gamma, s, k, sol, point in sorted(candidates, key=lambda c: (c[0], c[1], c[2])):
-        finish_solution(sol, plan=plan, certify=certify)
+        judge(finish_solution(sol, plan=plan, certify=certify))
         result.best, result.best_start, result.best_iteration, result.point = sol, s, k, point
         if sol.verdict.certified or not certify:
             break

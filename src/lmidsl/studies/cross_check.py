@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 from ..pipeline import make_instance, solve_instance
 from ..solver.plan import Plan
-from ..solver.verdict import CERTIFIED, DISAGREEMENT, NOT_CERTIFIED, Verdict
+from ..certify.verdict import CERTIFIED, DISAGREEMENT, NOT_CERTIFIED, Verdict
 from ..solver.status import OPTIMAL
 from ..solver.backends import (BACKENDS, DEFAULT_BACKEND, backend_info, options_for, SOLVER_INFO, backend_sdp_solvers, is_first_order,
                                resolve_solver)

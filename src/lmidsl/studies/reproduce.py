@@ -19,7 +19,7 @@ from ..solver.backends import DEFAULT_BACKEND
 from ..solver.status import INFEASIBLE, MARGINAL, solved
 from ..theorem.registry import all_theorems, get_theorem
 from ..theorem.values import OUTCOMES, PROVENANCE
-from ..solver.verdict import NOT_SOLVED, REFUTED, Verdict
+from ..certify.verdict import NOT_SOLVED, REFUTED, Verdict
 from .parallel import Runner, Task, check_workers, items_as_finished, start_local_workers_early
 from .store import JsonLinesStore
 from .verify import figures_for_solution, worst_index
@@ -48,7 +48,7 @@ class ReproductionRow:
     exact_ok: bool | None = None
     provenance: str = "paper"
     expect: str = "certified"
-    verdict: dict | None = None     # the solve's verdict record (lmidsl.solver.verdict), refuted by
+    verdict: dict | None = None     # the solve's verdict record (lmidsl.certify.verdict), refuted by
                                     # an exact figure above the certified level
     bounds: dict | None = None      # the optimum's bracket: proved lower bound, proved optimum level
 
@@ -58,7 +58,7 @@ class ReproductionRow:
         if self.certified:
             return "certified"
         if (self.verdict or {}).get("word") == "infeasible":
-            return "infeasible"                # proved (lmidsl.solver.infeasibility)
+            return "infeasible"                # proved (lmidsl.certify.infeasibility)
         if self.status in (INFEASIBLE, MARGINAL):
             return "not solved"                # feasp's word, not a proof
         if self.computed_gamma is not None or solved(self.status):

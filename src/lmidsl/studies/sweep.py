@@ -27,7 +27,7 @@ from ..numeric.evaluate import NumericEvaluator
 from ..numeric.proof import PROVED
 from ..solver.margin import solve_model
 from ..solver.status import solved
-from ..solver.verdict import CERTIFIED, NOT_CERTIFIED, NOT_SOLVED, Verdict
+from ..certify.verdict import CERTIFIED, NOT_CERTIFIED, NOT_SOLVED, Verdict
 from ..solver.solution import evaluate_performance, lmi_certificate
 from ..solver.backends import choose_backend, get_backend
 from .. import __version__

@@ -40,7 +40,7 @@ from ..pipeline import as_theorem, make_instance, solve_instance
 from ..solver.plan import Plan
 from ..numeric.interconnection import design_kind
 from ..solver.status import SOLVED
-from ..solver.verdict import CERTIFIED, NOT_CERTIFIED, NOT_SOLVED, QUANTITIES, REFUTED, Verdict
+from ..certify.verdict import CERTIFIED, NOT_CERTIFIED, NOT_SOLVED, QUANTITIES, REFUTED, Verdict
 from ..solver.solution import lmi_certificate
 from ..numeric.proof import PROVED
 from types import SimpleNamespace
@@ -81,7 +81,7 @@ class Verification:
 
     @property
     def verdict(self) -> Verdict:
-        """The verdict record (:mod:`lmidsl.solver.verdict`): the headline is the level the
+        """The verdict record (:mod:`lmidsl.certify.verdict`): the headline is the level the
         analysis certifies for this design; an exact figure above the claim refutes it."""
         levels = {"claimed": self.claimed_gamma, "synthesis": self.synthesis_gamma,
                   "analysis": self.analysis_gamma,

@@ -192,7 +192,7 @@ class CompiledModel:
         walked blocks, the factors t).  The congruence T N T of :mod:`lmidsl.solver.conditioning` is applied
         (block (i, j) times t_i t_j, :meth:`BackendCompiler.congruence`), and the upper triangle
         holds the transposes of the lower one.  The compile and the enclosure of its coefficients
-        (:mod:`lmidsl.solver.as_written`) walk the same blocks in the same order."""
+        (:mod:`lmidsl.certify.as_written`) walk the same blocks in the same order."""
         for index, lmi in enumerate(self.instance.theorem.lmis):
             negative = lmi.negative_form()
             t = [self.equilibration.row(index, i) for i in range(negative.nblocks)]

@@ -201,7 +201,7 @@ class DirectModel(CompiledModel):
     #: the dual shift ε of the main problem's solves (Clarabel's units; 0: none).  With ε > 0 the
     #: solver minimises qᵀx − ε Σ_k tr S_k(x) over the PSD cones S_k = −N_k − margin·I: its dual
     #: Z′ ⪰ 0 gives Z = Z′ + εI, a dual of the theorem with margin ε, from which
-    #: :func:`lmidsl.solver.dual_bound.lower_bound` proves a lower bound without a second solve
+    #: :func:`lmidsl.certify.dual_bound.lower_bound` proves a lower bound without a second solve
     #: (the point is pushed inside by as little; the objective reported is the theorem's own,
     #: qᵀx + q₀ at the returned point).  Opt-in: off by default.
     dual_shift = 0.0

@@ -1,12 +1,12 @@
 """A proved lower bound on a theorem's optimum from the solver's dual (weak duality, VSDP-style).
 
-For the compiled problem min qᵀx + q₀ s.t. S_k(x) ∈ K_k (:mod:`lmidsl.solver.dual_point`), any
+For the compiled problem min qᵀx + q₀ s.t. S_k(x) ∈ K_k (:mod:`lmidsl.certify.dual_point`), any
 dual z with M z = q exactly and every Z_k ⪰ 0 gives
 
     qᵀx + q₀ ≥ q₀ − ⟨Z, S⁰⟩     for every feasible x.
 
-Clarabel returns z̃ with M z̃ ≈ q; :func:`~lmidsl.solver.dual_point.corrected_point` encloses an
-exact solution z of M z = q near z̃, and :func:`~lmidsl.solver.dual_point.check_cone` proves each
+Clarabel returns z̃ with M z̃ ≈ q; :func:`~lmidsl.certify.dual_point.corrected_point` encloses an
+exact solution z of M z = q near z̃, and :func:`~lmidsl.certify.dual_point.check_cone` proves each
 Z_k ⪰ 0 over the enclosure.  At an optimum complementarity puts eigenvalues of Z_k at 0, and the
 correction may push them below: then the perturbed problem
 
@@ -19,7 +19,7 @@ both satisfy M z = q exactly, λ_min is concave, and the least θ with
 (1 − θ) λ_min(Z_a,k) + θ λ_min(Z_b,k) ≥ 0 for every block loses only θ·(v_a − v_b), θ ≈ deficit/ε.
 ε starts at SHIFT_START times the deficit and grows (or shrinks after a proof, while the loss
 exceeds LOSS_TARGET); dual blocks the solver made singular on whole coordinates are taken on
-their face (:meth:`~lmidsl.solver.dual_point.DualData.support`: a shift off the face makes the
+their face (:meth:`~lmidsl.certify.dual_point.DualData.support`: a shift off the face makes the
 shifted problem unbounded).  When an eigenvalue is
 still negative, VSDP's bound (Jansson, Chaykin, Keil, SIAM J. Numer. Anal. 46(1), 2007) applies
 only with an a-priori bound r̄_k ≥ λ_max(S_k) on the primal (``primal_bounds``):
@@ -33,12 +33,12 @@ X = s_X X̃) has the same feasible set in the original variables and the same ob
 so its bound is a bound on the original theorem's optimum; the objective is the theorem's own
 (``model.objective``, not the solver's rescaled one).
 
-The headline performance is mapped through :mod:`lmidsl.solver.performance`: a map proved
+The headline performance is mapped through :mod:`lmidsl.certify.performance`: a map proved
 non-decreasing on [lower, the point's objective] gives a lower bound on the performance (rounded
 down in ball arithmetic; γ = √g gives √max(lower, 0)), a map proved non-increasing (a maximised
 performance, min −ν) an upper bound (rounded up); a map not proved monotone gives none.
 
-**Which problem.**  The LMIs and the objective *as written* (:mod:`lmidsl.solver.as_written`):
+**Which problem.**  The LMIs and the objective *as written* (:mod:`lmidsl.certify.as_written`):
 the correction and the pairing carry the radius by which each compiled coefficient may differ
 from the one as written, so the bound holds for the data the user wrote, decimals read as the
 rationals they denote — the same problem the LMIs at the point are proved for.
@@ -57,7 +57,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..numeric.proof import round_down
-from .backends.direct_backend import SolverCrash, clarabel_solve
+from ..solver.backends.direct_backend import SolverCrash, clarabel_solve
 from .performance import performance_bound, performance_lower
 from .verdict import OPTIMAL_GAP, dual_gap
 from .dual_point import U, DualData, check_cone, dual_data, corrected_point, last_dual, pairing_bounds
@@ -363,7 +363,7 @@ class PendingBound:
     ``others``: the other models solved on the way (as written or conditioned: the same feasible
     set and objective in the theorem's variables, :meth:`lmidsl.solver.plan.Plan.solve`).  When the
     kept model's bound is unproved or loose — more than
-    :data:`~lmidsl.solver.verdict.OPTIMAL_GAP` below ``level``, the optimum's level — each
+    :data:`~lmidsl.certify.verdict.OPTIMAL_GAP` below ``level``, the optimum's level — each
     other model's dual is tried in turn and the highest proved bound is kept: the plan's next
     road for the bracket (zhang_quantized_loss.thm2 paper-N3: 0.148147 from the conditioned
     model, 0.149843 from the one as written, against the level 0.149846).

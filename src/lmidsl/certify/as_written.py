@@ -3,7 +3,7 @@
 The direct backend compiles each LMI N(x) = N⁰ + Σ_c x_c N^c (and the objective) in double
 precision: the data are the doubles nearest to the decimals the user wrote, constant
 sub-expressions are folded in floating point, and every product and sum of the compiling walk is
-rounded.  The proofs of lmidsl (:mod:`lmidsl.solver.dual_bound`, :mod:`lmidsl.solver.infeasibility`)
+rounded.  The proofs of lmidsl (:mod:`lmidsl.certify.dual_bound`, :mod:`lmidsl.certify.infeasibility`)
 are about the problem *as written*: the data and parameters are the decimals the user wrote, taken
 as the rationals they denote (:func:`lmidsl.numeric.proof.decimal_ball`), like the proofs of the
 LMIs at a point.  Where a data expression cancels (``K·(a + b − c)`` with a, b, c = 0.1, 0.2, 0.3
@@ -28,7 +28,7 @@ magnitudes) and ε a scalar:
   with γ ≥ γ_{nm+1} (Higham, *Accuracy and Stability of Numerical Algorithms*, §3.1, doubled),
   B ← B₁·B₂ or B₁ + B₂ — minus signs become plus signs, so B has no cancellation;
 * the coefficients of one LMI as the proofs read them (both triangles of the symmetric pairing
-  summed, :class:`~lmidsl.solver.dual_point.DualData`) pay one more sum.
+  summed, :class:`~lmidsl.certify.dual_point.DualData`) pay one more sum.
 
 The radius of a coefficient is ε·B (slightly inflated for the rounding of B itself); ε of one
 cell of a block matrix does not spread to the other cells.
@@ -55,8 +55,8 @@ from ..numeric.evaluate import NumericEvaluator
 from ..numeric.exact import ExactEvaluator, NotRational, to_matrix
 from ..numeric.proof import PRECISION, BallEvaluator, ball_precision, round_up
 from ..symbolic.symbols import DECISION_TYPES, DerivedParam, StructuredVariable
-from .backends.affine import Affine, block as affine_block
-from .backends.base import BackendCompiler, CompiledModel, classify
+from ..solver.backends.affine import Affine, block as affine_block
+from ..solver.backends.base import BackendCompiler, CompiledModel, classify
 
 U = 2.0 ** -53
 TINY = 2.0 ** -900

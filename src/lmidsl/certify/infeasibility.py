@@ -1,6 +1,6 @@
 """Proved infeasibility of a theorem's LMIs: a theorem-of-alternatives certificate, verified.
 
-The compiled constraints are S_k(x) = S_k⁰ + Σ_c x_c S_k^c ∈ K_k (:mod:`lmidsl.solver.dual_point`;
+The compiled constraints are S_k(x) = S_k⁰ + Σ_c x_c S_k^c ∈ K_k (:mod:`lmidsl.certify.dual_point`;
 S_k = −N_k for an LMI N_k ≺ 0 or ⪯ 0, taken at margin ε = 0).  If z = (Z_k) satisfies
 
     Z_k ⪰ 0 (k psd),  z_k ≥ 0 (k non-negative),  M z = 0  (Σ_k ⟨Z_k, S_k^c⟩ = 0 for every variable c),
@@ -21,8 +21,8 @@ solve (a Farkas ray: z ∈ K, Aᵀz = 0, bᵀz < 0) or else from the alternative
     min ⟨Z, S⁰⟩  s.t.  M z = 0,  Σ_k tr Z_k = 1,  z ∈ K,
 
 and verified on the compiled coefficients in two ways: in balls (the equality corrected exactly
-by :func:`~lmidsl.solver.dual_point.corrected_point`, each block shown PSD over the enclosure),
-and exactly (:func:`~lmidsl.solver.dual_point.exact_support_point`: a rational point on the
+by :func:`~lmidsl.certify.dual_point.corrected_point`, each block shown PSD over the enclosure),
+and exactly (:func:`~lmidsl.certify.dual_point.exact_support_point`: a rational point on the
 support of the estimate, PSD decided in exact arithmetic) — the route for certificates that are
 singular by nature (an unstable mode no input reaches: Z lives on that mode).  A feasible problem
 never gets a certificate: the conditions above are checked, not inferred from a status.
@@ -151,7 +151,7 @@ def _verify_balls(data: DualData, z0: np.ndarray, out: InfeasibilityCertificate)
 
 def _exact_points(data: DualData, z0: np.ndarray):
     """(where, exact point) on each entry support, then on the rational faces of the estimate's
-    blocks (:mod:`lmidsl.solver.face_certificate`: singular certificates of a hidden unreachable
+    blocks (:mod:`lmidsl.certify.face_certificate`: singular certificates of a hidden unreachable
     mode)."""
     for threshold in THRESHOLDS:
         yield f"on the support (threshold {threshold:g})", exact_support_point(data, z0, threshold)

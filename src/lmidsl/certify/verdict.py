@@ -27,9 +27,9 @@ from dataclasses import dataclass, field
 
 from ..numeric.interconnection import design_kind
 from ..errors import ProofConflict
-from .backoff import backoff_cost
+from ..solver.backoff import backoff_cost
 from .performance import objective_map
-from .status import INFEASIBLE as STATUS_INFEASIBLE, MARGINAL, OPTIMAL, SOLVED
+from ..solver.status import INFEASIBLE as STATUS_INFEASIBLE, MARGINAL, OPTIMAL, SOLVED
 
 OPTIMAL_WORD = "optimal"            # certified, and proved near the optimum (a dual bound)
 CERTIFIED = "certified"             # certified; nearness to the optimum not proved / not asked
@@ -103,6 +103,13 @@ class Verdict:
         dual = "upper" if b.get("maximised") else "lower"
         why = f" ({dual} bound: {b['why']})" if b["why"] and not b[f"{dual}_proved"] else ""
         return f"LMI optimum ({self.quantity or 'objective'}) in [{lo}, {hi}], {state}{why}"
+
+
+def judge(solution):
+    """Set ``solution.verdict`` by :func:`decide` when the result is final (the pipeline's last
+    step, as cvxpy's ``unpack_results`` sets the status once); returns the solution."""
+    solution.verdict = decide(solution)
+    return solution
 
 
 def decide(solution) -> Verdict:
@@ -240,13 +247,13 @@ def headline_level(solution):
 
 def bracket(solution) -> dict | None:
     """The optimum's bracket [lower, upper] in the headline quantity, both ends about the problem
-    as written (:mod:`lmidsl.solver.as_written`), mapped through the performance proved monotone
-    on the interval between them (:mod:`lmidsl.solver.performance`).
+    as written (:mod:`lmidsl.certify.as_written`), mapped through the performance proved monotone
+    on the interval between them (:mod:`lmidsl.certify.performance`).
 
     One end is the optimum's point: proved when every LMI is proved there (the back-off point's
     record keeps the optimum's proofs and objective), its level f(objective) rounded outwards from
     the point's objective enclosed in balls.  The other is the proved dual bound
-    (:mod:`lmidsl.solver.dual_bound`) mapped through f — the lower end for a non-decreasing f, the
+    (:mod:`lmidsl.certify.dual_bound`) mapped through f — the lower end for a non-decreasing f, the
     upper end for a non-increasing one (``maximised``: min −ν, √β, 1/δ).  Without a direction
     proved on that interval neither end is placed.  A proved lower end above a proved upper end is
     a :class:`~lmidsl.errors.ProofConflict`.  None for a feasibility problem."""

@@ -6,7 +6,7 @@ theorem-of-alternatives certificate lives on the mode: in H∞ state feedback (c
 Z = diag(wwᵀ, 0, 0) on the LMI and 2λ wwᵀ on Y ≻ 0 pair every variable to zero exactly because
 wᵀB2 = 0 (discrete time: [λw; w][λw; w]ᵀ on the rows of Y and AY + B2W, (λ² − 1) wwᵀ on Y ≻ 0).
 Such a certificate is singular (rank one per block), so an exact correction of a float estimate
-on its *entry* support (:func:`lmidsl.solver.dual_point.exact_support_point`) leaves the face and
+on its *entry* support (:func:`lmidsl.certify.dual_point.exact_support_point`) leaves the face and
 is not PSD when w is dense (the structure hidden by a change of basis).
 
 Here the face is taken from the estimate itself: in each PSD block of a float estimate Z̃_k the
@@ -16,7 +16,7 @@ rational, as w is for integer data under the library's power-of-two scalings), g
 blocks).  The equalities Σ_k ⟨V_k S_k V_kᵀ, S_k^c⟩ = 0 are solved over the rationals (python-flint),
 the solution nearest the estimate's projection is taken with rational coefficients, and then, in
 exact arithmetic: S_k ⪰ 0, the pairing ⟨Z, S⁰⟩ and Σ_strict tr Z_k — the conditions of
-:mod:`lmidsl.solver.infeasibility`.  Nothing is inferred: a face that is not exact, or a point that
+:mod:`lmidsl.certify.infeasibility`.  Nothing is inferred: a face that is not exact, or a point that
 is not PSD, gives no certificate.  A plant that is only *nearly* unstabilisable (wᴴB = 1e-9) is
 stabilisable in exact arithmetic, its strict LMIs are feasible, and no certificate exists — none
 is found here.
@@ -102,7 +102,7 @@ def exact_face_point(data: DualData, z0: np.ndarray, rank_tol: float = 1e-3,
                      denominator: int = DENOMINATORS[0]) -> ExactPoint | None:
     """An exact z with Z_k = V_k S_k V_kᵀ, M z = 0 (module docstring), or None (no rational face,
     no exact coefficients, too large, or no non-zero solution).  The equalities are the rows of
-    M as :func:`lmidsl.solver.dual_point._exact_rows` gives them ({unknown: coefficient})."""
+    M as :func:`lmidsl.certify.dual_point._exact_rows` gives them ({unknown: coefficient})."""
     if data.enclose():
         return None
     scale = float(np.abs(z0).max()) if len(z0) else 0.0

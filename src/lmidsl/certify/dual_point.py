@@ -1,7 +1,7 @@
 """Dual points of a compiled theorem, made exactly feasible for the equalities and proved in the cone.
 
-The shared mathematics of the proved lower bound (:mod:`lmidsl.solver.dual_bound`) and of the
-proved infeasibility (:mod:`lmidsl.solver.infeasibility`).  A direct-backend model
+The shared mathematics of the proved lower bound (:mod:`lmidsl.certify.dual_bound`) and of the
+proved infeasibility (:mod:`lmidsl.certify.infeasibility`).  A direct-backend model
 (:class:`~lmidsl.solver.backends.direct_backend.DirectModel`) holds every constraint as an
 affine matrix S_k(x) = S_k⁰ + Σ_c x_c S_k^c that must lie in a cone K_k: S_k = −N_k for an LMI
 N_k(x) ⪯ 0 (the closure ε = 0 of a strict LMI: the margin is not part of this problem), a vector
@@ -17,7 +17,7 @@ b(b+1)/2 + a: Clarabel's svec order without its √2) and the entries of the non
 
 **What is proved, and about which problem.**  The bounds hold for the SDP *as written*: the
 theorem's data and parameters as the decimals the user wrote.  The compiled coefficients (the
-floats S_k^c, S_k⁰, q) differ from those by at most the radii of :mod:`lmidsl.solver.as_written`
+floats S_k^c, S_k⁰, q) differ from those by at most the radii of :mod:`lmidsl.certify.as_written`
 (``Mrad``, ``s0_rad``, ``q_rad``), which the correction and the pairing carry; the rational
 routes take the coefficients as written exactly (:meth:`DualData.exact_row`).  A float dual estimate z̃ is
 corrected by z = z̃ + D w with D = Mᵀ (the compiled M: a fixed direction) and w enclosing the
@@ -49,10 +49,10 @@ from flint import arb, arb_mat, fmpq, fmpq_mat
 
 from ..numeric.proof import ball_precision, lower_eigenvalue_bound, round_down, round_up, verified_spd_solve
 
-from .backends.direct_backend import psd_diagonal
+from ..solver.backends.direct_backend import psd_diagonal
 from .as_written import (EnclosureUnavailable, ExactCoefficients, coefficient_bounds, irrational_grid, radii,
                         snapshot)
-from .feasibility import compiled_lmis
+from ..solver.feasibility import compiled_lmis
 from ..numeric.exact import to_matrix
 
 U = 2.0 ** -53                  # unit roundoff of double precision (round to nearest)
@@ -185,7 +185,7 @@ class DualData:
 
     # -- the problem as written ---------------------------------------------------------
     def enclose(self) -> str:
-        """Relate the compiled coefficients to the data as written (:mod:`lmidsl.solver.as_written`),
+        """Relate the compiled coefficients to the data as written (:mod:`lmidsl.certify.as_written`),
         once: sets ``Mrad`` (|M as written − M| entrywise), ``q_rad``, ``q0_rad`` and each block's
         ``s0_rad``.  Returns '' or why the proofs cannot be about the data as written (then they
         are not made)."""
@@ -248,7 +248,7 @@ class DualData:
 
     def identity_points(self) -> list | None:
         """Where an identity between coefficients as written is checked exactly: [None] (the true
-        coefficients are rational), the grid of :func:`~lmidsl.solver.as_written.irrational_grid`
+        coefficients are rational), the grid of :func:`~lmidsl.certify.as_written.irrational_grid`
         (irrational parameters taken as free symbols), or None (neither)."""
         exact = self.exact_coefficients()
         if not exact.why and not exact.irrational():
@@ -558,7 +558,7 @@ def _independent_equations(data: DualData, M, target_is_q: bool, rows: np.ndarra
 def _exact_rows(data: DualData, rows: np.ndarray, keep, free: dict | None = None) -> list[dict] | None:
     """The given rows of M (positions in ``data.columns``) as written, exactly: {unknown: fmpq},
     restricted to the support ``keep``; None when there are no rational coefficients
-    (:class:`~lmidsl.solver.as_written.ExactCoefficients`) on the kept unknowns."""
+    (:class:`~lmidsl.certify.as_written.ExactCoefficients`) on the kept unknowns."""
     if free is None:
         irrational = data.irrational_unknowns()
         if irrational.any() and (keep is None or np.any(keep & irrational)):
