@@ -108,18 +108,18 @@ def test_iteration_limited_row_without_point():
     result = check("wang_l2linf.thm3", example="paper-full", solvers="cvxpy:clarabel",
                    options={"clarabel": {"max_iter": 3}})
     (row,) = result.rows
-    assert not row.certified and not row.trusted and row.gamma is None
+    assert not row.holds and not row.trusted and row.gamma is None
     assert result.exit_code == 1 and "NO TRUSTED" in result.summary()
 
 
-def _row(name, value, trusted, certified=True):
+def _row(name, value, trusted, holds=True):
     b, s = name.split("/")
-    return CheckRow(b, s, value=value, gamma=value, trusted=trusted, certified=certified)
+    return CheckRow(b, s, value=value, gamma=value, trusted=trusted, holds=holds)
 
 
 def test_compare_reference_is_the_smallest_trusted_value():
     rows = [_row("a/x", 1.0005, True), _row("b/y", 1.0, True), _row("c/z", 1.002, True),
-            _row("d/scs", 1.05, False), _row("e/w", 0.9, False, certified=False)]
+            _row("d/scs", 1.05, False), _row("e/w", 0.9, False, holds=False)]
     ref = compare(rows, 1e-3)
     assert ref is rows[1]
     assert [r.disagrees for r in rows] == [False, False, True, False, False]

@@ -64,9 +64,9 @@ def test_search_reports_the_true_best_certified_level_under_the_performance_name
     result = scalar_search(inst, {"alpha": alphas}, workers=1, progress=False)
     exact = {a: np.sqrt(exact_g(a)) for a in alphas}
     for p in result.grid:
-        assert p.certified, p
+        assert p.proved, p
         assert p.value == pytest.approx(exact[p.params["alpha"]], rel=1e-4)
-    best = result.best_certified
+    best = result.best_proved
     a_star = min(exact, key=exact.get)
     assert best.params["alpha"] == a_star and best.value == pytest.approx(exact[a_star], rel=1e-4)
     text = format_result(result)

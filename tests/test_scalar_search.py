@@ -64,7 +64,7 @@ def test_grid_then_nelder_mead_finds_the_known_optimum_in_parallel():
     assert best.value == pytest.approx(gamma_star, rel=1e-5)
     assert best.params["lambda1"] == pytest.approx(lam_star[0], abs=2e-3)
     assert best.params["lambda2"] == pytest.approx(lam_star[1], abs=2e-3)
-    assert result.best_certified is not None
+    assert result.best_proved is not None
     assert result.best_grid.value > best.value          # the refinement improved on the grid
 
 

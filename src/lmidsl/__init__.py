@@ -17,7 +17,11 @@ The public face, by use:
   (:mod:`lmidsl.numeric.changes_of_variables`: :func:`state_feedback_gain`,
   :func:`output_feedback_blocks`, :func:`output_feedback`, :func:`filter_blocks`,
   :func:`full_order_filter`, the closed loops for analysis), the declared certificates (:class:`ErrorSystem`,
-  :func:`reported_agree`, :class:`CheckResult`) and :class:`SimulationTable`;
+  :func:`reported_agree`, :class:`CheckResult`, :func:`grid_check`, :func:`rate_grid_check`,
+  :func:`rate_simulation_check`, :func:`zero`), the system figures a check reads
+  (:func:`default_grid`, :func:`is_stable`, :func:`peak_gain`), :class:`SimulationTable` and the
+  house style of a simulation's figure (:func:`figure`, :func:`legend`, :func:`save_figure`,
+  ``WIDE_FIGURE``);
 * running: :func:`solve`, :func:`verify`, the loops a design closes, as python-control systems
   (:func:`closed_loop`, :func:`filtering_error`, :func:`generalized_plant`; :meth:`Design.as_statespace`), :func:`get_theorem`, :func:`all_theorems`,
   :func:`make_instance`, :func:`solve_instance`;
@@ -62,6 +66,12 @@ _LAZY = {
     "closed_loop": "numeric.interconnection", "filtering_error": "numeric.interconnection",
     "generalized_plant": "numeric.interconnection",
     "theorem_latex": "render.latex_document", "lmi_latex": "render.latex",
+    # evidence a theorem file declares, and the figures of its simulation
+    "zero": "theorem.assumptions", "grid_check": "certify.simplex_grid",
+    "rate_grid_check": "certify.rate_bounded", "rate_simulation_check": "certify.rate_bounded",
+    "default_grid": "numeric.systems", "is_stable": "numeric.systems", "peak_gain": "numeric.systems",
+    "figure": "render.style", "legend": "render.style", "save_figure": "render.style:save",
+    "WIDE_FIGURE": "render.style:WIDE",
 }
 _LAZY.update({name: "numeric.changes_of_variables" for name in (
     "closed_loop_matrices", "filter_blocks", "filter_error_matrices", "full_order_filter", "loop_shift",
@@ -75,7 +85,9 @@ __all__ = ["Theorem", "Source", "Example", "I", "He", "diag", "schur", "congruen
            "output_feedback", "loop_shift", "full_order_filter", "closed_loop_matrices",
            "state_feedback_closed_loop", "filter_error_matrices",
            "reported_agree", "CheckResult", "second_moment", "fuzzy_grid", "sum_over", "stack_over",
-           "diag_over", "kron", "SimulationTable",
+           "diag_over", "kron", "SimulationTable", "zero", "grid_check", "rate_grid_check",
+           "rate_simulation_check", "default_grid", "is_stable", "peak_gain", "figure", "legend",
+           "save_figure", "WIDE_FIGURE",
            "solve", "verify", "closed_loop", "filtering_error", "generalized_plant", "get_theorem", "all_theorems", "make_instance", "solve_instance",
            "Solution", "Design", "AnalysisCertificate", "Verification", "theorem_latex", "lmi_latex",
            "LmidslError", "InputError", "ShapeMismatchError", "NonlinearityError",
@@ -91,8 +103,9 @@ _WITH_LATEX = ("theorem.", "pipeline", "studies.")
 def __getattr__(name):
     if name in _LAZY:
         import importlib
-        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
-        if _LAZY[name].startswith(_WITH_LATEX):
+        module, _, attribute = _LAZY[name].partition(":")     # "module:attribute" when named otherwise
+        value = getattr(importlib.import_module(f".{module}", __name__), attribute or name)
+        if module.startswith(_WITH_LATEX):
             importlib.import_module(".render.notebook", __name__)
         globals()[name] = value
         return value

@@ -11,7 +11,7 @@ import time
 from .certify.dual_bound import PendingBound
 from .certify.infeasibility import prove_infeasible
 from .solver.plan import Plan
-from .certify.verdict import decide, headline_level, judge
+from .certify.verdict import headline_level, judge
 from .certify import certify_by_analysis
 from .certify.evidence import claim_evidence
 from .theorem.budget import expansion_limits
@@ -210,9 +210,8 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
             continue
         found.certify = optimum.certify
         finish_solution(found, **finish)
-        screened = decide(found) if automatic else None
-        if screened is not None and not screened.certified:
-            optimum.notes.append(f"the {name}'s back-off point is not certified: {'; '.join(screened.reasons)}")
+        if automatic and not judge(found).verdict.certified:    # judged again with the bounds, if kept
+            optimum.notes.append(f"the {name}'s back-off point is not certified: {'; '.join(found.verdict.reasons)}")
             continue
         found.backoff["method"] = name
         candidate = found

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from lmidsl import CheckResult
-from lmidsl.numeric.systems import default_grid, is_stable, peak_gain
+from lmidsl import default_grid, is_stable, peak_gain
 
 RK4_SAFE = 1.0  # |λ| dt kept well inside RK4's stability region (|λ| dt < 2.78 on the real axis)
 

@@ -207,7 +207,7 @@ def monte_carlo(plant: Plant, filters: dict, xi1: float, xi2: float, *, runs: in
 def figure(result: dict, path, title: str | None = None) -> list:
     """Left: z_k and the estimates in the first run; right: MSE_k over the runs.  Saved as
     ``path`` in PNG and PDF (:func:`lmidsl.render.style.save`); the paths written."""
-    from lmidsl.render.style import WIDE, figure as new_figure, legend, save
+    from lmidsl import WIDE_FIGURE as WIDE, figure as new_figure, legend, save_figure as save
 
     k = np.arange(result["steps"]) + (1 if result["kind"] == "inverse-square" else 0)
     fig, (ax1, ax2) = new_figure(2, width=WIDE, height=0.36 * WIDE)

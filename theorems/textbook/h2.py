@@ -23,8 +23,7 @@ Continuous time needs D11 = 0: the theorem takes no D11 and declares the assumpt
 (``thm.assume(zero("D11", external=True))``), so a plant with D11 ≠ 0 is refused at bind time.  The optimum is the LQR cost with
 Q = C1ᵀC1, R = D12ᵀD12, N = C1ᵀD12 (python-control's ``lqr`` / ``dlqr`` are the independent check).
 """
-from lmidsl import He, I, Source, Theorem, state_feedback_gain
-from lmidsl.theorem.assumptions import zero
+from lmidsl import He, I, Source, Theorem, state_feedback_gain, zero
 from sympy import Trace, sqrt
 
 from .brl import scale_state, system_data

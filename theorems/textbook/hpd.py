@@ -32,10 +32,8 @@ convergence result there).  Every claim is tested on a grid of the simplex with 
 """
 import numpy as np
 import sympy as sp
-from lmidsl import He, I, Source
+from lmidsl import He, I, RobustTheorem, Source, grid_check
 from sympy import Trace
-from lmidsl.certify.simplex_grid import grid_check
-from lmidsl.theorem.robust import RobustTheorem
 
 OP2007 = ("R. C. L. F. Oliveira, P. L. D. Peres, Parameter-dependent LMIs in robust analysis: "
           "characterization of homogeneous polynomially parameter-dependent solutions via LMI "

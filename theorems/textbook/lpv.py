@@ -20,9 +20,7 @@ Each LMI is imposed for every α and every rate vertex: the member expands over 
 (α, α̇) grid, and simulations under the fastest admitted parameter and a sinusoid
 (:mod:`lmidsl.certify.rate_bounded`).
 """
-from lmidsl import He, Source
-from lmidsl.certify.rate_bounded import rate_grid_check, rate_simulation_check
-from lmidsl.theorem.robust import RobustTheorem
+from lmidsl import He, RobustTheorem, Source, rate_grid_check, rate_simulation_check
 
 GC2006 = ("J. C. Geromel, P. Colaneri, Robust stability of time varying polytopic systems, "
           "Systems & Control Letters 55(1):81-85, 2006")

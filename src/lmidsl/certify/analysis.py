@@ -30,7 +30,7 @@ from ..solver.feasibility import feasp
 from ..solver.plan import Plan
 from ..numeric.proof import PROVED
 from ..solver.solution import evaluate_reported, lmi_certificate
-from ..solver.status import INFEASIBLE, MARGINAL, solved
+from ..solver.status import solved
 from ..solver.status import worst as worst_status
 from ..theorem.registry import linked_analysis
 
@@ -155,9 +155,8 @@ def certify_by_analysis(instance: Instance, filter_matrices: dict, synthesis_gam
         if not (sol.ok and sol.lmis_hold):
             report = feasp(scaled.scaled, backend=plan.backend, solver=plan.solver)
             reports.append(report)
-            if report.verdict in (INFEASIBLE, MARGINAL):
-                sol.status = report.verdict
-        statuses.append(sol.status)
+            sol.feasp = report
+        statuses.append(sol.feasp.verdict if sol.feasp is not None and sol.feasp.rules_out else sol.status)
         gammas.append(sol.point_gamma)
         methods.append(method)
         minima.append(minimum)

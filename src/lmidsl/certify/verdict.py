@@ -29,7 +29,8 @@ from ..numeric.interconnection import design_kind
 from ..errors import ProofConflict
 from ..solver.backoff import backoff_cost
 from .performance import objective_map
-from ..solver.status import INFEASIBLE as STATUS_INFEASIBLE, MARGINAL, OPTIMAL, SOLVED
+from ..solver.feasibility import FEASP_INFEASIBLE, FEASP_MARGINAL
+from ..solver.status import OPTIMAL, SOLVED
 
 OPTIMAL_WORD = "optimal"            # certified, and proved near the optimum (a dual bound)
 CERTIFIED = "certified"             # certified; nearness to the optimum not proved / not asked
@@ -135,22 +136,24 @@ def decide(solution) -> Verdict:
         why = with_backoff_cost(why, solution, headline) if certified else why
         return Verdict(certified, word, headline, why, name or "", words, levels, tuple(reasons), box)
 
-    if solution.status not in SOLVED:
-        proof = solution.infeasibility
+    if not solution.ok:
+        proof, diagnosis = solution.infeasibility, solution.feasp
         if proof is not None and proof.proved:
             why = (f"infeasible, proved: a theorem-of-alternatives certificate (Z ⪰ 0, Z ≠ 0, "
                    f"tr(F_i Z) = 0, tr(F_0 Z) ≥ 0) verified {'exactly' if proof.route == 'exact' else 'in ball arithmetic'}"
                    " for the data as written")
             return verdict(False, INFEASIBLE, why, [why])
-        if solution.status == STATUS_INFEASIBLE:
+        said = diagnosis.verdict if diagnosis is not None else None
+        if said == FEASP_INFEASIBLE:
             why = ("feasp finds no strictly feasible point; infeasibility not proved"
                    + (f" ({proof.why})" if proof is not None and proof.why else ""))
             return verdict(False, NOT_SOLVED, why, [why])
-        if solution.status == MARGINAL:
+        if said == FEASP_MARGINAL:
             return verdict(False, NOT_SOLVED, "feasible only by less than the strictness margin",
-                           [f"status {solution.status}"])
-        return verdict(False, NOT_SOLVED, f"no point was returned ({solution.status})",
-                       [f"status {solution.status}"])
+                           [f"feasp: {said}"])
+        feasp_said = f"; feasp: {said}" if said else ""
+        return verdict(False, NOT_SOLVED, f"no point was returned ({solution.status}{feasp_said})",
+                       [f"status {solution.status}{feasp_said}"])
     reasons = not_proved(solution)
     if not solution.certify:
         why = "certification was skipped (--no-certify): nothing is claimed"
@@ -371,3 +374,101 @@ def loose_reason(solution) -> str:
 
 
 __all__ = ["Verdict", "decide", "headline_level", "optimum_level", "design_certified_level", "bracket", "WORDS", "CERTIFIED_WORDS", "QUANTITIES", "quantity_words", "not_proved"]
+
+
+# -- the judge of every other result: one function a study, each reading the study's record ----
+# (duck-typed: this layer sits below the studies).  "certified" is always "every claim proved".
+
+def judge_error(message: str) -> Verdict:
+    """A result that could not be computed (an error of the input or of a solver)."""
+    return Verdict(False, NOT_SOLVED, None, message, reasons=(message,))
+
+
+def refute(verdict: Verdict, why: str) -> Verdict:
+    """``verdict`` contradicted by independent evidence (an exact figure above the level)."""
+    return Verdict(False, REFUTED, verdict.gamma, why, verdict.quantity, verdict.quantity_words,
+                   verdict.levels, (why,), verdict.bracket)
+
+
+def judge_point(status: str, gamma, proved: bool) -> Verdict:
+    """A sweep point proves the level at its point (every LMI in ball arithmetic); a sweep
+    recovers no design, so nothing more is claimed."""
+    if status not in SOLVED:
+        return Verdict(False, NOT_SOLVED, None, f"no point was returned ({status})", reasons=(f"status {status}",))
+    if not proved:
+        return Verdict(False, NOT_CERTIFIED, gamma, "not every LMI is proved at the point",
+                       reasons=("LMIs not proved at the point",))
+    return Verdict(True, CERTIFIED, gamma, "every LMI proved at the point (a sweep recovers no design)")
+
+
+def judge_grid(points) -> Verdict:
+    """A sweep (points with ``proved`` and ``gamma``): certified when every point's LMIs are
+    proved; the headline is the largest proved level (proved at every point of the grid), the
+    smallest is named ``best``."""
+    bad = [p for p in points if not p.proved]
+    proved_levels = [p.gamma for p in points if p.proved and p.gamma is not None]
+    gamma = max(proved_levels, default=None)
+    named = {"best": min(proved_levels, default=None), "worst": gamma}
+    if points and not bad:
+        return Verdict(True, CERTIFIED, gamma, f"every LMI proved at all {len(points)} points", levels=named)
+    why = f"{len(bad)} of {len(points)} points not proved" if points else "no point"
+    return Verdict(False, NOT_CERTIFIED, gamma, why, levels=named, reasons=(why,))
+
+
+def judge_bisection(result) -> Verdict:
+    """A bisection on a scalar (:mod:`lmidsl.studies.bisection`): the headline is the feasible
+    end, proved by the judged solution there; the other end is where no route returned a certified
+    point (proved infeasible only with its own certificate)."""
+    levels = {"feasible_end": result.feasible_end, "infeasible_end": result.infeasible_end}
+    words = quantity_words(result.parameter, False) + f" ({result.goal}imised by bisection)"
+    solution = result.solution
+    if solution is not None and solution.judged.certified:
+        why = f"a proved point at {result.parameter} = {result.feasible_end:.10g}"
+        if result.infeasible_end is not None:
+            why += (f"; infeasible at {result.infeasible_end:.10g}, proved" if result.infeasible_end_proved
+                    else f"; none found at {result.infeasible_end:.10g} (not proved infeasible)")
+        return Verdict(True, CERTIFIED, result.feasible_end, why, result.parameter, words, levels)
+    if solution is None:
+        return Verdict(False, NOT_SOLVED, None, result.message or "no certified point on the interval",
+                       result.parameter, words, levels, (result.message or "no certified point",))
+    reasons = solution.judged.reasons
+    return Verdict(False, NOT_CERTIFIED, result.feasible_end, "; ".join(reasons), result.parameter, words,
+                   levels, tuple(reasons))
+
+
+def judge_verification(result) -> Verdict:
+    """A verification of a design (:mod:`lmidsl.studies.verify`): the headline is the level the
+    analysis certifies for the design; an exact figure above the claim refutes it."""
+    levels = {"claimed": result.claimed_gamma, "synthesis": result.synthesis_gamma,
+              "analysis": result.analysis_gamma, "exact": None if result.exact is None else result.exact.value}
+    if result.backoff and "gamma_opt" in result.backoff:
+        levels = {"optimum": result.backoff["gamma_opt"], "backoff": result.backoff.get("gamma"), **levels}
+    failed = [k for k, v in result.checks.items() if v is False]
+    certified = bool(result.checks) and result.checks.get("analysis") is True and all(
+        v for v in result.checks.values() if v is not None)
+    if certified:
+        word, why = CERTIFIED, (f"the {result.mode} {design_kind(result.kind).noun} is certified by "
+                                f"{result.analysis_theorem}"
+                                + (", its exact figure and the simulation agree" if result.exact is not None else ""))
+    elif result.checks.get("exact_within_gamma") is False and result.exact is not None:
+        word, why = REFUTED, f"the exact figure {result.exact.value} exceeds the claimed level {result.claimed_gamma}"
+    elif result.synthesis_status is not None and result.synthesis_status not in SOLVED:
+        word, why = NOT_SOLVED, f"the synthesis did not solve ({result.synthesis_status})"
+    else:
+        word, why = NOT_CERTIFIED, "failed: " + ", ".join(failed) if failed else "nothing certified"
+    return Verdict(certified, word, result.analysis_gamma, why, "gamma", QUANTITIES["gamma"], levels,
+                   tuple(f"check {k} failed" for k in failed))
+
+
+def judge_agreement(result, own_row) -> Verdict:
+    """A cross-check of solvers (:mod:`lmidsl.studies.cross_check`): certified when the trusted
+    rows agree; the headline is ``own_row``'s judged level (the row `lmidsl solve`'s own route
+    gives, so that `check` and `solve` print one number)."""
+    record = None if own_row is None else own_row.verdict
+    gamma = None if record is None else record["gamma"]
+    quantity = "" if record is None else record["quantity"]
+    word = CERTIFIED if result.agree else (DISAGREEMENT if result.disagreeing else NOT_CERTIFIED)
+    reasons = () if result.agree else (result.summary(),)
+    reference = result.reference
+    return Verdict(result.agree, word, gamma, result.summary(), quantity, "",
+                   {"reference": None if reference is None else reference.value}, reasons)

@@ -6,7 +6,7 @@ readings and illustrations, marked with their provenance.  Reads the cached inde
 from __future__ import annotations
 
 from ..render.terminal import echo, wrap
-from ..theorem.index import theorem_index
+from ..theorem.registry import theorem_index
 from .common import add_output_arguments, print_json
 
 ORDER = 10

@@ -34,7 +34,7 @@ def run(args):
     result = scalar_search(instance, axes, args.objective, refine_best=args.refine,
                            **parallel_spec(args), progress=False if args.no_progress or args.json else None,
                            maxfev=args.maxfev, **solve_arguments(args))
-    best = result.best_certified or result.best
+    best = result.best_proved or result.best_feasible or result.best
     solution = None if best is None else solve_instance(instance.with_params(**best.params), backoff="auto",
                                                         **solve_arguments(args))
     verdict = None if solution is None else solution.verdict      # the best point's, as `solve` gives it

@@ -83,8 +83,6 @@ def format_solution(sol) -> str:
             if r.proof is not None:
                 mark += f", {r.proof}"
             lines.append(f"    {r.label + where:<30} {r.max_eig: .3e}  ({r.size}x{r.size}, {mark})")
-    if getattr(sol, "solver_status", None):
-        lines.append(f"  (solver status {sol.solver_status}; status from the feasp diagnosis below)")
     if getattr(sol, "feasp", None) is not None:
         lines.append(sol.feasp.format("  "))
     if sol.recovered:

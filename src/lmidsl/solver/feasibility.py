@@ -60,6 +60,9 @@ MAX_DETAILED = 24
 """Above this many compiled LMIs the per-LMI 'alone'/'without' problems are skipped by default."""
 
 
+FEASP_INFEASIBLE = "infeasible"    # feasp's word: t* >= 0 (radius inactive, consistent); not a proof
+FEASP_MARGINAL = "marginal"        # feasp's word: feasible by less than the strictness margin
+
 @dataclass
 class LMIMargin:
     label: str
@@ -128,6 +131,12 @@ class FeasibilityReport:
                 and not self.inconsistent)
 
     @property
+    def rules_out(self) -> bool:
+        """The diagnosis rules the point out: no strictly feasible point (:data:`FEASP_INFEASIBLE`,
+        not a proof) or feasible by less than the margin (:data:`FEASP_MARGINAL`)."""
+        return self.verdict in (FEASP_INFEASIBLE, FEASP_MARGINAL)
+
+    @property
     def verdict(self) -> str:
         if self.refuted_by:
             return f"feasible (a {self.refuted_by} point satisfies every LMI)"
@@ -138,10 +147,10 @@ class FeasibilityReport:
         if self.tmin >= -FEASP_TOL and self.at_radius:
             return "undecided (radius)"
         if self.infeasible:
-            return "infeasible"
+            return FEASP_INFEASIBLE
         if self.tmin >= -FEASP_TOL:
             return "undecided (accuracy)"    # t* inconsistent across radii
-        return "marginal"
+        return FEASP_MARGINAL
 
     @property
     def responsible(self) -> list[str]:

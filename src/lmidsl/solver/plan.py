@@ -38,10 +38,10 @@ from .backends import Route, choose_backend, fallback_routes, get_backend, is_fi
 from .backends.base import DEFAULT_MARGIN
 from .conditioning import equilibrate
 from .fallback import better, declares_closed_form, good, riccati_point, route_model, said
-from .feasibility import diagnosis_needed, feasp
+from .feasibility import FEASP_INFEASIBLE, diagnosis_needed, feasp
 from .margin import solve_model
 from .solution import Solution
-from .status import INFEASIBLE, INFEASIBLE_INACCURATE, NOT_SOLVED, SOLVER_ERROR
+from .status import INFEASIBLE, INFEASIBLE_INACCURATE, SOLVER_ERROR
 
 
 @dataclass
@@ -110,6 +110,15 @@ class Plan:
                               + ("the conditioned" if kept is other else "as written"))
             solution, model = kept, (conditioned if kept is other else plain)
         return self._other_routes(model, solution), model
+
+    def solve_point(self, model, instance) -> Solution:
+        """A parametric study's point (a sweep, a scalar search): ``model``, compiled once with the
+        parameters as backend parameters, updated to ``instance`` and solved with margin escalation
+        (the strict LMIs must hold at the point).  No other route and no conditioning: each would
+        compile again at every point; a point that is not good says so, and ``solve`` at that point
+        takes the whole road."""
+        model.update(instance)
+        return self._solve_model(model, self.solver, restore_margin=True)
 
     def _other_routes(self, model, first: Solution) -> Solution:
         """The fallback routes (step 2) and the closed forms (step 3) while the answer is not good."""
@@ -231,32 +240,32 @@ class Plan:
         conditioning), then a second solver (one solver's t* ≥ 0 is not a proof: Clarabel called a
         stable plant with a pole at radius 0.99982 "infeasible", CVXOPT found it strictly
         feasible), then the closed form (a Riccati point satisfying every LMI refutes any
-        "infeasible").  A verdict "infeasible"/"marginal" becomes the status (the solver's word
-        stays in ``solver_status``); a solver's "infeasible" that the diagnosis does not confirm
-        becomes "not solved"."""
+        "infeasible").  The diagnosis is kept in ``solution.feasp``; ``status`` stays the
+        solver's termination word (a diagnosis that rules the point out makes ``solution.ok``
+        false)."""
         if not diagnosis_needed(solution):
             return
         instance = solution.instance
         feasp_margin = self.base_margin
         report = feasp(instance, backend=self.backend, solver=self.solver, margin=feasp_margin)
         proposal = equilibrate(instance)
-        if report.verdict == "infeasible" and not proposal.trivial:
+        if report.verdict == FEASP_INFEASIBLE and not proposal.trivial:
             conditioned = feasp(instance, backend=self.backend, solver=self.solver, detail=False,
                                 margin=feasp_margin, conditioning=proposal)
-            if conditioned.verdict != "infeasible":
+            if conditioned.verdict != FEASP_INFEASIBLE:
                 solution.notes.append(f"feasp as written said infeasible (t* = {report.tmin:.3g}); on the "
                                       f"conditioned LMIs: {conditioned.verdict} (t* = {conditioned.tmin})")
                 report = conditioned
-        other = second_opinion(self.backend, report.solver) if report.verdict == "infeasible" else None
+        other = second_opinion(self.backend, report.solver) if report.verdict == FEASP_INFEASIBLE else None
         if other is not None:
             second = feasp(instance, backend=other.backend, solver=other.solver, detail=False,
                            margin=feasp_margin)
-            if second.verdict != "infeasible":
+            if second.verdict != FEASP_INFEASIBLE:
                 solution.notes.append(f"feasp with {report.solver} said infeasible (t* = {report.tmin:.3g}); "
                                       f"with {second.solver}: {second.verdict} (t* = {second.tmin}): "
                                       "not a proof of infeasibility")
                 report = second
-        if report.verdict == "infeasible" and self.closed_forms:
+        if report.verdict == FEASP_INFEASIBLE and self.closed_forms:
             witness = riccati_point(instance, None, 0.0)
             if witness is not None:
                 solution.notes.append(f"feasp said infeasible (t* = {report.tmin:.3g}), but a point from the "
@@ -264,15 +273,9 @@ class Plan:
                                       f"the problem is feasible; {solution.solver} did not solve it")
                 report.refuted_by = "Riccati"
         solution.feasp = report
-        if report.verdict in ("infeasible", "marginal"):
-            solution.solver_status = solution.status
-            solution.status = report.verdict
-        elif solution.status in (INFEASIBLE, INFEASIBLE_INACCURATE):
-            solution.solver_status = solution.status
-            solution.status = NOT_SOLVED
-            if not report.refuted_by:
-                solution.notes.append(f"{solution.solver} said {solution.solver_status}; feasp: {report.verdict}: "
-                                      "not a proof of infeasibility")
+        if not report.rules_out and solution.status in (INFEASIBLE, INFEASIBLE_INACCURATE) and not report.refuted_by:
+            solution.notes.append(f"{solution.solver} said {solution.status}; feasp: {report.verdict}: "
+                                  "not a proof of infeasibility")
 
 
 __all__ = ["Plan"]

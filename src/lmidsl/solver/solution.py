@@ -75,7 +75,6 @@ class Solution:
     params: dict = field(default_factory=dict)
     notes: list = field(default_factory=list)
     instance: Instance | None = None
-    solver_status: str | None = None
     feasp: object | None = None
     scaling: object = None          # lmidsl.numeric.scaling.AppliedScaling (instance is the scaled one)
     backoff: dict | None = None     # lmidsl.solver.backoff record when the point is a back-off point
@@ -153,7 +152,9 @@ class Solution:
 
     @property
     def ok(self) -> bool:
-        return solved(self.status)
+        """A point to use: the solver returned one (``status``, its termination word) and the feasp
+        diagnosis, where it ran, does not rule it out (``feasp.rules_out``)."""
+        return solved(self.status) and not (self.feasp is not None and self.feasp.rules_out)
 
     @property
     def lmis_hold(self) -> bool:
@@ -232,7 +233,6 @@ class Solution:
             "backend": self.backend,
             "solver": self.solver,
             "status": self.status,
-            "solver_status": self.solver_status or self.status,
             "message": self.message,
             "objective": self.objective,
             "gamma": verdict.gamma,

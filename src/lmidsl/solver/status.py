@@ -2,9 +2,9 @@
 
 A backend maps its solver's own status to one of these.  :data:`SOLVED` are the statuses that
 return a point; whether the point is trusted is decided by numpy's certificate
-(:func:`lmidsl.solver.solution.lmi_certificate`), never by the status alone.  ``infeasible``
-and ``marginal`` as a *verdict* come from the feasp diagnosis (:mod:`lmidsl.solver.feasibility`),
-not from a solver's word.
+(:func:`lmidsl.solver.solution.lmi_certificate`), never by the status alone.  A status is always
+a solver's termination word (:data:`TERMINATION_WORDS`): the feasp diagnosis keeps its own words
+(:mod:`lmidsl.solver.feasibility`), and the verdict its own (:mod:`lmidsl.certify.verdict`).
 """
 from __future__ import annotations
 
@@ -14,12 +14,12 @@ INFEASIBLE = "infeasible"
 INFEASIBLE_INACCURATE = "infeasible_inaccurate"
 UNBOUNDED = "unbounded"
 UNBOUNDED_INACCURATE = "unbounded_inaccurate"
-MARGINAL = "marginal"          # feasible, but by less than the strictness margin
 SOLVER_ERROR = "solver_error"
-NOT_SOLVED = "not_solved"      # the solver said infeasible, and the diagnosis does not confirm it
 USER_LIMIT = "user_limit"      # the solver stopped at an iteration or time limit
 
 SOLVED = frozenset({OPTIMAL, OPTIMAL_INACCURATE})
+TERMINATION_WORDS = frozenset({OPTIMAL, OPTIMAL_INACCURATE, INFEASIBLE, INFEASIBLE_INACCURATE, UNBOUNDED,
+                               UNBOUNDED_INACCURATE, SOLVER_ERROR, USER_LIMIT})
 
 
 def solved(status: str) -> bool:
@@ -38,4 +38,4 @@ def worst(statuses) -> str:
 
 
 __all__ = ["OPTIMAL", "OPTIMAL_INACCURATE", "INFEASIBLE", "INFEASIBLE_INACCURATE", "UNBOUNDED",
-           "UNBOUNDED_INACCURATE", "MARGINAL", "SOLVER_ERROR", "NOT_SOLVED", "USER_LIMIT", "SOLVED", "solved", "worst"]
+           "UNBOUNDED_INACCURATE", "SOLVER_ERROR", "USER_LIMIT", "SOLVED", "TERMINATION_WORDS", "solved", "worst"]

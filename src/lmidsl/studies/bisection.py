@@ -26,7 +26,7 @@ from ..solver.backends import get_backend
 from ..certify.infeasibility import prove_infeasible
 from ..solver.plan import Plan
 from ..solver.solution import Solution
-from ..certify.verdict import CERTIFIED, NOT_CERTIFIED, NOT_SOLVED, Verdict, judge, quantity_words
+from ..certify.verdict import Verdict, judge, judge_bisection
 from ..theorem.values import Bisection
 
 
@@ -56,7 +56,7 @@ class BisectionResult:
     @property
     def holds(self) -> bool:
         """A certified, proved point at the feasible end."""
-        return self.solution is not None and self.solution.verdict.certified
+        return self.verdict.certified
 
     @property
     def feasible_end_proved(self) -> bool:
@@ -68,21 +68,8 @@ class BisectionResult:
 
     @property
     def verdict(self) -> Verdict:
-        """The headline is the feasible end (proved by the point there); the bracket's other end
-        is where no route returned a certified point (not a proof of infeasibility)."""
-        levels = {"feasible_end": self.feasible_end, "infeasible_end": self.infeasible_end}
-        words = quantity_words(self.parameter, False) + f" ({self.goal}imised by bisection)"
-        if self.holds:
-            why = f"a proved point at {self.parameter} = {self.feasible_end:.10g}"
-            if self.infeasible_end is not None:
-                why += (f"; infeasible at {self.infeasible_end:.10g}, proved" if self.infeasible_end_proved
-                        else f"; none found at {self.infeasible_end:.10g} (not proved infeasible)")
-            return Verdict(True, CERTIFIED, self.feasible_end, why, self.parameter, words, levels)
-        if self.solution is None:
-            return Verdict(False, NOT_SOLVED, None, self.message or "no certified point on the interval",
-                           self.parameter, words, levels, (self.message or "no certified point",))
-        return Verdict(False, NOT_CERTIFIED, self.feasible_end, "; ".join(self.solution.verdict.reasons),
-                       self.parameter, words, levels, tuple(self.solution.verdict.reasons))
+        """The verdict record, by the judge (:func:`lmidsl.certify.verdict.judge_bisection`)."""
+        return judge_bisection(self)
 
     def as_dict(self) -> dict:
         return {"theorem": self.theorem, "example": self.example, "parameter": self.parameter,

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 from ..pipeline import make_instance, solve_instance
 from ..solver.plan import Plan
-from ..certify.verdict import CERTIFIED, DISAGREEMENT, NOT_CERTIFIED, Verdict
+from ..certify.verdict import Verdict, judge_agreement
 from ..solver.status import OPTIMAL
 from ..solver.backends import (BACKENDS, DEFAULT_BACKEND, backend_info, options_for, SOLVER_INFO, backend_sdp_solvers, is_first_order,
                                resolve_solver)
@@ -78,9 +78,10 @@ class CheckRow:
     solver_time: float | None = None
     backoff_gamma: float | None = None                 # the design's γ when solve backed off
     optimum_lmis: list = field(default_factory=list)   # the optimum's certificate, then
-    certified: bool = False
+    holds: bool = False                                # the LMIs hold numerically at the point (and the
+                                                       # analysis passes): a row to compare, not a proof
     trusted: bool = False
-    reason: str = ""                                   # why not certified / not trusted
+    reason: str = ""                                   # why the LMIs do not hold / the row is not trusted
     value: float | None = None                         # the compared number (γ or objective)
     rel_diff: float | None = None                      # (value − reference) / |reference|
     disagrees: bool = False
@@ -109,7 +110,7 @@ class CheckRow:
             {"theorem": self.analysis_theorem, "gamma": self.analysis_gamma, "passed": self.analysis_passed},
             "wall_time": self.wall_time, "solver_time": self.solver_time,
             "backoff_gamma": self.backoff_gamma,
-            "certified": self.certified, "trusted": self.trusted, "reason": self.reason,
+            "holds": self.holds, "trusted": self.trusted, "reason": self.reason,
             "value": self.value, "rel_diff": self.rel_diff, "disagrees": self.disagrees,
             "verdict": self.verdict, "capped": self.capped,
         }
@@ -154,19 +155,13 @@ class CheckResult:
 
     @property
     def verdict(self) -> Verdict:
-        """Certified when trusted rows agree; the headline is the level of the row `lmidsl solve`'s
-        own route gives (the default backend and solver) when that row is trusted, so that `check`
-        and `solve` print one number; else the reference row's."""
-        ref = self.reference
+        """By the judge (:func:`lmidsl.certify.verdict.judge_agreement`); the headline is the row
+        `lmidsl solve`'s own route gives (the default backend and solver) when that row is
+        trusted, else the reference row's."""
         default = backend_info(DEFAULT_BACKEND).default.lower()
         own = next((r for r in self.trusted if r.backend == DEFAULT_BACKEND and r.solver.lower() == default
-                    and not r.disagrees), ref)
-        gamma = None if own is None or own.verdict is None else own.verdict["gamma"]
-        quantity = "" if own is None or own.verdict is None else own.verdict["quantity"]
-        word = CERTIFIED if self.agree else (DISAGREEMENT if self.disagreeing else NOT_CERTIFIED)
-        reasons = () if self.agree else (self.summary(),)
-        return Verdict(self.agree, word, gamma, self.summary(), quantity, "",
-                       {"reference": None if ref is None else ref.value}, reasons)
+                    and not r.disagrees), self.reference)
+        return judge_agreement(self, own)
 
     def summary(self) -> str:
         """The agreement in one sentence."""
@@ -369,7 +364,7 @@ def _judge(row: CheckRow, sol, instance) -> None:
         g = "infeasible" if row.analysis_gamma is None else f"gamma {row.analysis_gamma:.6g}"
         row.reason = f"analysis does not certify the recovered design ({g})"
         return
-    row.certified = True
+    row.holds = True
     if row.status != OPTIMAL:
         row.reason = f"certified bound only: solver status {row.status}"
     elif is_first_order(row.solver):

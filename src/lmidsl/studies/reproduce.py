@@ -10,16 +10,16 @@ which must not exceed the computed γ; otherwise the row is not certified.
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, replace, fields
+from dataclasses import asdict, dataclass, fields
 
 from ..pipeline import make_instance, solve
 from .bisection import bisect
 from ..errors import Interrupted, LmidslError
 from ..solver.backends import DEFAULT_BACKEND
-from ..solver.status import INFEASIBLE, MARGINAL, solved
+from ..solver.status import solved
 from ..theorem.registry import all_theorems, get_theorem
 from ..theorem.values import OUTCOMES, PROVENANCE
-from ..certify.verdict import NOT_SOLVED, REFUTED, Verdict
+from ..certify.verdict import NOT_SOLVED, judge_error, refute
 from .parallel import Runner, Task, check_workers, items_as_finished, start_local_workers_early
 from .store import JsonLinesStore
 from .verify import figures_for_solution, worst_index
@@ -59,8 +59,8 @@ class ReproductionRow:
             return "certified"
         if (self.verdict or {}).get("word") == "infeasible":
             return "infeasible"                # proved (lmidsl.certify.infeasibility)
-        if self.status in (INFEASIBLE, MARGINAL):
-            return "not solved"                # feasp's word, not a proof
+        if (self.verdict or {}).get("word") == NOT_SOLVED:
+            return "not solved"                # no point (feasp's "infeasible" is not a proof)
         if self.computed_gamma is not None or solved(self.status):
             return "not certified"
         return "not solved"
@@ -117,7 +117,7 @@ def reproduce_one(theorem_id: str, example: str, solver: str | None = None, **so
     except LmidslError as exc:
         return ReproductionRow(theorem_id, example, kind, printed, None, None, f"error: {exc}", None,
                                None, False, "error", provenance=provenance, expect=expect,
-                               verdict=Verdict(False, NOT_SOLVED, None, str(exc), reasons=(str(exc),)).as_dict())
+                               verdict=judge_error(str(exc)).as_dict())
     # after an automatic back-off the optimum is what compares with the printed value
     computed = (sol.backoff or {}).get("gamma_opt", sol.point_gamma) if sol.backoff else sol.point_gamma
     rel = None
@@ -140,7 +140,7 @@ def reproduce_one(theorem_id: str, example: str, solver: str | None = None, **so
     if exact_ok is False:
         why = "not mean-square stable" if figure.value is None else \
             f"the exact figure {figure.value:.6g} exceeds the certified level"
-        record = replace(record, certified=False, word=REFUTED, why=why, reasons=(why,))
+        record = refute(record, why)
     row = ReproductionRow(theorem_id, example, kind, printed, computed, rel, sol.status,
                           sol.worst_eig, analysis.gamma if analysis is not None else None, certified,
                           verdict, provenance=provenance, expect=expect, verdict=record.as_dict(),

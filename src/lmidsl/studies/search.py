@@ -12,10 +12,10 @@ value is the feasp t*(θ) of :mod:`lmidsl.solver.feasibility` instead (for feasi
 prescribed γ: θ with t*(θ) < 0 makes the LMIs strictly feasible).
 
 γ*(θ) is the solver's optimum, the infimum over the closure of the strict set.  Each point is
-solved as :func:`lmidsl.solver.margin.solve_model` solves (margin escalation; a non-strict LMI
+solved as :meth:`lmidsl.solver.plan.Plan.solve_point` solves (margin escalation; a non-strict LMI
 active at the optimum imposed with the margin) and its LMIs are proved at the returned point
-(:mod:`lmidsl.numeric.proof`): ``certified`` means every LMI proved, and the result keeps the best
-certified point apart.  Points are ranked by the theorem's objective (minimised), so a performance
+(:mod:`lmidsl.numeric.proof`): ``proved`` means every LMI proved, and the result keeps the best
+proved point apart.  Points are ranked by the theorem's objective (minimised), so a performance
 that decreases with it (a sector bound k = 1/δ, a radius) is ranked best-first too; the
 performance is reported under the theorem's own name.  Points where the solver returns no value
 count as +∞.
@@ -34,7 +34,7 @@ from ..numeric.instance import Instance
 from ..solver.backends import choose_backend, get_backend
 from ..numeric.proof import PROVED
 from ..solver.feasibility import DEFAULT_RADIUS, JointFeasp
-from ..solver.margin import solve_model
+from ..solver.plan import Plan
 from ..solver.solution import lmi_certificate
 from .parallel import Runner, Task
 
@@ -49,7 +49,7 @@ class SearchPoint:
     value: float
     gamma: float | None = None
     status: str = ""
-    certified: bool = False
+    proved: bool = False              # every LMI proved at the returned point
     worst_eig: float | None = None
     objective: float | None = None     # the minimised objective (the ranking key with "gamma")
 
@@ -63,7 +63,7 @@ class SearchPoint:
     def as_dict(self) -> dict:
         return {"params": self.params, "value": None if math.isinf(self.value) else self.value,
                 "gamma": self.gamma, "objective": self.objective, "status": self.status,
-                "certified": self.certified, "worst_eig": self.worst_eig}
+                "proved": self.proved, "worst_eig": self.worst_eig}
 
 
 @dataclass
@@ -89,12 +89,15 @@ class SearchResult:
         return min(candidates, key=lambda p: p.key, default=None)
 
     @property
-    def best_certified(self) -> SearchPoint | None:
-        """The best point whose LMIs are all proved at the returned point (t* < 0 for "tmin")."""
-        if self.objective == "tmin":
-            ok = [p for p in self.grid + self.evaluations if p.value < 0]
-        else:
-            ok = [p for p in self.grid + self.evaluations if p.certified and math.isfinite(p.value)]
+    def best_proved(self) -> SearchPoint | None:
+        """The best point whose LMIs are all proved at the returned point (objective "gamma")."""
+        ok = [p for p in self.grid + self.evaluations if p.proved and math.isfinite(p.value)]
+        return min(ok, key=lambda p: p.key, default=None)
+
+    @property
+    def best_feasible(self) -> SearchPoint | None:
+        """The best point with t* < 0 (objective "tmin"): strictly feasible numerically, not proved."""
+        ok = [p for p in self.grid + self.evaluations if self.objective == "tmin" and p.value < 0]
         return min(ok, key=lambda p: p.key, default=None)
 
     def as_dict(self) -> dict:
@@ -102,7 +105,7 @@ class SearchResult:
         return {"theorem": self.theorem, "example": self.example, "objective": self.objective,
                 "performance": self.performance, "names": self.names, "best": pick(self.best), "best_grid": pick(self.best_grid),
                 "refined": pick(self.refined), "refinement": self.refinement,
-                "best_certified": pick(self.best_certified),
+                "best_proved": pick(self.best_proved), "best_feasible": pick(self.best_feasible),
                 "grid": [p.as_dict() for p in self.grid],
                 "evaluations": [p.as_dict() for p in self.evaluations]}
 
@@ -119,24 +122,24 @@ class Evaluator:
         self.solver = solver
         self.options = dict(options or {})
         self.model = get_backend(backend)(instance, margin=margin, reuse=True)
+        self.plan = Plan(backend, solver, self.options, margin)
         self.feasp = JointFeasp(self.model, radius or DEFAULT_RADIUS) if objective == "tmin" else None
 
     def __call__(self, params: dict) -> SearchPoint:
         instance = self.instance.with_params(**params)
-        self.model.update(instance)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            if self.feasp is not None:
+            if self.feasp is not None:         # t*(θ) of the feasp problem: a diagnosis, not a point
+                self.model.update(instance)
                 t, status = self.feasp.solve(self.solver)
-                return SearchPoint(dict(params), math.inf if t is None else t, status=status,
-                                   certified=t is not None and t < 0)
-            sol = solve_model(self.model, self.solver, restore_margin=True, **self.options)
+                return SearchPoint(dict(params), math.inf if t is None else t, status=status)
+            sol = self.plan.solve_point(self.model, instance)
         value = sol.point_gamma if sol.ok and sol.point_gamma is not None else math.inf
-        certified = False
+        proved = False
         if sol.ok and sol.lmis_hold:
             proofs = lmi_certificate(instance, {**instance.data, **sol.values}, prove=True)
-            certified = bool(proofs) and all(r.proof == PROVED for r in proofs)
-        return SearchPoint(dict(params), value, sol.point_gamma, sol.status, certified, sol.worst_eig,
+            proved = bool(proofs) and all(r.proof == PROVED for r in proofs)
+        return SearchPoint(dict(params), value, sol.point_gamma, sol.status, proved, sol.worst_eig,
                            sol.objective if sol.ok else None)
 
 
@@ -266,7 +269,7 @@ def format_result(result: SearchResult, top: int = 8) -> str:
     def line(p: SearchPoint) -> str:
         params = ", ".join(f"{k} = {v:.6g}" for k, v in p.params.items())
         val = "none" if math.isinf(p.value) else f"{p.value:.6g}"
-        cert = "" if result.objective == "tmin" else (" certified" if p.certified else " not certified")
+        cert = "" if result.objective == "tmin" else (" proved" if p.proved else " not proved")
         return f"{value_name} = {val:<12} at {params}  ({p.status}{cert})"
 
     ranked = sorted(result.grid, key=lambda p: p.key)
@@ -280,7 +283,7 @@ def format_result(result: SearchResult, top: int = 8) -> str:
         lines.append(f"  refined ({info.get('method')}, {info.get('nfev')} evaluations): {line(result.refined)}")
     best = result.best
     lines.append(f"  best: {line(best)}" if best is not None else "  best: no point gave a value")
-    cert = result.best_certified
-    what = "certified (every LMI proved)" if result.objective == "gamma" else "strictly feasible (t* < 0)"
+    cert = result.best_proved or result.best_feasible
+    what = "proved (every LMI proved at the point)" if result.objective == "gamma" else "strictly feasible (t* < 0)"
     lines.append(f"  best {what}: {line(cert)}" if cert is not None else f"  no {what} point")
     return "\n".join(lines)

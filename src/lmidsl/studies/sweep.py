@@ -18,16 +18,15 @@ import math
 import time
 import warnings
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
 from ..pipeline import make_instance
 from ..numeric.evaluate import NumericEvaluator
 from ..numeric.proof import PROVED
-from ..solver.margin import solve_model
+from ..solver.plan import Plan
 from ..solver.status import solved
-from ..certify.verdict import CERTIFIED, NOT_CERTIFIED, NOT_SOLVED, Verdict
+from ..certify.verdict import Verdict, judge_grid, judge_point
 from ..solver.solution import evaluate_performance, lmi_certificate
 from ..solver.backends import choose_backend, get_backend
 from .. import __version__
@@ -95,15 +94,8 @@ class SweepPoint:
 
     @property
     def verdict(self) -> Verdict:
-        """A sweep point proves the level at its point (every LMI in ball arithmetic); a sweep
-        recovers no design, so nothing more is claimed."""
-        if not solved(self.status):
-            return Verdict(False, NOT_SOLVED, None, f"no point was returned ({self.status})",
-                           reasons=(f"status {self.status}",))
-        if not self.proved:
-            return Verdict(False, NOT_CERTIFIED, self.gamma, "not every LMI is proved at the point",
-                           reasons=("LMIs not proved at the point",))
-        return Verdict(True, CERTIFIED, self.gamma, "every LMI proved at the point (a sweep recovers no design)")
+        """By the judge (:func:`lmidsl.certify.verdict.judge_point`)."""
+        return judge_point(self.status, self.gamma, self.proved)
 
     def as_dict(self) -> dict:
         out = dict(self.__dict__)
@@ -166,17 +158,8 @@ class SweepResult:
 
     @property
     def verdict(self) -> Verdict:
-        """Certified when every point's LMIs are proved; the headline γ is the largest proved
-        point's level (the level proved at every point of the grid), the smallest named ``best``."""
-        bad = [p for p in self.points if not p.proved]
-        levels = [p.gamma for p in self.points if p.proved and p.gamma is not None]
-        gamma = max(levels, default=None)
-        named = {"best": min(levels, default=None), "worst": gamma}
-        if self.points and not bad:
-            return Verdict(True, CERTIFIED, gamma, f"every LMI proved at all {len(self.points)} points",
-                           levels=named)
-        why = f"{len(bad)} of {len(self.points)} points not proved" if self.points else "no point"
-        return Verdict(False, NOT_CERTIFIED, gamma, why, levels=named, reasons=(why,))
+        """By the judge (:func:`lmidsl.certify.verdict.judge_grid`)."""
+        return judge_grid(self.points)
 
     def certified_count(self) -> int:
         """Points whose every LMI is proved at the returned point (ball arithmetic)."""
@@ -330,17 +313,15 @@ class SweepSolver:
         t0 = time.perf_counter()
         self.model = model_class(task.base, margin=task.margin, reuse=True)  # parameters stay backend parameters
         self.compile_time = time.perf_counter() - t0
+        self.plan = Plan(task.backend, task.solver, task.options, task.margin)
 
     def __call__(self, params: dict) -> SweepPoint:
-        task = self.task
-        return _solve_point(self.model, task.base, params, task.solver, task.options)
+        return _solve_point(self.plan, self.model, self.task.base, params)
 
 
-def _solve_point(model, base, params: dict, solver, options) -> SweepPoint:
+def _solve_point(plan: Plan, model, base, params: dict) -> SweepPoint:
     t1 = time.perf_counter()
-    model.update(base.with_params(**params))
-    # with margin escalation, as a single solve: a point must satisfy the strict LMIs
-    sol = solve_model(model, solver, restore_margin=True, **options)
+    sol = plan.solve_point(model, base.with_params(**params))
     total = time.perf_counter() - t1
     internal = sol.times.get("solver")
     call = sol.times["solver_calls"]

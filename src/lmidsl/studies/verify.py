@@ -38,9 +38,8 @@ from ..certify.synthesis import synthesis_lmis
 from ..theorem.registry import linked_analysis
 from ..pipeline import as_theorem, make_instance, solve_instance
 from ..solver.plan import Plan
-from ..numeric.interconnection import design_kind
 from ..solver.status import SOLVED
-from ..certify.verdict import CERTIFIED, NOT_CERTIFIED, NOT_SOLVED, QUANTITIES, REFUTED, Verdict
+from ..certify.verdict import Verdict, judge_verification
 from ..solver.solution import lmi_certificate
 from ..numeric.proof import PROVED
 from types import SimpleNamespace
@@ -76,31 +75,12 @@ class Verification:
 
     @property
     def certified(self) -> bool:
-        return bool(self.checks) and self.checks.get("analysis") is True and all(
-            v for v in self.checks.values() if v is not None)
+        return self.verdict.certified
 
     @property
     def verdict(self) -> Verdict:
-        """The verdict record (:mod:`lmidsl.certify.verdict`): the headline is the level the
-        analysis certifies for this design; an exact figure above the claim refutes it."""
-        levels = {"claimed": self.claimed_gamma, "synthesis": self.synthesis_gamma,
-                  "analysis": self.analysis_gamma,
-                  "exact": None if self.exact is None else self.exact.value}
-        if self.backoff and "gamma_opt" in self.backoff:
-            levels = {"optimum": self.backoff["gamma_opt"], "backoff": self.backoff.get("gamma"), **levels}
-        failed = [k for k, v in self.checks.items() if v is False]
-        if self.certified:
-            word, why = CERTIFIED, (f"the {self.mode} {design_kind(self.kind).noun} is certified by {self.analysis_theorem}"
-                                    + (", its exact figure and the simulation agree" if self.exact is not None else ""))
-        elif self.checks.get("exact_within_gamma") is False and self.exact is not None:
-            word, why = REFUTED, (f"the exact figure {self.exact.value} exceeds the claimed level "
-                                  f"{self.claimed_gamma}")
-        elif self.synthesis_status is not None and self.synthesis_status not in OK_STATUS:
-            word, why = NOT_SOLVED, f"the synthesis did not solve ({self.synthesis_status})"
-        else:
-            word, why = NOT_CERTIFIED, "failed: " + ", ".join(failed) if failed else "nothing certified"
-        return Verdict(self.certified, word, self.analysis_gamma, why, "gamma",
-                       QUANTITIES["gamma"], levels, tuple(f"check {k} failed" for k in failed))
+        """The verdict record, by the judge (:func:`lmidsl.certify.verdict.judge_verification`)."""
+        return judge_verification(self)
 
     def as_dict(self) -> dict:
         exact = None

@@ -11,7 +11,6 @@ to load (its warning must be shown each time).
 from __future__ import annotations
 
 import hashlib
-import importlib
 import json
 import os
 import tempfile
@@ -28,17 +27,11 @@ def cache_dir() -> Path:
     return Path(base) / "lmidsl"
 
 
-def _registry():
-    # the registry is light; it is imported here, not at the top, only to keep the index usable
-    # from anywhere in the theorem layer without import order concerns
-    return importlib.import_module(".registry", __package__)
-
-
-def index_key() -> str:
-    """A hash of every theorem file's path and contents, the theorem path and lmidsl's version."""
-    registry = _registry()
+def index_key(files) -> str:
+    """A hash of every theorem file's path and contents (``files``: the registry's), the theorem
+    path and lmidsl's version."""
     digest = hashlib.sha256(f"lmidsl-index {INDEX_VERSION} {_version()}\n".encode())
-    for path in registry.theorem_files():
+    for path in files:
         digest.update(str(path).encode() + b"\0")
         try:
             digest.update(hashlib.sha256(path.read_bytes()).digest())
@@ -68,28 +61,26 @@ def _entry(thm, origin: str) -> dict:
             "commands": supported_commands(thm), "origin": origin}
 
 
-def build_index() -> list[dict]:
-    """The index entries, by loading every theorem (slow: sympy)."""
-    origins = _registry().theorem_origins()
+def index_entries(origins: dict) -> list[dict]:
+    """The index entries of loaded theorems (``origins``: id → (theorem, origin)), sorted by id."""
     return [_entry(thm, origin) for _, (thm, origin) in sorted(origins.items())]
 
 
-def theorem_index(use_cache: bool = True) -> list[dict]:
-    """The index entries, sorted by id: from the cache when the theorem files are unchanged."""
-    if not use_cache:
-        return build_index()
-    key = index_key()
-    path = cache_dir() / f"theorem-index-{key}.json"
+def cached_index(key: str) -> list[dict] | None:
+    """The entries stored under ``key`` (:func:`index_key`), or None."""
     try:
-        data = json.loads(path.read_text())
+        data = json.loads((cache_dir() / f"theorem-index-{key}.json").read_text())
         if data.get("key") == key:
             return data["theorems"]
     except (OSError, ValueError, KeyError, AttributeError):
         pass
-    entries = build_index()
-    if not _registry().load_problems(unreported=False):
-        write_atomically(path, json.dumps({"key": key, "theorems": entries}), replaces="theorem-index-*.json")
-    return entries
+    return None
+
+
+def store_index(key: str, entries: list[dict]) -> None:
+    """Keep ``entries`` under ``key``, replacing older indexes."""
+    write_atomically(cache_dir() / f"theorem-index-{key}.json", json.dumps({"key": key, "theorems": entries}),
+                     replaces="theorem-index-*.json")
 
 
 def write_atomically(path: Path, content: str | bytes, replaces: str | None = None) -> None:

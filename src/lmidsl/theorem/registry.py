@@ -296,11 +296,23 @@ def _location_files(kind: str, where) -> list[Path]:
     return [where]
 
 
+def theorem_index(use_cache: bool = True) -> list[dict]:
+    """The entries of ``lmidsl list``, sorted by id: from the cache (:mod:`.index`) while no
+    theorem file changes, else by loading every theorem (slow: sympy)."""
+    key = index.index_key(theorem_files()) if use_cache else None
+    entries = index.cached_index(key) if use_cache else None
+    if entries is None:
+        entries = index.index_entries(theorem_origins())
+        if use_cache and not load_problems(unreported=False):
+            index.store_index(key, entries)
+    return entries
+
+
 def _indexed_ids() -> list[str] | None:
     """Every theorem id, from the index of ``lmidsl list`` (:mod:`.index`: cached while no theorem
     file changes, so no theorem file runs); None when a theorem file fails to load (its own error
     must then be shown)."""
-    ids = [entry["id"] for entry in index.theorem_index()]
+    ids = [entry["id"] for entry in theorem_index()]
     return None if load_problems(unreported=False) else ids
 
 
