@@ -51,8 +51,8 @@ def test_wang_thm3_paper_full_bracket():
     bound = lower_bound(model, sol)
     assert bound.proved, bound.why
     assert bound.lower <= sol.objective
-    assert bound.lower_performance <= 0.3367415 and sol.gamma >= 0.3367405, (bound.lower_performance, sol.gamma)
-    assert (sol.gamma - bound.lower_performance) / sol.gamma <= 1e-4
+    assert bound.lower_performance <= 0.3367415 and sol.point_gamma >= 0.3367405, (bound.lower_performance, sol.point_gamma)
+    assert (sol.point_gamma - bound.lower_performance) / sol.point_gamma <= 1e-4
 
 
 BRL = [(t, name) for t in TIMES for name, _ in brl_cases(t)] + \
@@ -218,7 +218,7 @@ def test_hinf_output_feedback_lower_bound_below_hinfsyn():
             continue
         proved += 1
         assert bound.lower_performance <= ref["achieved"] * (1 + NORM_SLACK), (name, bound.lower_performance, ref)
-        assert bound.lower_performance <= sol.gamma
+        assert bound.lower_performance <= sol.point_gamma
         if sol.status == "optimal":
             assert abs(ref["gamma"] - bound.lower_performance) / ref["gamma"] <= 1e-3, (name, bound.lower_performance, ref)
     assert checked >= 4 and proved >= checked - 2, (checked, proved)
@@ -234,11 +234,11 @@ def test_shifted_main_solve_hook(monkeypatch):
         for name, d in brl_cases(time)[:4]:
             model, sol = solved_model(f"textbook.brl_{'ct' if time == 'continuous' else 'dt'}", data=d)
             assert model.last_shift == 1e-8
-            assert abs(sol.objective - sol.gamma ** 2) <= 1e-12 * sol.objective
+            assert abs(sol.objective - sol.point_gamma ** 2) <= 1e-12 * sol.objective
             bound = lower_bound(model, sol)
             norm = _norm(d, time, name)
             assert bound.proved, bound.why
-            assert bound.lower_performance <= norm * (1 + NORM_SLACK) <= sol.gamma * (1 + 2 * NORM_SLACK)
+            assert bound.lower_performance <= norm * (1 + NORM_SLACK) <= sol.point_gamma * (1 + 2 * NORM_SLACK)
             assert (norm - bound.lower_performance) / norm <= LOWER_GAP
 
 
@@ -258,7 +258,7 @@ def test_paper_examples_bracket(theorem, example):
     bound = lower_bound(model, sol)
     assert bound.proved, bound.why
     assert bound.lower <= sol.objective
-    assert (sol.gamma - bound.lower_performance) / sol.gamma <= 1e-4, (bound.lower_performance, sol.gamma)
+    assert (sol.point_gamma - bound.lower_performance) / sol.point_gamma <= 1e-4, (bound.lower_performance, sol.point_gamma)
 
 
 def test_background_bound_is_the_synchronous_bound():

@@ -644,7 +644,7 @@ def test_latex_pdf_stays_in_its_folder_and_keeps_the_users_files(tmp_path, monke
 EXIT_IN_BOUND = '''
 import sys, threading
 import lmidsl
-from lmidsl.solver import dual_bound
+from lmidsl.certify import dual_bound
 
 inside = threading.Event()
 real = dual_bound.clarabel_solve
@@ -684,7 +684,7 @@ def test_a_cancelled_bound_stops_before_its_next_shifted_solve(monkeypatch):
     claimed, and no shifted solve starts after the cancel (li_delay_dropout.thm2, ξ₂ = 1, whose
     bound needs several)."""
     import lmidsl.pipeline as pipeline
-    from lmidsl.solver import dual_bound
+    from lmidsl.certify import dual_bound
     started, gate, made = [], threading.Event(), []
     real_shifted, real_pending = dual_bound._solve_shifted, pipeline.PendingBound
 
