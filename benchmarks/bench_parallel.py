@@ -177,7 +177,7 @@ def main() -> None:
     for v in variants:
         for x in runs[v]:
             if x["parallel"]:
-                from lmidsl.studies.parallel import format_stats
+                from lmidsl.render.text import format_stats
                 print(f"{v}: {format_stats(x['parallel'])}")
     reference = runs["serial"][0]
     same = all(x["gammas"] == reference["gammas"] and x["verdicts"] == reference["verdicts"]

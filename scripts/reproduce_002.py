@@ -93,7 +93,7 @@ def route(name, N, ab, points, starts=None):
         stop = sol.status
     else:
         inst = make_instance(f"{Z}.{name}", example="paper-N2", overrides=overrides)
-        res = successive_lmi(inst, starts=starts, max_iter=40, rtol=1e-4, certify=False, progress=sys.stderr.isatty(),
+        res = successive_lmi(inst, starts=starts, max_iter=40, rtol=1e-4, certify=False,
                              desc=f"{name} N={N} {points}")
         sol, history, stop = res.best, res.gammas, res.stop_reason
     out = {"route": name, "N": N, "alpha_bar": ab, "points": points, "stop": stop,

@@ -66,7 +66,7 @@ def test_solve_reports_infeasible_as_a_result_with_margins():
     assert sol.feasp.verdict == "infeasible" and not sol.ok   # feasp's word; status is the solver's
     assert sol.feasp.tmin == pytest.approx(0.5, abs=1e-6)
     d = sol.as_dict()
-    assert d["feasp"]["verdict"] == "infeasible" and d["verdict"]["word"] == "not solved"
+    assert d["feasp"]["verdict"] == "infeasible" and d["verdict"]["word"] == "infeasible"   # proved: X > 1, X < 0
     assert {m["label"] for m in d["feasp"]["lmis"]} == {"X > c", "X < d"}
 
 

@@ -21,7 +21,7 @@ LAYERS = ["errors", "symbolic", "theorem", "numeric", "solver", "certify", "pipe
 #: the package's face and entry point may import any layer
 ANY_LAYER = {"__init__", "__main__"}
 #: may be imported inside a function: heavy, optional or used by one command only
-LAZY_OK = ("tqdm", "matplotlib", "cvxpy", "picos", "scipy", "importlib", "distributed", "dask", "control",
+LAZY_OK = ("matplotlib", "cvxpy", "picos", "scipy", "importlib", "distributed", "dask", "control",
            "cloudpickle", "threadpoolctl", "slycot")
 PAPER_MODELS = ("impulsive", "interconnected", "sim_delay_dropout", "netsim", "quantizer", "delta")
 

@@ -18,7 +18,8 @@ from sympy import sqrt
 import lmidsl
 from lmidsl import He, I, Source, Theorem
 from lmidsl.pipeline import make_instance
-from lmidsl.studies.search import format_result, scalar_search
+from lmidsl.render.text import format_result
+from lmidsl.studies.search import scalar_search
 
 A = [[0.0, 1.0], [-2.0, -1.0]]
 B = [[0.0], [1.0]]

@@ -98,7 +98,7 @@ def test_list_fits_and_is_compact(monkeypatch, capsys, argv):
 
 
 def test_check_fits(monkeypatch):
-    from lmidsl.cli.check_cmd import format_check
+    from lmidsl.render.text import format_check
     from lmidsl.studies.cross_check import check
     result = check("wang_l2linf.thm3", example="paper-full", solvers="clarabel,picos:cvxopt")
     texts = texts_at_widths(monkeypatch, lambda: format_check(result))
@@ -116,7 +116,7 @@ def test_reproduce_fits(monkeypatch):
 
 
 def test_sweep_fits(monkeypatch):
-    from lmidsl.cli.sweep_cmd import format_sweep
+    from lmidsl.render.text import format_sweep
     from lmidsl.studies.sweep import parse_grid, sweep
     result = sweep("wang_l2linf.thm3", [parse_grid("rbar=0.1,0.5", 10)])
     texts = texts_at_widths(monkeypatch, lambda: format_sweep(result))

@@ -19,7 +19,8 @@ from conftest import ROOT
 from lmidsl.cli import main
 from lmidsl.errors import InputError
 from lmidsl.studies.store import JsonLinesStore, strict_json
-from lmidsl.studies.sweep import SweepPoint, SweepResult, format_timing, parse_grid
+from lmidsl.render.text import format_timing
+from lmidsl.studies.sweep import SweepPoint, SweepResult, parse_grid
 
 THM3 = ("wang_l2linf.thm3", "--example", "paper-full")
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 from ..errors import InputError
 from ..pipeline import make_instance, solve_instance
 from ..render.terminal import echo
+from ..render.text import format_export
 from ..studies.export import FORMATS, OPTIMUM_RTOL, check_round_trip, export
 from .common import add_solve_arguments, instance_spec, print_json, refuse, solve_arguments
 
@@ -49,26 +50,3 @@ def run(args):
     return code
 
 
-def format_export(mapping: dict, output: str, fmt: str) -> str:
-    """What was written, block by block, and the --check comparison (wrapped to the width)."""
-    lines = [f"wrote {output} ({fmt}; {mapping['nvars']} scalar variables, {len(mapping['blocks'])} blocks)"
-             + ("" if fmt == "json" else f"; map {output}.map.json")]
-    for b in mapping["blocks"]:
-        lines.append(f"  block {b['block']}: " + (f"LMI {b['lmi']}" if "lmi" in b else b["kind"])
-                     + (f" vertex {b['vertex']}" if b.get("vertex") else "")
-                     + (f" {b['scenario']}" if b.get("scenario") else ""))
-    if "check" in mapping:
-        c = mapping["check"]
-        said = (f"the file states lmidsl's SDP (identity {c['identity_error']:.1e} at three random points)"
-                if c.get("identity_error") is not None else "")
-        if c.get("relative_difference") is not None:
-            said += (f"; solved by cvxpy: {c['file_optimum']:.10g} vs lmidsl {c['lmidsl_optimum']:.10g} "
-                     f"(relative {c['relative_difference']:.2e}: {'same' if c['holds'] else 'DIFFERENT'})")
-        if "lmidsl_certified" in c:
-            said += (f"; solved by cvxpy: a point found; lmidsl: "
-                     f"{'a certified point' if c['lmidsl_certified'] else 'no certified point'}")
-        lines.append("  read back: " + "; ".join(x for x in (said, c["reason"]) if x))
-    if "verdict" in mapping:
-        lines.append(f"verdict (lmidsl solve of the instance): {mapping['verdict']['word'].upper()}"
-                     + (f" at gamma = {mapping['gamma']:.8g}" if mapping["gamma"] is not None else ""))
-    return "\n".join(lines)

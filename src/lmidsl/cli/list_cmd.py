@@ -5,7 +5,8 @@ readings and illustrations, marked with their provenance.  Reads the cached inde
 :mod:`lmidsl.theorem.index` (rebuilt when a theorem file changes), so no theorem file runs."""
 from __future__ import annotations
 
-from ..render.terminal import echo, wrap
+from ..render.catalogue import format_list
+from ..render.terminal import echo
 from ..theorem.registry import theorem_index
 from .common import add_output_arguments, print_json
 
@@ -19,34 +20,6 @@ def register(sub):
     p.add_argument("--json", action="store_true", help="one JSON object on stdout")
     add_output_arguments(p)
     p.set_defaults(run=run)
-
-
-def theorem_lines(t: dict, show_provenance: bool) -> list[str]:
-    """One theorem: its id and title (wrapped under the title), then its examples (the first is
-    the default of every command) and the commands it supports beyond solve/check/latex/sweep."""
-    head = t["id"] + ("" if not show_provenance else f" [{t['provenance']}]") + "  " + t["title"]
-    examples = [name + ("" if t["example_provenance"][name] == "paper" else f" [{t['example_provenance'][name]}]")
-                for name in t["examples"]]
-    if examples:
-        examples[0] += " (default)"
-    parts = ["examples: " + (", ".join(examples) if examples else "none (give --data)")]
-    if t.get("commands"):
-        parts.append("also: " + ", ".join(t["commands"]))
-    return [wrap(head, indent="    "), wrap("    " + "; ".join(parts), indent="      ")]
-
-
-def format_list(theorems: list[dict], show_provenance: bool = False) -> str:
-    """The theorems grouped by paper: the paper once, then two short lines per theorem."""
-    out, groups = [], {}
-    for t in theorems:
-        groups.setdefault(t["id"].split(".")[0], []).append(t)
-    for package, members in groups.items():
-        papers = {t["source_paper"] for t in members}
-        paper = papers.pop() if len(papers) == 1 else f"{len(papers)} sources (lmidsl list --json)"
-        out += ["" if out else None, wrap(f"{package}: {paper}", indent="  ")]
-        for t in members:
-            out += theorem_lines(t, show_provenance)
-    return "\n".join(line for line in out if line is not None)
 
 
 def run(args):

@@ -1,10 +1,14 @@
 """``lmidsl search``: grid (and Nelder–Mead refinement) over a theorem's fixed scalars."""
 from __future__ import annotations
 
+import sys
+
 from ..pipeline import make_instance, solve_instance
 from ..errors import InputError
-from ..render.terminal import wrap
-from ..studies.search import OBJECTIVES, format_result, scalar_search
+from ..render.progress import Progress
+from ..render.terminal import is_terminal, wrap
+from ..render.text import text
+from ..studies.search import OBJECTIVES, scalar_search
 from ..studies.sweep import parse_grid
 from .common import (add_parallel_arguments, add_solve_arguments, instance_spec, parallel_spec,
                      positive_int, print_json, solve_arguments)
@@ -26,13 +30,18 @@ def register(sub):
     p.set_defaults(run=run)
 
 
+def _bar(points):
+    """A bar over the grid's points as they come back, on a terminal only."""
+    return Progress(points, "scalar search", label=lambda _: "", enabled=is_terminal(sys.stderr))
+
+
 def run(args):
     if not args.grid:
         raise InputError("search: give at least one --grid NAME=a:b:n")
     axes = dict(parse_grid(g) for g in args.grid)
     instance = make_instance(args.theorem, **instance_spec(args))
     result = scalar_search(instance, axes, args.objective, refine_best=args.refine,
-                           **parallel_spec(args), progress=False if args.no_progress or args.json else None,
+                           **parallel_spec(args), progress=None if args.no_progress or args.json else _bar,
                            maxfev=args.maxfev, **solve_arguments(args))
     best = result.best_proved or result.best_feasible or result.best
     solution = None if best is None else solve_instance(instance.with_params(**best.params), backoff="auto",
@@ -42,7 +51,7 @@ def run(args):
         print_json({**result.as_dict(), "verdict": None if verdict is None else verdict.as_dict(),
                     "gamma": None if verdict is None else verdict.gamma})
     else:
-        print(wrap(format_result(result)))
+        print(wrap(text(result)))
         if verdict is not None:
             print(wrap(f"verdict at {best.params}: {verdict.line()}"))
     return 0 if verdict is not None and verdict.certified else 1

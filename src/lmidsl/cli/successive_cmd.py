@@ -14,9 +14,9 @@ import numpy as np
 
 from ..errors import InputError
 from ..pipeline import make_instance
-from ..render.report import performance_label
-from ..render.table import format_matrix, format_table
-from ..render.terminal import echo, is_terminal, wrap
+from ..render.progress import Stages
+from ..render.terminal import echo, is_terminal
+from ..render.text import text
 from ..studies.bmi import successive_lmi
 from .common import (add_output_arguments, add_solve_arguments, instance_spec, positive_float, positive_int,
                      print_json, refuse, show_progress, solve_arguments, strict_loads)
@@ -53,35 +53,6 @@ def parse_start(text: str, instance) -> dict:
     return out
 
 
-def format_successive(result, theorem_id: str) -> str:
-    """The history (one row per solve), why it stopped, and the best solution."""
-    starts = len({s.start for s in result.history}) > 1
-    rows = [([s.start] if starts else []) + [s.iteration, s.status, s.gamma, None if s.worst_eig is None
-                                              else f"{s.worst_eig:.2e}"] for s in result.history]
-    lines = [format_table((["start"] if starts else []) + ["iteration", "status", performance_label(theorem_id),
-                                                           "max eig"], rows),
-             "", wrap(f"stopped: {result.stop_reason}")]
-    best = result.best
-    if best is None:
-        lines.append(wrap(f"{theorem_id}: no certified point (every LMI's largest eigenvalue < 0) was met"))
-        return "\n".join(lines)
-    for start, k, gamma, why in result.rejected:
-        lines.append(wrap(f"iteration {k}" + (f" (start {start})" if starts else "") + f": gamma {gamma:.8g} "
-                          f"is lower but not certified ({why})"))
-    lines.append(wrap(f"best certified point: iteration {result.best_iteration}"
-                      + (f" (start {result.best_start})" if starts else "") + f", gamma = {best.gamma:.8g}"
-                      if best.verdict.certified else
-                      f"best point (not certified): iteration {result.best_iteration}, gamma = {best.gamma:.8g}"))
-    lines.append(wrap(f"verdict: {best.verdict.line()}"))
-    analysis = getattr(best, "analysis", None)
-    if analysis is not None:
-        lines.append(wrap(f"analysis {analysis.theorem}: gamma = {analysis.gamma:.8g}"
-                          + ("" if analysis.passed else " (does not certify the design)")))
-    for name, value in (best.recovered or {}).items():
-        lines.append(format_matrix(name, value))
-    return "\n".join(lines)
-
-
 def run(args):
     refuse(args, "each step is solved with the solver's defaults (studies.bmi)", "--solver-option")
     instance = make_instance(args.theorem, **instance_spec(args))
@@ -90,9 +61,10 @@ def run(args):
                          "its LMIs are solved by `lmidsl solve`")
     starts = [parse_start(text, instance) for text in args.start] or None
     solving = solve_arguments(args)
-    result = successive_lmi(instance, starts=starts, max_iter=args.max_iter, rtol=args.rtol,
-                            solver=solving["solver"], backend=solving["backend"], margin=solving["margin"],
-                            progress=show_progress(args) and is_terminal(sys.stderr), certify=not args.no_certify)
+    with Stages(f"successive {instance.theorem.id}", enabled=show_progress(args) and is_terminal(sys.stderr)) as steps:
+        result = successive_lmi(instance, starts=starts, max_iter=args.max_iter, rtol=args.rtol,
+                                solver=solving["solver"], backend=solving["backend"], margin=solving["margin"],
+                                progress=steps, certify=not args.no_certify)
     best = result.best
     certified = best is not None and best.verdict.certified
     if args.json:
@@ -102,5 +74,5 @@ def run(args):
     else:
         echo(f"{instance.theorem.id}" + (f" [{instance.example}]" if instance.example else "")
              + f": successive LMIs over {', '.join(instance.theorem.linearisation)}")
-        print(format_successive(result, instance.theorem.id))
+        print(text(result, theorem_id=instance.theorem.id))
     return 0 if certified else 1

@@ -1,17 +1,12 @@
 """``lmidsl sweep``: solve a theorem over a grid of parameters (compiled once)."""
 from __future__ import annotations
 
-from pathlib import Path
-
 from ..errors import InputError
 from ..render.figures import sweep_figure
 from ..render.progress import Progress
-from ..render.report import performance_label
-from ..render.table import format_table
-from ..render.terminal import wrap
-from ..studies.parallel import format_stats
+from ..render.text import text
 from ..studies.store import ensure_writable_dir
-from ..studies.sweep import MAX_POINTS, format_timing, parse_grid, sweep
+from ..studies.sweep import MAX_POINTS, parse_grid, sweep
 from .common import (add_output_arguments, add_parallel_arguments, add_solve_arguments, instance_spec,
                      parallel_spec, positive_int, print_json, show_progress, solve_arguments)
 
@@ -39,34 +34,6 @@ def register(sub):
     p.set_defaults(run=run)
 
 
-MAX_ROWS = 40
-"""A sweep of more points prints only its summary (the points are in --json and --out)."""
-
-
-def format_sweep(result, out=None) -> str:
-    """The points (up to :data:`MAX_ROWS`), the summary, the timing and the files written."""
-    names = list(result.grid)
-    table = []
-    if len(result.points) <= MAX_ROWS:
-        rows = [[*(p.params[n] for n in names), p.status, p.gamma, p.worst_eig] for p in result.points]
-        table.append(format_table([*names, "status", performance_label(result.theorem), "max eig"], rows))
-    lines = []
-    ok = [p.gamma for p in result.points if p.gamma is not None]
-    lines.append(f"{result.theorem}: {len(result.points)} points, {len(ok)} solved, "
-                 f"{result.certified_count()} certified (every LMI proved at the returned point)"
-                 + (f", {performance_label(result.theorem)} from {min(ok):.6g} to {max(ok):.6g}" if ok else ""))
-    lines.append(format_timing(result.timing()))
-    if result.parallel:
-        lines.append(format_stats(result.parallel))
-    if result.resumed:
-        lines.append(f"resumed: {result.resumed} points from {Path(out) / 'sweep.jsonl'}, "
-                     f"{result.solved} solved now")
-    if out:
-        lines.append(f"wrote {Path(out) / 'sweep.csv'}, sweep.json, sweep.png, sweep.pdf "
-                     "(points as solved: sweep.jsonl)")
-    return "\n".join(table + [wrap(line) for line in lines])
-
-
 def run(args):
     if not args.grid:
         raise InputError("sweep: give at least one --grid NAME=START:STOP:COUNT")
@@ -91,5 +58,5 @@ def run(args):
     if args.json:
         print_json(result.as_dict())
     else:
-        print(format_sweep(result, args.out))
+        print(text(result, out=args.out))
     return 0 if result.points and all(p.proved for p in result.points) else 1

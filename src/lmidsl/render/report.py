@@ -84,7 +84,7 @@ def format_solution(sol) -> str:
                 mark += f", {r.proof}"
             lines.append(f"    {r.label + where:<30} {r.max_eig: .3e}  ({r.size}x{r.size}, {mark})")
     if getattr(sol, "feasp", None) is not None:
-        lines.append(sol.feasp.format("  "))
+        lines.append(format_feasp(sol.feasp, "  "))
     if sol.recovered:
         lines.append("  recovered:")
         lines += [format_matrix(k, v, "    ") for k, v in sol.recovered.items()]
@@ -104,7 +104,7 @@ def format_solution(sol) -> str:
         noun = design_kind(sol.design.kind).noun if sol.design is not None else "design"
         lines.append(f"  analysis {analysis.theorem}{via} of the recovered {noun}: {g} ({passed})")
         for rep in getattr(analysis, "feasp", []):
-            lines.append(rep.format("    "))
+            lines.append(format_feasp(rep, "    "))
     for note in sol.notes:
         lines.append(f"  note: {note}")
     for check in getattr(sol, "checks", []):
@@ -165,3 +165,17 @@ def performance_label(theorem_id: str, default: str = "gamma") -> str:
     except LmidslError:
         return default
     return theorem.performance[0] if theorem.performance else default
+
+
+def format_feasp(report, indent: str = "  ") -> str:
+    """The feasp diagnosis: t*, its word, and per LMI the largest eigenvalue at t*, t* of the LMI
+    alone and t* without it (the responsible and binding ones marked)."""
+    head = (f"{indent}feasp: t* = {report.tmin:.4g} ({report.verdict}; radius {report.radius:g}, "
+            f"margin {report.margin:g})" if report.tmin is not None
+            else f"{indent}feasp: undecided (solver status {report.status})")
+    lines = [head, f"{indent}  {'LMI':<22} {'λmax at t*':>11} {'alone t*':>11} {'without t*':>11}"]
+    fmt = lambda x: f"{x:11.3e}" if x is not None else f"{'-':>11}"  # noqa: E731
+    for m in report.lmis:
+        flag = "  <- responsible" if m.responsible else ("  (binding)" if m.binding else "")
+        lines.append(f"{indent}  {m.name:<22} {fmt(m.value)} {fmt(m.alone)} {fmt(m.without)}{flag}")
+    return "\n".join(lines)

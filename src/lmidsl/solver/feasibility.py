@@ -165,17 +165,6 @@ class FeasibilityReport:
                 "solver": self.solver, "responsible": self.responsible,
                 "lmis": [m.as_dict() for m in self.lmis]}
 
-    def format(self, indent: str = "  ") -> str:
-        head = (f"{indent}feasp: t* = {self.tmin:.4g} ({self.verdict}; radius {self.radius:g}, "
-                f"margin {self.margin:g})" if self.tmin is not None
-                else f"{indent}feasp: undecided (solver status {self.status})")
-        lines = [head, f"{indent}  {'LMI':<22} {'λmax at t*':>11} {'alone t*':>11} {'without t*':>11}"]
-        fmt = lambda x: f"{x:11.3e}" if x is not None else f"{'-':>11}"  # noqa: E731
-        for m in self.lmis:
-            flag = "  <- responsible" if m.responsible else ("  (binding)" if m.binding else "")
-            lines.append(f"{indent}  {m.name:<22} {fmt(m.value)} {fmt(m.alone)} {fmt(m.without)}{flag}")
-        return "\n".join(lines)
-
 
 class JointFeasp:
     """The joint feasp problem built once on a compiled model; re-solved after

@@ -21,7 +21,6 @@ several initial points (the paper's "choose several suitable S̄, P̄3") and kee
 """
 from __future__ import annotations
 
-import sys
 import time
 from dataclasses import dataclass, field, replace
 
@@ -102,12 +101,13 @@ def next_point(instance: Instance, values: dict) -> dict:
 
 def successive_lmi(instance: Instance, *, starts: list[dict] | None = None, max_iter: int = 30,
                    rtol: float = 1e-4, atol: float = 0.0, solver: str | None = None,
-                   backend: str | None = None, margin: float | None = None, progress: bool = True,
+                   backend: str | None = None, margin: float | None = None, progress=None,
                    desc: str | None = None, certify: bool = True) -> BMIResult:
     """Iterate the theorem's LMI over its linearisation point; return the best solution.
 
     ``starts``: initial points (dicts of the linearisation data); default: the instance's data.
     The best solution gets the theorem's recovery and analysis certificate (``certify``).
+    ``progress``: called with a line per solve (e.g. :class:`lmidsl.render.progress.Stages`).
     """
     plan = Plan(backend, solver, {}, margin)
 
@@ -116,50 +116,40 @@ def successive_lmi(instance: Instance, *, starts: list[dict] | None = None, max_
         raise InputError(f"{theorem.id}: declares no linearisation point (Theorem.linearise)")
     starts = starts or [{}]
     result = BMIResult(None)
-    bar = None
-    if progress:
-        from tqdm import tqdm
-        bar = tqdm(total=max_iter * len(starts), desc=desc or theorem.id, file=sys.stderr, leave=False)
     candidates = []                 # (γ, start, iteration, solution, linearisation point)
-    try:
-        for s, start in enumerate(starts):
-            current = with_data(instance, start)
-            previous = None
-            reason = f"max_iter = {max_iter}"
-            for k in range(max_iter):
-                t0 = time.perf_counter()
-                # each step solved as `solve` solves: as written and conditioned, margin escalation
-                sol, _ = plan.solve(current)
-                result.history.append(Step(k, sol.status if sol.lmis_hold or not sol.ok else "not certified",
-                                           sol.point_gamma, sol.worst_eig, time.perf_counter() - t0, s))
-                if bar is not None:
-                    bar.update(1)
-                    bar.set_postfix(start=s, gamma=f"{sol.point_gamma:.6g}" if sol.point_gamma else sol.status)
-                if not sol.ok or sol.point_gamma is None:
-                    reason = f"{sol.status} at iteration {k}"
-                    break
-                # only a point that satisfies every LMI (numpy eigenvalues) may become the best;
-                # an uncertified point still gives a valid next linearisation point
-                if sol.lmis_hold:
-                    candidates.append((sol.point_gamma, s, k, sol,
-                                       {n: np.asarray(current.data[n]) for n in theorem.linearisation}))
-                if previous is not None and sol.point_gamma - previous > rtol * previous + atol:
-                    # exact solves never rise (the previous solution stays feasible): an
-                    # inaccurate step moved the point; going on would follow the error
-                    reason = (f"gamma rose at iteration {k} ({previous:.6g} -> {sol.point_gamma:.6g}): the "
-                              f"solver's accuracy is reached")
-                    break
-                if previous is not None and previous - sol.point_gamma <= rtol * previous + atol:
-                    reason = f"converged at iteration {k} (improvement below rtol = {rtol:g})"
-                    break
-                previous = sol.point_gamma
-                current = with_data(current, next_point(current, sol.values))
-            result.stop_reason += ("; " if result.stop_reason else "") + f"start {s}: {reason}"
-            if bar is not None:
-                bar.update(max_iter * (s + 1) - bar.n)
-    finally:
-        if bar is not None:
-            bar.close()
+    for s, start in enumerate(starts):
+        current = with_data(instance, start)
+        previous = None
+        reason = f"max_iter = {max_iter}"
+        for k in range(max_iter):
+            t0 = time.perf_counter()
+            # each step solved as `solve` solves: as written and conditioned, margin escalation
+            sol, _ = plan.solve(current)
+            result.history.append(Step(k, sol.status if sol.lmis_hold or not sol.ok else "LMIs violated",
+                                       sol.point_gamma, sol.worst_eig, time.perf_counter() - t0, s))
+            if progress:
+                progress(f"{desc or theorem.id}: start {s}, iteration {k + 1}/{max_iter}, "
+                         + (f"gamma {sol.point_gamma:.6g}" if sol.point_gamma else sol.status))
+            if not sol.ok or sol.point_gamma is None:
+                reason = f"{sol.status} at iteration {k}"
+                break
+            # only a point that satisfies every LMI (numpy eigenvalues) may become the best;
+            # an uncertified point still gives a valid next linearisation point
+            if sol.lmis_hold:
+                candidates.append((sol.point_gamma, s, k, sol,
+                                   {n: np.asarray(current.data[n]) for n in theorem.linearisation}))
+            if previous is not None and sol.point_gamma - previous > rtol * previous + atol:
+                # exact solves never rise (the previous solution stays feasible): an
+                # inaccurate step moved the point; going on would follow the error
+                reason = (f"gamma rose at iteration {k} ({previous:.6g} -> {sol.point_gamma:.6g}): the "
+                          f"solver's accuracy is reached")
+                break
+            if previous is not None and previous - sol.point_gamma <= rtol * previous + atol:
+                reason = f"converged at iteration {k} (improvement below rtol = {rtol:g})"
+                break
+            previous = sol.point_gamma
+            current = with_data(current, next_point(current, sol.values))
+        result.stop_reason += ("; " if result.stop_reason else "") + f"start {s}: {reason}"
     for gamma, s, k, sol, point in sorted(candidates, key=lambda c: (c[0], c[1], c[2])):
         judge(finish_solution(sol, plan=plan, certify=certify))
         result.best, result.best_start, result.best_iteration, result.point = sol, s, k, point

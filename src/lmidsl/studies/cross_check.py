@@ -117,7 +117,7 @@ class CheckRow:
 
 
 @dataclass
-class CheckResult:
+class CrossCheck:
     """All rows of a cross-check and the verdict."""
 
     theorem: str
@@ -396,7 +396,7 @@ def check(theorem, example: str | None = None, data: dict | None = None,
           overrides: dict | None = None, solvers=None, options: dict | None = None,
           tolerance: float = DEFAULT_TOLERANCE, margin: float | None = None,
           certify: bool = True, progress=None, workers: int | None = None,
-          scheduler: str | None = None, first_order_cap: float = FIRST_ORDER_CAP) -> CheckResult:
+          scheduler: str | None = None, first_order_cap: float = FIRST_ORDER_CAP) -> CrossCheck:
     """Solve one instance on every requested backend × solver and compare the answers.
 
     ``solvers``: see :func:`plan_rows`.  ``options``: ``{"clarabel": {...}}`` or
@@ -448,4 +448,4 @@ def check(theorem, example: str | None = None, data: dict | None = None,
     for r in rows:
         r.value = r.optimum_level if thm.performance is not None else r.objective
     reference = compare(rows, tolerance)
-    return CheckResult(thm.id, instance.example, compared, tolerance, rows, reference)
+    return CrossCheck(thm.id, instance.example, compared, tolerance, rows, reference)

@@ -598,26 +598,6 @@ class _Meter:
                 "main_cpu": main_cpu, "main_cpu_per_task": main_cpu / self.tasks if self.tasks else None}
 
 
-def format_stats(stats: dict) -> str:
-    """One line of a parallel run's own measurements (:class:`_Meter`)."""
-    if not stats:
-        return ""
-    if not stats["cluster_started"]:
-        return (f"parallel: all {stats['items_here']} items solved in this process (workers would not "
-                f"have paid for their start-up)")
-    first = stats["first_worker_joined"]
-    gap, per_task = stats["gap_per_task"], stats["main_cpu_per_task"]
-    parts = [f"parallel: {stats['items_here']} items here while workers started"
-             + (f" (first joined after {first:.1f} s)" if first is not None else " (none joined)"),
-             f"{stats['items_on_workers']} on workers in {stats['tasks']} tasks",
-             f"tail idle {stats['tail_idle']:.2f} worker-s of {stats['worker_busy']:.1f} busy"]
-    if gap is not None:
-        parts.append(f"{gap * 1e3:.1f} ms between tasks")
-    if per_task is not None:
-        parts.append(f"this process {stats['main_cpu']:.2f} s CPU ({per_task * 1e3:.1f} ms a task)")
-    return "; ".join(parts)
-
-
 def _cancel_quietly(client, futures: list) -> None:
     """Cancel ``futures`` unless the client is already gone.  The generator that owns them may be
     closed by the garbage collector after ``Runner.close`` (an interrupt): cancelling then would

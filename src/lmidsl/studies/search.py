@@ -164,21 +164,16 @@ def _check(instance: Instance, names) -> None:
 
 
 def evaluate_grid(instance: Instance, points: list[dict], evaluator_args: tuple,
-                  workers: int | None = None, progress: bool | None = None,
+                  workers: int | None = None, progress=None,
                   scheduler: str | None = None) -> list[SearchPoint]:
-    """Evaluate every point, with a tqdm progress bar: in this process (``workers`` None or 1),
-    on a Dask LocalCluster of ``workers`` processes, or on the cluster at ``scheduler``
-    (:mod:`lmidsl.studies.parallel`; one compiled model per worker).
-
-    ``progress`` None shows the bar only on a terminal.
-    """
-    from tqdm import tqdm
-
+    """Evaluate every point: in this process (``workers`` None or 1), on a Dask LocalCluster of
+    ``workers`` processes, or on the cluster at ``scheduler`` (:mod:`lmidsl.studies.parallel`;
+    one compiled model per worker).  ``progress``: a wrapper of the results as they come (e.g.
+    :class:`lmidsl.render.progress.Progress`), or None."""
     results = [None] * len(points)
     with Runner(workers if len(points) > 1 or scheduler else None, scheduler) as runner:
         done = runner.map(SearchTask(evaluator_args), points)
-        for i, point in tqdm(done, desc="scalar search", unit="pt", leave=False,
-                             disable=progress is False if progress is not None else None):
+        for i, point in (progress(done) if progress else done):
             results[i] = point
     return results
 
@@ -217,7 +212,7 @@ def refine(evaluate: Evaluator, start: SearchPoint, names: list, steps: list,
 
 
 def scalar_search(instance: Instance, axes: dict, objective: str | None = None, *,
-                  refine_best: bool = False, workers: int | None = None, progress: bool | None = None,
+                  refine_best: bool = False, workers: int | None = None, progress=None,
                   scheduler: str | None = None,
                   solver: str | None = None, backend: str | None = None, margin: float | None = None,
                   radius: float | None = None, maxfev: int = 80, **options) -> SearchResult:
@@ -262,28 +257,3 @@ def scalar_search(instance: Instance, axes: dict, objective: str | None = None, 
     return result
 
 
-def format_result(result: SearchResult, top: int = 8) -> str:
-    """A short text report: the best grid points, the refined point, the best certified one."""
-    value_name = result.performance if result.objective == "gamma" else "t*"
-
-    def line(p: SearchPoint) -> str:
-        params = ", ".join(f"{k} = {v:.6g}" for k, v in p.params.items())
-        val = "none" if math.isinf(p.value) else f"{p.value:.6g}"
-        cert = "" if result.objective == "tmin" else (" proved" if p.proved else " not proved")
-        return f"{value_name} = {val:<12} at {params}  ({p.status}{cert})"
-
-    ranked = sorted(result.grid, key=lambda p: p.key)
-    lines = [f"{result.theorem}" + (f" [{result.example}]" if result.example else "")
-             + f": search over {', '.join(result.names)} ({len(result.grid)} grid points, "
-             f"objective {value_name})",
-             "  best grid points:"]
-    lines += [f"    {line(p)}" for p in ranked[:top]]
-    if result.refined is not None:
-        info = result.refinement
-        lines.append(f"  refined ({info.get('method')}, {info.get('nfev')} evaluations): {line(result.refined)}")
-    best = result.best
-    lines.append(f"  best: {line(best)}" if best is not None else "  best: no point gave a value")
-    cert = result.best_proved or result.best_feasible
-    what = "proved (every LMI proved at the point)" if result.objective == "gamma" else "strictly feasible (t* < 0)"
-    lines.append(f"  best {what}: {line(cert)}" if cert is not None else f"  no {what} point")
-    return "\n".join(lines)

@@ -493,13 +493,3 @@ def _certificate_problem(record: dict, scaled) -> tuple[str | None, dict | None]
                   "prove_time": prove_time}
 
 
-def format_timing(t: dict) -> str:
-    lines = [f"compile {t['compile'] * 1e3:.1f} ms once; first point {t['first_point'] * 1e3:.1f} ms "
-             "(it includes setting up the backend model)",
-             f"per point (mean of {t['points_timed']}): total {t['total_per_point'] * 1e3:.1f} ms, "
-             f"solver call {t['solver_call_per_point'] * 1e3:.1f} ms, overhead "
-             f"{t['overhead_per_point'] * 1e3:.1f} ms = {100 * t['overhead_ratio']:.1f} % of the solver call"]
-    if "solver_internal_per_point" in t and math.isfinite(t["solver_internal_per_point"]):
-        lines.append(f"(solver's own reported time {t['solver_internal_per_point'] * 1e3:.1f} ms; "
-                     f"everything else {100 * t['overhead_vs_solver_internal']:.1f} % of it)")
-    return "\n".join(lines)
