@@ -140,24 +140,28 @@ def _recover_and_certify(model, applied, solution: Solution, backoff, bounds: bo
         if kept is not solution:
             return kept
     if finish["certify"] and solution.analysis is None and not failed:
-        finish_solution(solution, **finish)      # no back-off point: the optimum's certificate
+        certify_point(solution, finish["plan"])     # no back-off point: the optimum's certificate
     return solution
 
 
 def _backoff_reason(solution: Solution, instance: Instance, finish: dict) -> str | None:
-    """Why the automatic back-off is needed (None: it is not; the optimum is then finished and
-    certified).  Recovery failure and ill-conditioning are known before the analysis, which is
-    then spent on the back-off point only."""
-    conditioned = bool(instance.theorem.conditioned)
-    finish_solution(solution, **{**finish, "certify": finish["certify"] and not conditioned})
-    if not conditioned:
+    """Why the automatic back-off is needed (None: it is not; the optimum is then certified).
+    Recovery failure and ill-conditioning are known before the analysis, which is then spent on
+    the back-off point only; each stage of the optimum runs once."""
+    plan = finish["plan"]
+    prove_point(solution, plan, finish["diagnose"])
+    recovered = recover_point(solution)
+    if not instance.theorem.conditioned:
+        if recovered and finish["certify"]:
+            certify_point(solution, plan)
         return None
-    if solution.message.startswith("recovery failed"):
+    if not recovered:
         return solution.message
     cond = solution.design.worst_condition if solution.design is not None else None
     if cond is not None and cond > ILL_CONDITIONED:
         return f"the recovery at the optimum inverts a matrix of condition number {cond:.3g}"
-    finish_solution(solution, **finish)
+    if finish["certify"]:
+        certify_point(solution, plan)
     if solution.analysis is not None and not solution.analysis.passed:
         return (f"{solution.analysis.theorem} did not certify the design recovered at the optimum "
                 f"({solution.analysis.status}, gamma {solution.analysis.gamma})")
@@ -220,7 +224,7 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
         if automatic:
             optimum.notes.append("no certified back-off point: the optimum's design is kept")
         elif optimum.design is None and optimum.analysis is None:
-            finish_solution(optimum, **finish)       # the user's back-off failed: the optimum
+            finish_solution(optimum, **finish)       # the user's back-off failed: the optimum, not yet finished
         return optimum
     candidate.times["backoff"] = time.perf_counter() - t0
     candidate.bounds = optimum.bounds
@@ -236,48 +240,71 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
 
 def finish_solution(solution: Solution, plan: Plan | None = None, certify: bool = True,
                     diagnose: bool = True, solver=None, backend=None, margin: float | None = None) -> Solution:
-    """Feasibility diagnosis (:meth:`Plan.diagnose`), the LMIs proved at the point, recovery
-    (mapped back through any scaling), the analysis certificate and the theorem's checks, in place.
-    ``plan`` (default: from ``backend``, ``solver`` and ``margin``) is the road every solve takes."""
+    """The point's stages, each run once, in place: the feasp diagnosis and the LMIs proved at the
+    point (:func:`prove_point`), the recovery mapped back through any scaling
+    (:func:`recover_point`), and with ``certify`` the analysis certificate, the theorem's checks and
+    the independent evidence (:func:`certify_point`).  ``plan`` (default: from ``backend``,
+    ``solver`` and ``margin``) is the road every solve takes."""
     plan = plan or Plan(backend, solver, {}, margin)
+    prove_point(solution, plan, diagnose)
+    if recover_point(solution) and certify:
+        certify_point(solution, plan)
+    return solution
+
+
+def prove_point(solution: Solution, plan: Plan, diagnose: bool = True) -> None:
+    """Feasibility diagnosis (:meth:`Plan.diagnose`) of a solve without a certified point; every
+    LMI proved in ball arithmetic at a returned point (:mod:`lmidsl.numeric.proof`); the reported values."""
     instance = solution.instance
-    solution.analysis = None
     if diagnose and diagnosis_needed(solution):
         t0 = time.perf_counter()
         plan.diagnose(solution)
         solution.times["feasp"] = time.perf_counter() - t0
     if solution.ok:
-        # THE certificate again, now proved in ball arithmetic (lmidsl.numeric.proof)
         solution.lmis = lmi_certificate(instance, {**instance.data, **solution.values}, prove=True,
                                         congruence=solution.congruence)
     if solution.ok and instance.theorem.reported:
         solution.reported = evaluate_reported(instance, {**instance.data, **solution.values})
-    if solution.ok and instance.theorem.recovery:
+
+
+def recover_point(solution: Solution) -> bool:
+    """The design recovered at the point (mapped back through any scaling); False when the
+    recovery fails (the message says why), True otherwise."""
+    instance = solution.instance
+    if not (solution.ok and instance.theorem.recovery):
+        return True
+    t0 = time.perf_counter()
+    undo = solution.scaling.undo if solution.scaling is not None else None
+    try:
+        solution.design = recover_design(instance, solution.values, undo, solver=solution.solver,
+                                         backend=solution.backend,
+                                         backoff=(solution.backoff or {}).get("delta"))
+    except LmidslError as exc:
+        solution.message = f"recovery failed: {exc}"
+        return False
+    solution.times["recover"] = time.perf_counter() - t0
+    return True
+
+
+def certify_point(solution: Solution, plan: Plan) -> None:
+    """The delivered design's analysis certificate, the theorem's checks and the independent
+    evidence of the claimed level."""
+    instance = solution.instance
+    if not solution.ok:
+        return
+    if solution.design is not None and instance.theorem.analysis is not None:
         t0 = time.perf_counter()
-        undo = solution.scaling.undo if solution.scaling is not None else None
-        try:
-            solution.design = recover_design(instance, solution.values, undo, solver=solution.solver,
-                                             backend=solution.backend,
-                                             backoff=(solution.backoff or {}).get("delta"))
-        except LmidslError as exc:
-            solution.message = f"recovery failed: {exc}"
-            return solution
-        solution.times["recover"] = time.perf_counter() - t0
-        if certify and instance.theorem.analysis is not None:
-            t0 = time.perf_counter()
-            solution.analysis = certify_by_analysis(solution.original_instance, solution.recovered,
-                                                    solution.point_gamma, plan=plan)
-            solution.times["analysis"] = time.perf_counter() - t0
-    if certify and solution.ok and instance.theorem.checks:
+        solution.analysis = certify_by_analysis(solution.original_instance, solution.recovered,
+                                                solution.point_gamma, plan=plan)
+        solution.times["analysis"] = time.perf_counter() - t0
+    if instance.theorem.checks:
         t0 = time.perf_counter()
         solution.checks = run_checks(solution)
         solution.times["checks"] = time.perf_counter() - t0
-    if certify and solution.ok:
-        t0 = time.perf_counter()
-        solution.evidence = claim_evidence(solution, headline_level(solution))
-        if solution.evidence:
-            solution.times["evidence"] = time.perf_counter() - t0
-    return solution
+    t0 = time.perf_counter()
+    solution.evidence = claim_evidence(solution, headline_level(solution))
+    if solution.evidence:
+        solution.times["evidence"] = time.perf_counter() - t0
 
 
 def solve(theorem, example: str | None = None, data: dict | None = None,

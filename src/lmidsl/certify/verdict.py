@@ -55,6 +55,11 @@ QUANTITIES = {
 }
 """What a theorem's declared performance name measures (``Theorem.minimize(performance=...)``)."""
 
+DESIGN, POINT, PRESCRIBED = "design", "point", "prescribed"
+HEADLINES = (DESIGN, POINT, PRESCRIBED)
+"""Whose level a solve's headline is: the delivered design's (its analysis), the returned point's,
+or a level the problem prescribes (a feasibility problem)."""
+
 LEVEL_NAMES = {"optimum": "SDP optimum", "backoff": "back-off point", "analysis": "delivered design (analysis)",
                "claimed": "claimed level", "synthesis": "synthesis point", "exact": "exact figure",
                "feasible_end": "feasible end", "infeasible_end": "infeasible end", "reference": "reference row"}
@@ -80,6 +85,7 @@ class Verdict:
     levels: dict = field(default_factory=dict)
     reasons: tuple = ()
     bracket: dict | None = None     # the optimum's bracket: lower/upper, each proved or not (why)
+    headline: str = ""              # whose level ``gamma`` is: one of HEADLINES ("" for a study's)
 
     def line(self) -> str:
         """The verdict in one line, the same in every command: WORD [at q = x]: why."""
@@ -90,7 +96,7 @@ class Verdict:
     def as_dict(self) -> dict:
         return {"certified": self.certified, "word": self.word, "gamma": self.gamma, "why": self.why,
                 "quantity": self.quantity, "quantity_words": self.quantity_words,
-                "levels": dict(self.levels), "reasons": list(self.reasons)}
+                "levels": dict(self.levels), "reasons": list(self.reasons), "headline": self.headline}
 
     def bracket_line(self) -> str:
         """"optimum in [lo, hi], proved" (or what is not proved), empty without a bracket."""
@@ -131,10 +137,12 @@ def decide(solution) -> Verdict:
     headline = headline_level(solution)
 
     box = bracket(solution)
+    whose = DESIGN if design_certified_level(solution) is not None else (
+        PRESCRIBED if feasibility and getattr(theorem, "bisection", None) is None else POINT)
 
     def verdict(certified, word, why, reasons=()):
         why = with_backoff_cost(why, solution, headline) if certified else why
-        return Verdict(certified, word, headline, why, name or "", words, levels, tuple(reasons), box)
+        return Verdict(certified, word, headline, why, name or "", words, levels, tuple(reasons), box, whose)
 
     if not solution.ok:
         proof, diagnosis = solution.infeasibility, solution.feasp

@@ -399,7 +399,7 @@ def _solution_latex(theorem: Theorem, sol, printer, settings: dict) -> str:
     out = [f"\\subsection*{{{title}}}"]
     if ex is not None and ex.description:
         out.append(tex_text(ex.description) + ".")
-    scaling = getattr(sol, "scaling", None)
+    scaling = sol.scaling
     scaled = scaling is not None and scaling.active
     inst = scaling.original if scaling is not None else sol.instance   # the data the user gave
     if inst is not None:
@@ -437,7 +437,7 @@ def _solution_latex(theorem: Theorem, sol, printer, settings: dict) -> str:
     if "gamma_bound" in printed:
         rows.append([f"${perf_tex}$ claimed by the paper (bound)",
                      f"${latex_number(printed['gamma_bound'], 6)}$"])
-    analysis = getattr(sol, "analysis", None)
+    analysis = sol.analysis
     if analysis is not None:
         g = "infeasible" if analysis.gamma is None else f"${latex_number(analysis.gamma, 6)}$"
         passed = "certified" if analysis.passed else "not certified"

@@ -138,7 +138,7 @@ def solution_html(sol) -> str:
                    f"<td>{_html.escape(str(getattr(r, 'proof', '') or ''))}</td></tr>" for r in getattr(sol, "lmis", []))
     if lmis:
         rows.append(("LMIs (λmax, proof)", f"<table>{lmis}</table>"))
-    return _result_html(sol.theorem + where, sol.verdict, rows, getattr(sol, "design", None))
+    return _result_html(sol.theorem + where, sol.verdict, rows, sol.design)
 
 
 def verification_html(v) -> str:

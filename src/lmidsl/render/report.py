@@ -3,16 +3,16 @@ from __future__ import annotations
 
 from ..numeric.interconnection import design_kind
 from .table import format_matrix
-from ..certify.verdict import LEVEL_NAMES, design_certified_level
+from ..certify.verdict import DESIGN, LEVEL_NAMES
 from ..errors import LmidslError
 from ..theorem.registry import get_theorem
 
 
 def headline_words(sol, verdict) -> str:
-    """What the headline level is: of the delivered design (its analysis level), or of the
-    proved point."""
+    """Whose the headline level is (``verdict.headline``): the delivered design's (its analysis
+    level), or the point's."""
     what = verdict.quantity_words or "the level"
-    if sol.design is not None and design_certified_level(sol) is not None:
+    if verdict.headline == DESIGN:
         return f"{what} of the delivered {design_kind(sol.design.kind).noun}, by its analysis"
     if not verdict.certified:
         return f"{what} at the returned point, not certified"
@@ -46,12 +46,12 @@ def format_solution(sol) -> str:
         proof = sol.infeasibility
         lines.append("  infeasibility: " + (f"proved ({proof.route}, {proof.source} certificate)" if proof.proved
                                             else f"not proved ({proof.why})"))
-    scaling = getattr(sol, "scaling", None)
+    scaling = sol.scaling
     if scaling is not None and scaling.records:
         for rec in scaling.records:
             lines.append(f"  scaling: {rec.signal} = diag({', '.join(f'{f:g}' for f in rec.factors)}) "
                          f"{rec.signal}' ({rec.how}); solved on the scaled data, design mapped back")
-    backoff = getattr(sol, "backoff", None)
+    backoff = sol.backoff
     if backoff and backoff.get("failed"):
         lines.append(f"  back-off δ = {backoff['delta']:g} FAILED: {backoff['failed']}; this is the optimum")
     elif backoff:
@@ -69,8 +69,8 @@ def format_solution(sol) -> str:
         if isinstance(rec_before, list):
             lines.append("    at the optimum the recovery would invert: "
                          + ", ".join(f"{r['matrix']} ({r['cond']:.3g})" for r in rec_before))
-    analysis = getattr(sol, "analysis", None)
-    for name, value in getattr(sol, "reported", {}).items():
+    analysis = sol.analysis
+    for name, value in sol.reported.items():
         other = analysis.reported.get(name) if analysis is not None else None
         cmp = "" if other is None else f"   (analysis: {other:.8g}, rel. diff {abs(other - value) / max(abs(value), 1e-300):.1e})"
         lines.append(f"  {name:<9} = {value:.8g}{cmp}")
@@ -83,7 +83,7 @@ def format_solution(sol) -> str:
             if r.proof is not None:
                 mark += f", {r.proof}"
             lines.append(f"    {r.label + where:<30} {r.max_eig: .3e}  ({r.size}x{r.size}, {mark})")
-    if getattr(sol, "feasp", None) is not None:
+    if sol.feasp is not None:
         lines.append(format_feasp(sol.feasp, "  "))
     if sol.recovered:
         lines.append("  recovered:")
@@ -91,7 +91,7 @@ def format_solution(sol) -> str:
     for inv in sol.inverted:
         note = f" ({inv['note']})" if inv.get("note") else ""
         lines.append(f"  inverted {inv['matrix']}: condition number {inv['cond']:.3g}{note}")
-    analysis = getattr(sol, "analysis", None)
+    analysis = sol.analysis
     if analysis is not None:
         passed = "certified" if analysis.passed else "NOT certified"
         g = analysis.status if analysis.gamma is None else f"gamma = {analysis.gamma:.8g}"

@@ -217,7 +217,7 @@ def format_successive(result, theorem_id: str) -> str:
                       if best.verdict.certified else
                       f"best point (not certified): iteration {result.best_iteration}, gamma = {best.gamma:.8g}"))
     lines.append(wrap(f"verdict: {best.verdict.line()}"))
-    analysis = getattr(best, "analysis", None)
+    analysis = best.analysis
     if analysis is not None:
         lines.append(wrap(f"analysis {analysis.theorem}: gamma = {analysis.gamma:.8g}"
                           + ("" if analysis.passed else " (does not certify the design)")))

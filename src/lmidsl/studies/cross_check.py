@@ -331,7 +331,7 @@ def run_row(instance, backend: str, solver: str, options: dict, margin=None, cer
         row.verdict = sol.verdict.as_dict()
         row.gamma = row.verdict["gamma"]
         row.solver_time = sol.times.get("solver")
-        analysis = getattr(sol, "analysis", None)
+        analysis = sol.analysis
         if analysis is not None:
             row.analysis_theorem, row.analysis_gamma = analysis.theorem, analysis.gamma
             row.analysis_passed = analysis.passed

@@ -123,7 +123,7 @@ def reproduce_one(theorem_id: str, example: str, solver: str | None = None, **so
     rel = None
     if printed is not None and computed is not None:
         rel = abs(computed - printed) / abs(printed)
-    analysis = getattr(sol, "analysis", None)
+    analysis = sol.analysis
     certified = sol.verdict.certified      # every LMI proved, the analysis and the checks pass
     figure = _exact(sol)
     exact_ok = None

@@ -143,7 +143,7 @@ def figures_for_solution(solution) -> list | None:
     (:func:`lmidsl.pipeline.finish_solution`), so the original instance is paired with it.
     """
 
-    scaling = getattr(solution, "scaling", None)
+    scaling = solution.scaling
     instance = scaling.original if scaling is not None else solution.instance
     thm = instance.theorem
     if thm.certification is not None:

@@ -39,7 +39,7 @@ def reported_agree(tolerance: float = 1e-3, name: str = "analysis values"):
     """
 
     def check(solution) -> CheckResult:
-        analysis = getattr(solution, "analysis", None)
+        analysis = solution.analysis
         if analysis is None or not analysis.reported:
             return CheckResult(name, False, "no analysis values to compare")
         diffs = {}
