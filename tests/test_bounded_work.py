@@ -81,7 +81,7 @@ def test_the_issue_cases_are_refused_before_the_expansion_and_accepted_with_the_
         make_instance(thm, data=data, overrides={"degree": 4, "polya": 4})
     text = str(info.value)
     assert f"{comb(20, 9) + comb(19, 8):,} LMIs" in text and "--max-lmis" in text and "\n" not in text
-    assert not any(key[0] == (12,) and key[1:] == (4, 4) for key in thm._members)     # nothing built
+    assert not any(key[0][0] == (12,) and key[0][1:] == (4, 4) for key in thm._members)     # nothing built
     with pytest.raises(InputError, match="rows of PSD cones"):
         make_instance("textbook.mjls_sf_ct", data=mjls_data(200))
     with pytest.raises(InputError, match="5,000 LMIs"):          # the default limit: 5,733 LMIs

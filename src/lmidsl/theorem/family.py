@@ -31,6 +31,7 @@ from typing import Callable
 from ..errors import InputError
 from . import budget
 from .index_set import count_members
+from .members import MemberRule, specialise
 from .theorem import Source, Theorem
 
 
@@ -51,28 +52,17 @@ class TheoremFamily(Theorem):
         build(self, default)
         if index not in self.param_decl:
             raise InputError(f"{id}: the family index {index} must be declared as a parameter by build()")
-        self._members: dict[int, Theorem] = {default: self}
+
+    def member_rule(self):
+        return IntegerRule()
 
     def member(self, value) -> Theorem:
-        """The theorem for ``index = value`` (built once, cached)."""
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or value != int(value):
-            raise InputError(f"{self.id}: {self.index} must be an integer, got {value!r}")
-        value = int(value)
-        lo, hi = self.domain
-        if not lo <= value <= hi:
-            raise InputError(f"{self.id}: {self.index} = {value} is outside [{lo}, {hi}]")
-        if value not in self._members:
-            thm = Theorem(self.id, self.title, self.source, **self.options)
-            self.build(thm, value)
-            thm.examples = self.examples
-            thm.family = self
-            self._members[value] = thm
-        return self._members[value]
+        """The theorem for ``index = value`` (:func:`lmidsl.theorem.members.specialise`)."""
+        return specialise(self, {self.index: value})
 
-    def specialise(self, inputs: dict) -> Theorem:
-        """The member selected by ``inputs[index]`` (the default member when absent), refused
-        when its LMIs exceed the current limits (:mod:`lmidsl.theorem.budget`)."""
-        return checked_member(self, self.member(inputs.get(self.index, self.default)), inputs)
+    def index_value(self, inputs: dict):
+        """The family index the inputs give (the default when absent)."""
+        return inputs.get(self.index, self.default)
 
     def summary(self) -> dict:
         out = super().summary()
@@ -208,24 +198,46 @@ class SubsystemFamily(TheoremFamily):
         self.key = key
         super().__init__(id, title, source, build, index=index, default=default, **kwargs)
 
-    def specialise(self, inputs: dict) -> Theorem:
-        value = inputs[self.index] if self.index in inputs else \
+    def index_value(self, inputs: dict):
+        """N as given, else the number of ``<key>_1, <key>_2, ...`` among the inputs."""
+        return inputs[self.index] if self.index in inputs else \
             count_members(inputs, self.key, where=self.id) or self.default
-        return checked_member(self, self.member(value), inputs)
 
 
-def checked_member(family: TheoremFamily, member: Theorem, inputs: dict) -> Theorem:
-    """``member`` when its LMIs (sizes from the data shapes) are within the current limits; a
-    member is built by the theorem file's own loop, bounded by the family's domain, so the
-    check follows the build and precedes the compile."""
-    value = member.param_decl[family.index].extra.get("default") if family.index in member.param_decl else "?"
-    estimate = budget.Estimate(f"the member for {family.index} = {value}")
-    dims = budget.dims_from_inputs(member, inputs)
-    for lmi in member.lmis:
-        estimate.add_lmis(1, sum(budget.integer(s, dims) for s in lmi.spec.sizes))
-    budget.check(family.id, estimate)
-    return member
+class IntegerRule(MemberRule):
+    """A :class:`TheoremFamily` (:mod:`lmidsl.theorem.members`): the key is the integer its
+    ``build`` loop takes, within the family's domain; the member is built by the theorem file's
+    own loop, so its LMIs (sizes from the data shapes) are checked against the current limits
+    once built, before the compile."""
+
+    def key(self, family, inputs: dict) -> tuple:
+        value = family.index_value(inputs)
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or value != int(value):
+            raise InputError(f"{family.id}: {family.index} must be an integer, got {value!r}")
+        lo, hi = family.domain
+        if not lo <= int(value) <= hi:
+            raise InputError(f"{family.id}: {family.index} = {int(value)} is outside [{lo}, {hi}]")
+        return (int(value),)
+
+    def build(self, family, key: tuple) -> Theorem:
+        (value,) = key
+        if value == family.default:
+            return family
+        member = Theorem(family.id, family.title, family.source, **family.options)
+        family.build(member, value)
+        member.examples = family.examples
+        member.family = family
+        return member
+
+    def admit(self, family, member, inputs: dict) -> Theorem:
+        value = member.param_decl[family.index].extra.get("default") if family.index in member.param_decl else "?"
+        estimate = budget.Estimate(f"the member for {family.index} = {value}")
+        dims = budget.dims_from_inputs(member, inputs)
+        for lmi in member.lmis:
+            estimate.add_lmis(1, sum(budget.integer(s, dims) for s in lmi.spec.sizes))
+        budget.check(family.id, estimate)
+        return member
 
 
 __all__ = ["TheoremFamily", "SubsystemFamily", "Family", "member_name", "member_label", "count_members",
-           "checked_member"]
+           "IntegerRule"]

@@ -41,6 +41,7 @@ from ..symbolic.numbers import finite_matrix
 from ..symbolic.symbols import Dim
 from .structure import check_declaration, check_structure, split_value
 from . import budget
+from .members import MemberRule
 from .values import LMI
 
 
@@ -234,10 +235,18 @@ def sizes_from_inputs(template, inputs: dict) -> dict:
     return sizes
 
 
-def check_member_size(template, sizes: dict, inputs: dict) -> None:
-    """Refuse, before it is built, a member whose LMIs exceed the current limits
+class IndexSetRule(MemberRule):
+    """Index sets (:mod:`lmidsl.theorem.members`): the key is the sizes of the index sets; a
+    member whose LMIs exceed the current limits is refused before it is built
     (:mod:`lmidsl.theorem.budget`: the estimate from the statement and the data shapes)."""
-    budget.check(template.id, budget.index_set_estimate(template, sizes, inputs))
+
+    def key(self, theorem, inputs: dict) -> tuple:
+        sizes = sizes_from_inputs(theorem, inputs)
+        budget.check(theorem.id, budget.index_set_estimate(theorem, sizes, inputs))
+        return tuple(sorted(sizes.items()))
+
+    def build(self, theorem, key: tuple):
+        return build_member(theorem, dict(key))
 
 
 def member_name(base: str, numbers: tuple) -> str:
@@ -398,4 +407,4 @@ def flatten_inputs(template, inputs: dict, sizes: dict) -> dict:
 
 
 __all__ = ["IndexSet", "IndexedFamily", "CoefficientFamily", "Quantifier", "build_member",
-           "flatten_inputs", "sizes_from_inputs", "quantifier_for", "check_member_size"]
+           "flatten_inputs", "sizes_from_inputs", "quantifier_for", "IndexSetRule"]

@@ -55,6 +55,7 @@ from ..symbolic.simplex import (HomogeneousPolynomial, coefficient_blocks, expon
                                 vertex_exponents)
 from ..symbolic.symbols import DataMatrix
 from .budget import check, robust_estimate
+from .members import MemberRule
 from .theorem import Theorem
 from .values import LMI
 
@@ -251,15 +252,8 @@ class RobustTheorem(Theorem):
                              f"{int(np.prod(sizes))} vertices, but {count} are given under 'vertices'")
         return sizes
 
-    def specialise(self, inputs: dict) -> Theorem:
-        """The member for the inputs' number of vertices, ``degree`` and ``polya``."""
-        sizes = self.sizes_for(inputs)
-        degree = _integer(self.id, "degree", inputs.get("degree", self.param_decl["degree"].extra["default"]),
-                          0, MAX_DEGREE)
-        polya = _integer(self.id, "polya", inputs.get("polya", self.param_decl["polya"].extra["default"]),
-                         0, MAX_POLYA)
-        check(self.id, self.estimate(sizes, degree, polya, inputs))
-        return self.member(sizes, degree, polya)
+    def member_rule(self):
+        return SimplexRule()
 
     def estimate(self, sizes: tuple, degree: int, polya: int, inputs: dict | None = None):
         """The size of the member for these sizes and degrees, before it is built
@@ -273,9 +267,9 @@ class RobustTheorem(Theorem):
         return robust_estimate(self, tuple(sizes), degree, polya, inputs or {}, lmi_degrees)
 
     def member(self, sizes: tuple, degree: int, polya: int) -> Theorem:
-        """The coefficient theorem for these sizes and degrees (built once, cached)."""
+        """The coefficient theorem for these sizes and degrees (:func:`lmidsl.theorem.members.specialise`)."""
         key = (tuple(sizes), int(degree), int(polya))
-        stamp = key + (self.fingerprint(),)          # a changed declaration expands afresh
+        stamp = (key, self.fingerprint())            # a changed declaration expands afresh
         if stamp not in self._members:
             self._members[stamp] = self._expand(*key)
         return self._members[stamp]
@@ -403,6 +397,24 @@ class RobustTheorem(Theorem):
         return out
 
 
+class SimplexRule(MemberRule):
+    """A :class:`RobustTheorem` (:mod:`lmidsl.theorem.members`): the key is the simplices' vertex
+    counts, ``degree`` and ``polya``; the member's size is estimated from the statement and refused
+    past the limits before it is expanded."""
+
+    def key(self, theorem, inputs: dict) -> tuple:
+        sizes = theorem.sizes_for(inputs)
+        degree = _integer(theorem.id, "degree", inputs.get("degree", theorem.param_decl["degree"].extra["default"]),
+                          0, MAX_DEGREE)
+        polya = _integer(theorem.id, "polya", inputs.get("polya", theorem.param_decl["polya"].extra["default"]),
+                         0, MAX_POLYA)
+        check(theorem.id, theorem.estimate(sizes, degree, polya, inputs))
+        return (tuple(sizes), degree, polya)
+
+    def build(self, theorem, key: tuple) -> Theorem:
+        return theorem._expand(*key)
+
+
 def _integer(theorem_id: str, name: str, value, low: int, high: int) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or value != int(value):
         raise InputError(f"{theorem_id}: {name} must be an integer, got {value!r}")
@@ -425,4 +437,4 @@ def vertex_matrices(instance, name: str) -> list:
     return list(value) if isinstance(value, list) else [value]
 
 
-__all__ = ["RobustTheorem", "RobustMember", "Simplex", "Rate", "vertex_matrices"]
+__all__ = ["RobustTheorem", "RobustMember", "Simplex", "Rate", "SimplexRule", "vertex_matrices"]

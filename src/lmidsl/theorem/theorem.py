@@ -26,6 +26,7 @@ from ..symbolic.symbols import (ConstantMatrix, DataMatrix, DerivedParam, as_sym
                       ScalarVariable, StructuredVariable, SymmetricDataMatrix, SymmetricVariable,
                       Variable, metadata_snapshot, restore_metadata)
 from . import index_set as _ix
+from .members import specialise
 from .values import (DESIGN_KINDS, FIGURES, LATEX_RENDERER, LMI, TIME_DOMAINS, AnalysisLink, Bisection, BoundedRealForm, StateFeedbackForm,
                      Declaration, Derivation, ErrorSystemLink, Example, FactorStep, SignalScaling, Source,
                      check_provenance)
@@ -282,16 +283,14 @@ class Theorem:
         return family
 
     def specialise(self, inputs: dict) -> "Theorem":
-        """The theorem for these inputs: itself, or, for a theorem with index sets, the member
-        for the sizes the inputs give (built once per sizes, see :mod:`lmidsl.theorem.index_set`)."""
-        if not self.index_sets:
-            return self
-        sizes = _ix.sizes_from_inputs(self, inputs)
-        _ix.check_member_size(self, sizes, inputs)
-        key = (tuple(sorted(sizes.items())), self.fingerprint())
-        if key not in self._members:
-            self._members[key] = _ix.build_member(self, sizes)
-        return self._members[key]
+        """The theorem for these inputs: itself, or the member of a family the inputs select
+        (:func:`lmidsl.theorem.members.specialise`, the one family protocol)."""
+        return specialise(self, inputs)
+
+    def member_rule(self):
+        """How this theorem selects its members (:mod:`lmidsl.theorem.members`): by the sizes of
+        its index sets, or None (no family)."""
+        return _ix.IndexSetRule() if self.index_sets else None
 
     def fingerprint(self) -> tuple:
         """What a derived object (a member, a map of the objective) depends on, by content or by
