@@ -28,10 +28,22 @@ def level_words(verdict) -> str:
 
 
 def format_solution(sol) -> str:
+    """The text of ``lmidsl solve``: the headline as the verdict states it, then each section."""
     head = f"{sol.theorem}" + (f" [{sol.example}]" if sol.example else "")
     lines = [head, f"  backend {sol.backend}, solver {sol.solver}: {sol.status}"
              + (f" ({sol.message})" if sol.message else "")]
-    verdict = sol.verdict
+    for section in (_headline, _scaling, _backoff, _reported, _lmis, _design, _analysis, _notes):
+        lines += section(sol)
+    lines.append("  verdict: " + sol.verdict.line())
+    if sol.times:
+        lines.append("  times: " + ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in sol.times.items()))
+    return "\n".join(lines)
+
+
+def _headline(sol) -> list[str]:
+    """The objective, the headline level (whose it is), the other levels, the bracket, the
+    infeasibility proof."""
+    verdict, lines = sol.verdict, []
     theorem = sol.instance.theorem if sol.instance is not None else None
     if sol.objective is not None and (theorem is None or theorem.objective is not None):
         lines.append(f"  objective = {sol.objective:.8g}")
@@ -46,73 +58,89 @@ def format_solution(sol) -> str:
         proof = sol.infeasibility
         lines.append("  infeasibility: " + (f"proved ({proof.route}, {proof.source} certificate)" if proof.proved
                                             else f"not proved ({proof.why})"))
-    scaling = sol.scaling
-    if scaling is not None and scaling.records:
-        for rec in scaling.records:
-            lines.append(f"  scaling: {rec.signal} = diag({', '.join(f'{f:g}' for f in rec.factors)}) "
-                         f"{rec.signal}' ({rec.how}); solved on the scaled data, design mapped back")
+    return lines
+
+
+def _scaling(sol) -> list[str]:
+    records = sol.scaling.records if sol.scaling is not None else []
+    return [f"  scaling: {rec.signal} = diag({', '.join(f'{f:g}' for f in rec.factors)}) "
+            f"{rec.signal}' ({rec.how}); solved on the scaled data, design mapped back" for rec in records]
+
+
+def _backoff(sol) -> list[str]:
     backoff = sol.backoff
-    if backoff and backoff.get("failed"):
-        lines.append(f"  back-off δ = {backoff['delta']:g} FAILED: {backoff['failed']}; this is the optimum")
-    elif backoff:
-        lines.append(f"  back-off δ = {backoff['delta']:g}: objective {backoff['objective_opt']:.8g} -> "
-                     f"{backoff['objective']:.8g} (gamma {backoff['gamma_opt']:.8g} -> {backoff['gamma']:.8g}), "
-                     f"{backoff['solves']} solves")
-        if backoff.get("reason"):
-            lines.append(f"    automatic back-off: {backoff['reason']}")
-        for name, before in backoff["cond_before"].items():
-            after = backoff["cond_after"].get(name, {}).get("cond")
-            if after is not None:
-                lines.append(f"    cond({name}): {before['cond']:.3g} at the optimum -> "
-                             f"{after:.3g} at the back-off point")
-        rec_before = backoff.get("recovery_cond_before")
-        if isinstance(rec_before, list):
-            lines.append("    at the optimum the recovery would invert: "
-                         + ", ".join(f"{r['matrix']} ({r['cond']:.3g})" for r in rec_before))
-    analysis = sol.analysis
+    if not backoff:
+        return []
+    if backoff.get("failed"):
+        return [f"  back-off δ = {backoff['delta']:g} FAILED: {backoff['failed']}; this is the optimum"]
+    lines = [f"  back-off δ = {backoff['delta']:g}: objective {backoff['objective_opt']:.8g} -> "
+             f"{backoff['objective']:.8g} (gamma {backoff['gamma_opt']:.8g} -> {backoff['gamma']:.8g}), "
+             f"{backoff['solves']} solves"]
+    if backoff.get("reason"):
+        lines.append(f"    automatic back-off: {backoff['reason']}")
+    for name, before in backoff["cond_before"].items():
+        after = backoff["cond_after"].get(name, {}).get("cond")
+        if after is not None:
+            lines.append(f"    cond({name}): {before['cond']:.3g} at the optimum -> {after:.3g} at the back-off point")
+    rec_before = backoff.get("recovery_cond_before")
+    if isinstance(rec_before, list):
+        lines.append("    at the optimum the recovery would invert: "
+                     + ", ".join(f"{r['matrix']} ({r['cond']:.3g})" for r in rec_before))
+    return lines
+
+
+def _reported(sol) -> list[str]:
+    lines = []
     for name, value in sol.reported.items():
-        other = analysis.reported.get(name) if analysis is not None else None
+        other = sol.analysis.reported.get(name) if sol.analysis is not None else None
         cmp = "" if other is None else f"   (analysis: {other:.8g}, rel. diff {abs(other - value) / max(abs(value), 1e-300):.1e})"
         lines.append(f"  {name:<9} = {value:.8g}{cmp}")
+    return lines
+
+
+def _lmis(sol) -> list[str]:
+    """The LMIs at the point (largest eigenvalue, proof) and the feasp diagnosis."""
+    lines = []
     if sol.lmis:
         lines.append(f"  LMIs at the returned point (largest eigenvalue of N in N < 0; margin {sol.margin:g}):")
         for r in sol.lmis:
-            where = f" @ vertex {r.vertex}" if r.vertex is not None else ""
-            where += f" @ {r.point}" if getattr(r, "point", "") else ""
-            mark = "holds" if r.max_eig < 0 else "VIOLATED"
-            if r.proof is not None:
-                mark += f", {r.proof}"
+            where = (f" @ vertex {r.vertex}" if r.vertex is not None else "") + (f" @ {r.point}" if r.point else "")
+            mark = ("holds" if r.max_eig < 0 else "VIOLATED") + (f", {r.proof}" if r.proof is not None else "")
             lines.append(f"    {r.label + where:<30} {r.max_eig: .3e}  ({r.size}x{r.size}, {mark})")
     if sol.feasp is not None:
         lines.append(format_feasp(sol.feasp, "  "))
-    if sol.recovered:
-        lines.append("  recovered:")
-        lines += [format_matrix(k, v, "    ") for k, v in sol.recovered.items()]
+    return lines
+
+
+def _design(sol) -> list[str]:
+    lines = ["  recovered:"] + [format_matrix(k, v, "    ") for k, v in sol.recovered.items()] if sol.recovered else []
     for inv in sol.inverted:
         note = f" ({inv['note']})" if inv.get("note") else ""
         lines.append(f"  inverted {inv['matrix']}: condition number {inv['cond']:.3g}{note}")
+    return lines
+
+
+def _analysis(sol) -> list[str]:
+    """The delivered design's analysis certificate (level or feasibility criterion)."""
     analysis = sol.analysis
-    if analysis is not None:
-        passed = "certified" if analysis.passed else "NOT certified"
-        g = analysis.status if analysis.gamma is None else f"gamma = {analysis.gamma:.8g}"
-        if analysis.criterion == "feasible":
-            g = "feasible with the design fixed" if analysis.passed else f"{analysis.status}, not proved feasible"
-        if getattr(analysis, "method", "min") == "level" and analysis.gamma is not None:
-            low = "" if analysis.minimum is None else f", solver minimum {analysis.minimum:.6g} not strictly feasible"
-            g += f" (point inside the strict set at level {analysis.synthesis_gamma or analysis.minimum:.6g}{low})"
-        via = f" [{', '.join(analysis.solvers)}]" if getattr(analysis, "solvers", None) else ""
-        noun = design_kind(sol.design.kind).noun if sol.design is not None else "design"
-        lines.append(f"  analysis {analysis.theorem}{via} of the recovered {noun}: {g} ({passed})")
-        for rep in getattr(analysis, "feasp", []):
-            lines.append(format_feasp(rep, "    "))
-    for note in sol.notes:
-        lines.append(f"  note: {note}")
-    for check in getattr(sol, "checks", []):
-        lines.append(f"  check {check.name}: {'passed' if check.passed else 'FAILED'}: {check.summary}")
-    lines.append("  verdict: " + verdict.line())
-    if sol.times:
-        lines.append("  times: " + ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in sol.times.items()))
-    return "\n".join(lines)
+    if analysis is None:
+        return []
+    passed = "certified" if analysis.passed else "NOT certified"
+    g = analysis.status if analysis.gamma is None else f"gamma = {analysis.gamma:.8g}"
+    if analysis.criterion == "feasible":
+        g = "feasible with the design fixed" if analysis.passed else f"{analysis.status}, not proved feasible"
+    if analysis.method == "level" and analysis.gamma is not None:
+        low = "" if analysis.minimum is None else f", solver minimum {analysis.minimum:.6g} not strictly feasible"
+        g += f" (point inside the strict set at level {analysis.synthesis_gamma or analysis.minimum:.6g}{low})"
+    via = f" [{', '.join(analysis.solvers)}]" if analysis.solvers else ""
+    noun = design_kind(sol.design.kind).noun if sol.design is not None else "design"
+    return ([f"  analysis {analysis.theorem}{via} of the recovered {noun}: {g} ({passed})"]
+            + [format_feasp(rep, "    ") for rep in analysis.feasp])
+
+
+def _notes(sol) -> list[str]:
+    return ([f"  note: {note}" for note in sol.notes]
+            + [f"  check {c.name}: {'passed' if c.passed else 'FAILED'}: {c.summary}" for c in sol.checks])
 
 
 def format_verification(result) -> str:
