@@ -5,9 +5,9 @@ recovery included; the first block that differs is named with both expressions."
 from __future__ import annotations
 
 from ..errors import InputError
-from ..studies.derivation import check_theorem
 from ..render.terminal import echo
-from .common import print_json
+from ..theorem.registry import get_theorem
+from .common import heavy, print_json
 
 ORDER = 80
 
@@ -37,7 +37,9 @@ def parse_dims(text: str | None) -> dict | None:
 def run(args):
     if args.points < 1:
         raise InputError("--points must be at least 1")
-    results = check_theorem(args.theorem, points=args.points, seed=args.seed, dims=parse_dims(args.dims))
+    get_theorem(args.theorem)          # an unknown id is a one-line error, before sympy's checks are imported
+    results = heavy("studies.derivation").check_theorem(args.theorem, points=args.points, seed=args.seed,
+                                                        dims=parse_dims(args.dims))
     code = 0 if all(r.holds for r in results) else 1
     if args.json:
         print_json({"theorem": args.theorem, "holds": code == 0, "derivations": [r.as_dict() for r in results]})

@@ -10,11 +10,10 @@ import tempfile
 from pathlib import Path
 
 from ..errors import InputError, LmidslError
-from ..pipeline import solve
 from ..render.latex_document import lmi_snippet, theorem_latex
 from ..studies.store import atomic_path, atomic_write_text, check_output_file
 from ..theorem.registry import get_example, get_theorem
-from .common import add_solve_arguments, instance_spec, print_json, refuse, solve_arguments
+from .common import add_solve_arguments, heavy, instance_spec, print_json, refuse, solve_arguments
 
 ORDER = 40
 
@@ -121,7 +120,7 @@ def run(args):
     solution = None
     if args.example is not None or args.data is not None or args.overrides:
         # solved: the document adds the numbers (γ, the design)
-        solution = solve(theorem, **solve_arguments(args), **instance_spec(args))
+        solution = heavy("pipeline").solve(theorem, **solve_arguments(args), **instance_spec(args))
     else:
         refuse(args, "the document of a theorem alone solves nothing; give --example, --data or --set",
                "--backend", "--solver", "--solver-option", "--margin")
