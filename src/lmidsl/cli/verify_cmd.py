@@ -80,9 +80,9 @@ def load_disturbance(arg: str):
 
 
 def run(args):
+    get_theorem(args.theorem)          # an unknown id is a one-line error, before the solving stack is imported
     design, disturbance = load_design(args.design), load_disturbance(args.disturbance)
     solving, spec = solve_arguments(args), instance_spec(args)
-    get_theorem(args.theorem)          # an unknown id is a one-line error, before the solving stack is imported
     verify, Stages = heavy("studies.verify").verify, heavy("render.progress").Stages
     with Stages(f"verify {args.theorem}", enabled=show_progress(args)) as stages:
         result = verify(args.theorem, design=design, gamma=args.gamma, runs=args.runs, seed=args.seed,

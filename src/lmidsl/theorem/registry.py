@@ -224,6 +224,23 @@ def _theorems_of(kind: str, where) -> list:
     return theorems
 
 
+def _load_alone(module_name: str, theorem_id: str, dirs: tuple) -> tuple | None:
+    """(Theorem, file) of ``theorem_id`` read alone from its module's build-cache entry
+    (:func:`.build_cache.load_one`: one theorem unpickled, not the whole package), or None: the
+    module's theorems are already loaded in this process (one object per theorem), two modules
+    share the name (both must be read), or the cache has no valid entry with that id."""
+    places = _module_locations(dirs)[module_name]
+    if (module_name, dirs) in _LOADED or len(places) != 1:
+        return None
+    kind, where = places[0]
+    theorem = build_cache.load_one(_label(kind, where), _location_files(kind, where), theorem_id)
+    return None if theorem is None else (theorem, _label(kind, where))
+
+
+#: the (module name, theorem path) whose theorems :func:`_load_module` has loaded in this process
+_LOADED: set = set()
+
+
 def _label(kind: str, where) -> str:
     return f"{BUILTIN_PACKAGE}.{where}" if kind == "builtin" else str(where)
 
@@ -234,6 +251,7 @@ def _load_module(module_name: str, dirs: tuple) -> dict[str, tuple]:
     that fails to load is skipped and recorded (:func:`load_problems`); an id defined twice is
     an error naming both files."""
     found: dict[str, tuple] = {}
+    _LOADED.add((module_name, dirs))
     for kind, where in _module_locations(dirs).get(module_name, []):
         try:
             theorems = _theorems_of(kind, where)
@@ -315,6 +333,10 @@ def get_theorem(theorem_id: str) -> Theorem:
             raise InputError(f"unknown theorem {theorem_id!r}{did_you_mean(theorem_id, known)}; "
                              f"`lmidsl list` shows the {len(known)} theorems")
     if module_name in _module_locations(dirs):
+        alone = _load_alone(module_name, theorem_id, dirs)
+        if alone is not None:
+            _refuse_redefinition(theorem_id, alone[1], dirs)
+            return alone[0]
         theorems = _load_module(module_name, dirs)
         if theorem_id in theorems:
             _refuse_redefinition(theorem_id, theorems[theorem_id][1], dirs)
