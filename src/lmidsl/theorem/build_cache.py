@@ -137,24 +137,13 @@ def load(label: str, files: list[Path]) -> list | None:
     return None if entry is None else _unpickled(entry, entry["theorems"])
 
 
-#: theorems read alone in this process, by (entry file, id): one object per theorem while the
-#: entry (so the theorem's files) stays the same
-_ALONE: dict = {}
-
-
 def load_one(label: str, files: list[Path], theorem_id: str):
     """The theorem ``theorem_id`` of the module ``label`` built from ``files``, unpickled alone,
     or None (no valid entry, or no theorem of that id in it)."""
     entry = _entry(label, files)
     if entry is None or theorem_id not in entry["alone"]:
         return None
-    key = (entry["path"], theorem_id)
-    if key not in _ALONE:
-        theorem = _unpickled(entry, entry["alone"][theorem_id])
-        if theorem is None:
-            return None
-        _ALONE[key] = theorem
-    return _ALONE[key]
+    return _unpickled(entry, entry["alone"][theorem_id])
 
 
 def _installation_paths() -> list[Path]:

@@ -224,11 +224,13 @@ def _theorems_of(kind: str, where) -> list:
     return theorems
 
 
+@lru_cache(maxsize=None)
 def _load_alone(module_name: str, theorem_id: str, dirs: tuple) -> tuple | None:
     """(Theorem, file) of ``theorem_id`` read alone from its module's build-cache entry
     (:func:`.build_cache.load_one`: one theorem unpickled, not the whole package), or None: the
     module's theorems are already loaded in this process (one object per theorem), two modules
-    share the name (both must be read), or the cache has no valid entry with that id."""
+    share the name (both must be read), or the cache has no valid entry with that id.  Read once
+    per process, as :func:`_load_module` loads a module once."""
     places = _module_locations(dirs)[module_name]
     if (module_name, dirs) in _LOADED or len(places) != 1:
         return None
