@@ -1,8 +1,8 @@
 """Start-up: a command imports what its work needs, and no more (the modules a process ends
 with are read, never a clock).
 
-* An unknown theorem id is answered from the ``list`` index, before sympy or the solving stack
-  is imported, by the commands that take one theorem and check it first (``solve``, ``latex``,
+* An unknown theorem id (of no module, or not defined by the module it names) is answered from
+  the build cache and the ``list`` index, before sympy or the solving stack is imported, by the commands that take one theorem and check it first (``solve``, ``latex``,
   ``verify``, ``simulate``, ``derive-check``, ``reproduce --theorem``).
 * ``lmidsl latex THEOREM`` needs sympy and the theorem, not scipy, the solvers or the pipeline.
 * A theorem asked for by id is unpickled alone from its package's build-cache entry (the symbol
@@ -71,11 +71,16 @@ def warm(tmp_path_factory):
 
 @pytest.mark.parametrize("argv", [["solve", "nosuch.thm"], ["latex", "nosuch.thm"], ["verify", "nosuch.thm"],
                                   ["simulate", "nosuch.thm"], ["derive-check", "nosuch.thm"],
-                                  ["reproduce", "--theorem", "nosuch.thm"]], ids=lambda a: a[0])
+                                  ["reproduce", "--theorem", "nosuch.thm"], ["solve", "textbook.brl_cx"]],
+                         ids=lambda a: " ".join(a))
 def test_an_unknown_theorem_is_one_line_before_sympy_is_imported(warm, argv):
+    """``textbook.brl_cx``: a module that exists, an id it does not define (its cache entry, valid
+    for its files as they are, says so: nothing is unpickled)."""
     code, out, err, modules = _run(warm, *argv)
+    theorem = argv[-1]
     assert code == 2 and out == ""
-    assert err.startswith("error: unknown theorem 'nosuch.thm'") and len(err.splitlines()) == 1, err
+    assert err.startswith(f"error: unknown theorem '{theorem}'") and len(err.splitlines()) == 1, err
+    assert theorem != "textbook.brl_cx" or "did you mean 'textbook.brl_ct'" in err
     assert not _imported(modules, ("sympy",) + SOLVING)
 
 
@@ -135,7 +140,7 @@ def test_one_theorem_read_alone_is_that_of_the_file_as_it_is_now(tmp_path, monke
     one = build_cache.load_one(label, files, "pair.t1")
     assert one is not module.THEOREMS[0] and one.title == "first"
     assert build_cache.load_one(label, files, "pair.t2").title == "second"
-    assert build_cache.load_one(label, files, "pair.t3") is None          # not in the module
+    assert build_cache.load_one(label, files, "pair.t3") is build_cache.ABSENT      # not in the module
     path.write_text(TWO.format(one="edited"))                             # another key: not answered
     assert build_cache.load_one(label, files, "pair.t1") is None
     monkeypatch.setenv("LMIDSL_CACHE", "off")

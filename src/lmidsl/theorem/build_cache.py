@@ -137,12 +137,19 @@ def load(label: str, files: list[Path]) -> list | None:
     return None if entry is None else _unpickled(entry, entry["theorems"])
 
 
+#: :func:`load_one`'s answer when the module, as its files are now, defines no theorem of that id
+ABSENT = object()
+
+
 def load_one(label: str, files: list[Path], theorem_id: str):
-    """The theorem ``theorem_id`` of the module ``label`` built from ``files``, unpickled alone,
-    or None (no valid entry, or no theorem of that id in it)."""
+    """The theorem ``theorem_id`` of the module ``label`` built from ``files``, unpickled alone;
+    :data:`ABSENT` when the valid entry holds no theorem of that id; None when there is no valid
+    entry (the module must be read)."""
     entry = _entry(label, files)
-    if entry is None or theorem_id not in entry["alone"]:
+    if entry is None:
         return None
+    if theorem_id not in entry["alone"]:
+        return ABSENT
     return _unpickled(entry, entry["alone"][theorem_id])
 
 
