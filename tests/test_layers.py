@@ -78,9 +78,11 @@ def test_each_layer_imports_only_the_layers_below(path, parts):
 
 
 def test_no_import_inside_a_function_except_heavy_optional_ones():
+    """...and a command's own study, which the command line imports when the command runs (the
+    layer check above sees those imports too)."""
     hidden = [f"{path.relative_to(ROOT)}:{lineno} {target}" for path, parts in modules()
               for lineno, target, inner in imported(path, parts)
-              if inner and not target.startswith(LAZY_OK)]
+              if inner and not target.startswith(LAZY_OK) and not (parts[0] == "cli" and target.startswith("lmidsl."))]
     assert not hidden, hidden
 
 

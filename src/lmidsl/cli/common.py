@@ -14,7 +14,6 @@ non-finite number becomes ``null`` and the output says so under ``"notes"``.
 from __future__ import annotations
 
 import argparse
-import importlib
 import os
 import json
 import math
@@ -25,13 +24,6 @@ from ..solver.backends import BACKENDS, DEFAULT_BACKEND, choose_backend, options
 from ..solver.backends.options import check_solver_options, finite_value, solver_settings
 from ..studies.store import strict_json
 from ..theorem.limits import MAX_LMIS, MAX_PSD_ROWS, set_limits
-
-def heavy(name: str):
-    """The module ``lmidsl.<name>``, imported now.  A command imports the solving stack (sympy,
-    scipy, the solvers) and its study through this once its arguments and theorem id are known
-    good, so that a bad input, ``lmidsl latex`` of a theorem and ``lmidsl list`` do not pay for it."""
-    return importlib.import_module(f"lmidsl.{name}")
-
 
 #: the flags every solving command accepts (tests/test_cli_output.py checks each command)
 COMMON_FLAGS = ("--backend", "--solver", "--solver-option", "--margin", "--data", "--set", "--json",

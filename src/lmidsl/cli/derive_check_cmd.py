@@ -7,7 +7,7 @@ from __future__ import annotations
 from ..errors import InputError
 from ..render.terminal import echo
 from ..theorem.registry import get_theorem
-from .common import heavy, print_json
+from .common import print_json
 
 ORDER = 80
 
@@ -38,8 +38,8 @@ def run(args):
     if args.points < 1:
         raise InputError("--points must be at least 1")
     get_theorem(args.theorem)          # an unknown id is a one-line error, before sympy's checks are imported
-    results = heavy("studies.derivation").check_theorem(args.theorem, points=args.points, seed=args.seed,
-                                                        dims=parse_dims(args.dims))
+    from ..studies.derivation import check_theorem
+    results = check_theorem(args.theorem, points=args.points, seed=args.seed, dims=parse_dims(args.dims))
     code = 0 if all(r.holds for r in results) else 1
     if args.json:
         print_json({"theorem": args.theorem, "holds": code == 0, "derivations": [r.as_dict() for r in results]})

@@ -12,7 +12,7 @@ from pathlib import Path
 from ..errors import InputError, LmidslError
 from ..studies.store import atomic_path, atomic_write_text, check_output_file
 from ..theorem.registry import get_example, get_theorem
-from .common import add_solve_arguments, heavy, instance_spec, print_json, refuse, solve_arguments
+from .common import add_solve_arguments, instance_spec, print_json, refuse, solve_arguments
 
 ORDER = 40
 
@@ -97,7 +97,8 @@ def default_tex_name(theorem_id: str) -> Path:
 
 def run(args):
     theorem = get_theorem(args.theorem)
-    latex = heavy("render.latex_document")        # sympy's printer: once the theorem is known
+    # sympy's printer, once the theorem id is known good; the solving stack only to solve
+    from ..render.latex_document import lmi_snippet, theorem_latex
     if args.example is not None:
         get_example(theorem, args.example)
     settings = {"star": r"\star" if args.star == "star" else "*", "he": args.he,
@@ -105,7 +106,7 @@ def run(args):
     if args.lmi is not None:
         refuse(args, "--lmi prints one LMI's LaTeX as the theorem states it", "--example", "--data",
                "--set", "--backend", "--solver", "--solver-option", "--margin", "--pdf", "--output")
-        text = latex.lmi_snippet(theorem, args.lmi, **settings)
+        text = lmi_snippet(theorem, args.lmi, **settings)
         if args.json:
             print_json({"theorem": theorem.id, "lmi": args.lmi, "latex": text})
         else:
@@ -120,11 +121,12 @@ def run(args):
     solution = None
     if args.example is not None or args.data is not None or args.overrides:
         # solved: the document adds the numbers (γ, the design)
-        solution = heavy("pipeline").solve(theorem, **solve_arguments(args), **instance_spec(args))
+        from ..pipeline import solve
+        solution = solve(theorem, **solve_arguments(args), **instance_spec(args))
     else:
         refuse(args, "the document of a theorem alone solves nothing; give --example, --data or --set",
                "--backend", "--solver", "--solver-option", "--margin")
-    text = latex.theorem_latex(theorem, solution, **settings)
+    text = theorem_latex(theorem, solution, **settings)
     out = args.output
     if out is None and args.pdf:
         out = str(default_tex_name(theorem.id))

@@ -7,10 +7,18 @@ study returns them.
 """
 from __future__ import annotations
 
+import importlib
+
 from ..errors import InputError
 from ..theorem.registry import get_theorem
-from .common import (add_output_arguments, add_parallel_arguments, add_solve_arguments, default_local_workers, heavy,
+from .common import (add_output_arguments, add_parallel_arguments, add_solve_arguments, default_local_workers,
                      parallel_spec, print_json, refuse, show_progress, solve_arguments)
+
+
+def _heavy(name: str):
+    """The study and its renderers, imported once the arguments and theorem ids are known good
+    (an unknown ``--theorem`` is answered without the solver stack)."""
+    return importlib.import_module(f"lmidsl.{name}")
 
 ORDER = 30
 
@@ -31,8 +39,8 @@ def register(sub):
 def run(args):
     for tid in args.theorem or []:
         get_theorem(tid)                  # an unknown id is a one-line error, before any heavy import
-    store, study = heavy("studies.store"), heavy("studies.reproduce")
-    Progress, render = heavy("render.progress").Progress, heavy("render.reproduction")
+    store, study = _heavy("studies.store"), _heavy("studies.reproduce")
+    Progress, render = _heavy("render.progress").Progress, _heavy("render.reproduction")
     refuse(args, f"reproduce solves each example on its own data, to compare with what the paper "
                  f"prints; solve other data with `lmidsl solve` or `lmidsl verify` (see {render.REPORT})",
            "--data", "--set")

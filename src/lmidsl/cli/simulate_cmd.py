@@ -9,7 +9,7 @@ from __future__ import annotations
 from ..errors import InputError, NoResultError
 from ..render.terminal import echo
 from ..theorem.registry import get_theorem
-from .common import (add_output_arguments, add_solve_arguments, heavy, instance_spec, nonnegative_int, positive_int,
+from .common import (add_output_arguments, add_solve_arguments, instance_spec, nonnegative_int, positive_int,
                      print_json, refuse, solve_arguments)
 
 ORDER = 40
@@ -32,8 +32,9 @@ def run(args):
     if args.horizon < 1:
         raise InputError("--horizon must be at least 1")
     get_theorem(args.theorem)          # an unknown id is a one-line error, before the solving stack is imported
-    pipeline = heavy("pipeline")
-    instance = pipeline.make_instance(args.theorem, **instance_spec(args))
+    from ..pipeline import make_instance, solve_instance
+    from ..render.table import format_table
+    instance = make_instance(args.theorem, **instance_spec(args))
     theorem = instance.theorem
     solving = solve_arguments(args)
     if theorem.simulator is None:
@@ -43,7 +44,7 @@ def run(args):
         refuse(args, f"{theorem.id} designs nothing, so the simulation solves nothing", "--backend",
                "--solver", "--solver-option", "--margin")
     if theorem.recovery:
-        sol = pipeline.solve_instance(instance, certify=False, **solving)
+        sol = solve_instance(instance, certify=False, **solving)
         if not sol.ok or sol.design is None:
             raise NoResultError(f"{theorem.id}: no design to simulate ({sol.status}"
                                 + (f": {sol.message}" if sol.message else "") + ")")
@@ -57,7 +58,7 @@ def run(args):
     echo(f"{theorem.id}" + (f" [{instance.example}]" if instance.example else "")
           + f": horizon {args.horizon}, test disturbance {args.disturbance}")
     rows = [["" if r.get(k) is None else r[k] for k in table.columns] for r in table.rows]
-    print(heavy("render.table").format_table(list(table.columns.values()), rows))
+    print(format_table(list(table.columns.values()), rows))
     for note in table.notes:
         echo("\n" + note)
     return 0

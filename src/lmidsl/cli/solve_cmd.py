@@ -5,8 +5,7 @@ import argparse
 
 from ..render.terminal import wrap
 from ..theorem.registry import get_theorem
-from .common import (add_solve_arguments, heavy, instance_spec, parse_overrides, print_json, process_age,
-                     solve_arguments)
+from .common import add_solve_arguments, instance_spec, parse_overrides, print_json, process_age, solve_arguments
 
 ORDER = 20
 
@@ -52,24 +51,30 @@ def run(args):
     spec = getattr(get_theorem(args.theorem), "bisection", None)     # a family has none
     if spec is not None and spec.parameter not in parse_overrides(args.overrides):
         return run_bisection(args)     # a GEVP: bisect on the declared parameter (--set it to solve at one value)
-    pipeline = heavy("pipeline")
-    startup = process_age()      # interpreter start, imports (the solving stack's too), argument parsing
-    sol = pipeline.solve(args.theorem, certify=not args.no_certify, scaling=args.scaling, backoff=args.backoff,
-                         bounds=not args.no_bounds, **solve_arguments(args), **instance_spec(args))
+    # the solving stack, imported once the theorem id is known good (an unknown id is answered
+    # from the index, without sympy); the startup reported counts it
+    from ..pipeline import solve
+    from ..render.report import format_solution
+    startup = process_age()
+    sol = solve(args.theorem, certify=not args.no_certify, scaling=args.scaling, backoff=args.backoff,
+                bounds=not args.no_bounds,
+                **solve_arguments(args), **instance_spec(args))
     if startup is not None:     # interpreter start, imports, argument parsing: before the solve
         sol.times = {"startup": startup, **sol.times}
     if args.json:
         print_json(sol.as_dict())
     else:
-        print(wrap(heavy("render.report").format_solution(sol)))
+        print(wrap(format_solution(sol)))
     return 0 if sol.verdict.certified else 1
 
 
 def run_bisection(args):
-    instance = heavy("pipeline").make_instance(args.theorem, **instance_spec(args))
-    result = heavy("studies.bisection").bisect(instance, **solve_arguments(args))
+    from ..pipeline import make_instance
+    from ..render.bisection import format_bisection
+    from ..studies.bisection import bisect
+    result = bisect(make_instance(args.theorem, **instance_spec(args)), **solve_arguments(args))
     if args.json:
         print_json(result.as_dict())
     else:
-        print(wrap(heavy("render.bisection").format_bisection(result)))
+        print(wrap(format_bisection(result)))
     return 0 if result.holds else 1

@@ -6,7 +6,7 @@ import json
 from ..errors import InputError
 from ..symbolic.numbers import finite_matrix
 from ..theorem.registry import get_theorem
-from .common import (add_output_arguments, add_solve_arguments, heavy, instance_spec, nonnegative_int, positive_float,
+from .common import (add_output_arguments, add_solve_arguments, instance_spec, nonnegative_int, positive_float,
                      positive_int, print_json, probability, show_progress, solve_arguments, strict_loads)
 from .solve_cmd import add_backoff_argument
 from ..render.terminal import wrap
@@ -81,9 +81,11 @@ def load_disturbance(arg: str):
 
 def run(args):
     get_theorem(args.theorem)          # an unknown id is a one-line error, before the solving stack is imported
+    from ..render.progress import Stages
+    from ..render.report import format_verification
+    from ..studies.verify import verify
     design, disturbance = load_design(args.design), load_disturbance(args.disturbance)
     solving, spec = solve_arguments(args), instance_spec(args)
-    verify, Stages = heavy("studies.verify").verify, heavy("render.progress").Stages
     with Stages(f"verify {args.theorem}", enabled=show_progress(args)) as stages:
         result = verify(args.theorem, design=design, gamma=args.gamma, runs=args.runs, seed=args.seed,
                         confidence=args.confidence, disturbance=disturbance, horizon=args.horizon,
@@ -91,5 +93,5 @@ def run(args):
     if args.json:
         print_json(result.as_dict())
     else:
-        print(wrap(heavy("render.report").format_verification(result)))
+        print(wrap(format_verification(result)))
     return 0 if result.certified else 1
