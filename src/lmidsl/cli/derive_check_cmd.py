@@ -5,8 +5,8 @@ recovery included; the first block that differs is named with both expressions."
 from __future__ import annotations
 
 from ..errors import InputError
-from ..studies.derivation import check_theorem
 from ..render.terminal import echo
+from ..theorem.registry import get_theorem
 from .common import print_json
 
 ORDER = 80
@@ -37,6 +37,8 @@ def parse_dims(text: str | None) -> dict | None:
 def run(args):
     if args.points < 1:
         raise InputError("--points must be at least 1")
+    get_theorem(args.theorem)          # an unknown id is a one-line error, before sympy's checks are imported
+    from ..studies.derivation import check_theorem
     results = check_theorem(args.theorem, points=args.points, seed=args.seed, dims=parse_dims(args.dims))
     code = 0 if all(r.holds for r in results) else 1
     if args.json:

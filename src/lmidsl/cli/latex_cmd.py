@@ -10,8 +10,6 @@ import tempfile
 from pathlib import Path
 
 from ..errors import InputError, LmidslError
-from ..pipeline import solve
-from ..render.latex_document import lmi_snippet, theorem_latex
 from ..studies.store import atomic_path, atomic_write_text, check_output_file
 from ..theorem.registry import get_example, get_theorem
 from .common import add_solve_arguments, instance_spec, print_json, refuse, solve_arguments
@@ -99,6 +97,8 @@ def default_tex_name(theorem_id: str) -> Path:
 
 def run(args):
     theorem = get_theorem(args.theorem)
+    # sympy's printer, once the theorem id is known good; the solving stack only to solve
+    from ..render.latex_document import lmi_snippet, theorem_latex
     if args.example is not None:
         get_example(theorem, args.example)
     settings = {"star": r"\star" if args.star == "star" else "*", "he": args.he,
@@ -121,6 +121,7 @@ def run(args):
     solution = None
     if args.example is not None or args.data is not None or args.overrides:
         # solved: the document adds the numbers (γ, the design)
+        from ..pipeline import solve
         solution = solve(theorem, **solve_arguments(args), **instance_spec(args))
     else:
         refuse(args, "the document of a theorem alone solves nothing; give --example, --data or --set",

@@ -7,9 +7,8 @@ one row per scenario the simulator runs (e.g. impulse sequences for an impulsive
 from __future__ import annotations
 
 from ..errors import InputError, NoResultError
-from ..pipeline import make_instance, solve_instance
-from ..render.table import format_table
 from ..render.terminal import echo
+from ..theorem.registry import get_theorem
 from .common import (add_output_arguments, add_solve_arguments, instance_spec, nonnegative_int, positive_int,
                      print_json, refuse, solve_arguments)
 
@@ -32,6 +31,9 @@ def register(sub):
 def run(args):
     if args.horizon < 1:
         raise InputError("--horizon must be at least 1")
+    get_theorem(args.theorem)          # an unknown id is a one-line error, before the solving stack is imported
+    from ..pipeline import make_instance, solve_instance
+    from ..render.table import format_table
     instance = make_instance(args.theorem, **instance_spec(args))
     theorem = instance.theorem
     solving = solve_arguments(args)

@@ -3,11 +3,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..pipeline import make_instance, solve
-from ..render.report import format_solution
 from ..render.terminal import wrap
-from ..render.bisection import format_bisection
-from ..studies.bisection import bisect
 from ..theorem.registry import get_theorem
 from .common import add_solve_arguments, instance_spec, parse_overrides, print_json, process_age, solve_arguments
 
@@ -55,6 +51,10 @@ def run(args):
     spec = getattr(get_theorem(args.theorem), "bisection", None)     # a family has none
     if spec is not None and spec.parameter not in parse_overrides(args.overrides):
         return run_bisection(args)     # a GEVP: bisect on the declared parameter (--set it to solve at one value)
+    # the solving stack, imported once the theorem id is known good (an unknown id is answered
+    # from the index, without sympy); the startup reported counts it
+    from ..pipeline import solve
+    from ..render.report import format_solution
     startup = process_age()
     sol = solve(args.theorem, certify=not args.no_certify, scaling=args.scaling, backoff=args.backoff,
                 bounds=not args.no_bounds,
@@ -69,6 +69,9 @@ def run(args):
 
 
 def run_bisection(args):
+    from ..pipeline import make_instance
+    from ..render.bisection import format_bisection
+    from ..studies.bisection import bisect
     result = bisect(make_instance(args.theorem, **instance_spec(args)), **solve_arguments(args))
     if args.json:
         print_json(result.as_dict())

@@ -5,13 +5,11 @@ import json
 
 from ..errors import InputError
 from ..symbolic.numbers import finite_matrix
+from ..theorem.registry import get_theorem
 from .common import (add_output_arguments, add_solve_arguments, instance_spec, nonnegative_int, positive_float,
                      positive_int, print_json, probability, show_progress, solve_arguments, strict_loads)
 from .solve_cmd import add_backoff_argument
-from ..render.progress import Stages
-from ..render.report import format_verification
 from ..render.terminal import wrap
-from ..studies.verify import verify
 
 ORDER = 25
 
@@ -82,6 +80,10 @@ def load_disturbance(arg: str):
 
 
 def run(args):
+    get_theorem(args.theorem)          # an unknown id is a one-line error, before the solving stack is imported
+    from ..render.progress import Stages
+    from ..render.report import format_verification
+    from ..studies.verify import verify
     design, disturbance = load_design(args.design), load_disturbance(args.disturbance)
     solving, spec = solve_arguments(args), instance_spec(args)
     with Stages(f"verify {args.theorem}", enabled=show_progress(args)) as stages:

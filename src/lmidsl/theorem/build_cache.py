@@ -19,6 +19,11 @@ cloudpickle and loaded in its place when nothing it was built from has changed:
 * An entry that cannot be read (another format, a truncated file) is removed and the module is
   built; a module that cannot be pickled is simply not cached.  One entry per module is kept,
   and at most :data:`MAX_ENTRIES` in all.
+* **One theorem alone**: the entry also holds each theorem pickled on its own (with what it
+  links to, e.g. the analysis theorem it names, and its symbols' metadata: the form a Dask worker
+  receives), so that ``lmidsl solve textbook.brl_ct`` unpickles one theorem, not the 53 of the
+  package (:func:`load_one`).  It is read under the same key and the same dependency check as
+  the whole module: a theorem file that changed is never answered from the cache.
 
 Where: ``cache_dir()/theorems`` (:mod:`.index`: ``LMIDSL_CACHE_DIR``, ``XDG_CACHE_HOME``,
 ``~/.cache/lmidsl``).  ``LMIDSL_CACHE=off`` (or ``0``, ``no``) turns the cache off.
@@ -37,7 +42,7 @@ from pathlib import Path
 
 from .index import cache_dir, write_atomically
 
-FORMAT = 1
+FORMAT = 2
 MAX_ENTRIES = 200          # theorem modules with an entry; the least recently written go first
 _LMIDSL_ROOT = Path(__file__).resolve().parents[1]
 
@@ -96,9 +101,9 @@ def _entry_path(label: str, key: str) -> Path:
     return cache_dir() / "theorems" / f"{_slug(label)}-{key}.pickle"
 
 
-def load(label: str, files: list[Path]) -> list | None:
-    """The cached theorems of the module ``label`` built from ``files``, or None.  (Unpickling a
-    :class:`~lmidsl.theorem.theorem.Theorem` restores its symbols' metadata.)"""
+def _entry(label: str, files: list[Path]) -> dict | None:
+    """The entry of the module ``label`` built from ``files`` when it is valid (this format, its
+    recorded dependencies unchanged), else None; a damaged entry is removed."""
     if not enabled():
         return None
     path = _entry_path(label, entry_key(label, files))
@@ -110,11 +115,42 @@ def load(label: str, files: list[Path]) -> list | None:
         entry = pickle.loads(data)
         if entry["format"] != FORMAT or any(_file_digest(Path(p)) != h for p, h in entry["dependencies"]):
             return None
-        theorems = pickle.loads(entry["theorems"])
     except Exception:       # a stale or damaged entry is rebuilt, never trusted
         path.unlink(missing_ok=True)
         return None
-    return theorems
+    entry["path"] = path
+    return entry
+
+
+def _unpickled(entry: dict, data: bytes):
+    try:
+        return pickle.loads(data)
+    except Exception:       # a damaged entry is rebuilt, never trusted
+        entry["path"].unlink(missing_ok=True)
+        return None
+
+
+def load(label: str, files: list[Path]) -> list | None:
+    """The cached theorems of the module ``label`` built from ``files``, or None.  (Unpickling a
+    :class:`~lmidsl.theorem.theorem.Theorem` restores its symbols' metadata.)"""
+    entry = _entry(label, files)
+    return None if entry is None else _unpickled(entry, entry["theorems"])
+
+
+#: :func:`load_one`'s answer when the module, as its files are now, defines no theorem of that id
+ABSENT = object()
+
+
+def load_one(label: str, files: list[Path], theorem_id: str):
+    """The theorem ``theorem_id`` of the module ``label`` built from ``files``, unpickled alone;
+    :data:`ABSENT` when the valid entry holds no theorem of that id; None when there is no valid
+    entry (the module must be read)."""
+    entry = _entry(label, files)
+    if entry is None:
+        return None
+    if theorem_id not in entry["alone"]:
+        return ABSENT
+    return _unpickled(entry, entry["alone"][theorem_id])
 
 
 def _installation_paths() -> list[Path]:
@@ -152,12 +188,17 @@ def store(label: str, files: list[Path], module, theorems: list, new_modules: li
     cloudpickle.register_pickle_by_value(module)
     try:
         pickled = cloudpickle.dumps(theorems, protocol=pickle.HIGHEST_PROTOCOL)
+        alone = {}
+        for theorem in theorems:         # the first of an id, as the registry keeps it
+            if theorem.id not in alone:
+                alone[theorem.id] = cloudpickle.dumps(theorem, protocol=pickle.HIGHEST_PROTOCOL)
     except Exception:
         return
     finally:
         cloudpickle.unregister_pickle_by_value(module)
     path = _entry_path(label, entry_key(label, files))
-    entry = {"format": FORMAT, "dependencies": _dependencies(new_modules, files), "theorems": pickled}
+    entry = {"format": FORMAT, "dependencies": _dependencies(new_modules, files), "theorems": pickled,
+             "alone": alone}
     data = pickle.dumps(entry, protocol=pickle.HIGHEST_PROTOCOL)
     write_atomically(path, data, replaces=f"{_slug(label)}-*.pickle")      # one entry per module
     _evict(path.parent)

@@ -224,6 +224,28 @@ def _theorems_of(kind: str, where) -> list:
     return theorems
 
 
+@lru_cache(maxsize=None)
+def _load_alone(module_name: str, theorem_id: str, dirs: tuple) -> tuple | None:
+    """(Theorem, file) of ``theorem_id`` read alone from its module's build-cache entry
+    (:func:`.build_cache.load_one`: one theorem unpickled, not the whole package); (None, file)
+    when that entry, valid for the module's files as they are, holds no theorem of that id; None
+    when the module must be read: its theorems are already loaded in this process (one object per
+    theorem), two modules share the name, or the cache has no valid entry.  Read once per process,
+    as :func:`_load_module` loads a module once."""
+    places = _module_locations(dirs)[module_name]
+    if (module_name, dirs) in _LOADED or len(places) != 1:
+        return None
+    kind, where = places[0]
+    theorem = build_cache.load_one(_label(kind, where), _location_files(kind, where), theorem_id)
+    if theorem is None:
+        return None
+    return (None if theorem is build_cache.ABSENT else theorem), _label(kind, where)
+
+
+#: the (module name, theorem path) whose theorems :func:`_load_module` has loaded in this process
+_LOADED: set = set()
+
+
 def _label(kind: str, where) -> str:
     return f"{BUILTIN_PACKAGE}.{where}" if kind == "builtin" else str(where)
 
@@ -234,6 +256,7 @@ def _load_module(module_name: str, dirs: tuple) -> dict[str, tuple]:
     that fails to load is skipped and recorded (:func:`load_problems`); an id defined twice is
     an error naming both files."""
     found: dict[str, tuple] = {}
+    _LOADED.add((module_name, dirs))
     for kind, where in _module_locations(dirs).get(module_name, []):
         try:
             theorems = _theorems_of(kind, where)
@@ -317,24 +340,29 @@ def _indexed_ids() -> list[str] | None:
 
 
 def get_theorem(theorem_id: str) -> Theorem:
-    """The theorem with this id, or an error listing the known ids (an id of no theorem module is
-    answered from the index, without running every theorem file)."""
+    """The theorem with this id, or an error listing the known ids.  Only the module the id
+    names is read (from the build cache, the one theorem alone); an id it does not define is
+    answered from the index of ``lmidsl list``, without running or reading every theorem file."""
     module_name = theorem_id.split(".", 1)[0]
     dirs = _dirs_key()
-    if module_name not in _module_locations(dirs):
-        known = _indexed_ids()
-        if known is not None and theorem_id not in known:
-            raise InputError(f"unknown theorem {theorem_id!r}{did_you_mean(theorem_id, known)}; "
-                             f"`lmidsl list` shows the {len(known)} theorems")
     if module_name in _module_locations(dirs):
-        theorems = _load_module(module_name, dirs)
-        if theorem_id in theorems:
-            _refuse_redefinition(theorem_id, theorems[theorem_id][1], dirs)
-            return theorems[theorem_id][0]
-        for _, where in _module_locations(dirs)[module_name]:   # the file named by the id is broken
-            if str(where) in _PROBLEMS:
-                _REPORTED.add(str(where))
-                raise _PROBLEMS[str(where)]
+        alone = _load_alone(module_name, theorem_id, dirs)
+        if alone is not None and alone[0] is not None:
+            _refuse_redefinition(theorem_id, alone[1], dirs)
+            return alone[0]
+        if alone is None:                # not answered by the cache: the module is read
+            theorems = _load_module(module_name, dirs)
+            if theorem_id in theorems:
+                _refuse_redefinition(theorem_id, theorems[theorem_id][1], dirs)
+                return theorems[theorem_id][0]
+            for _, where in _module_locations(dirs)[module_name]:   # the file named by the id is broken
+                if str(where) in _PROBLEMS:
+                    _REPORTED.add(str(where))
+                    raise _PROBLEMS[str(where)]
+    known = _indexed_ids()
+    if known is not None and theorem_id not in known:
+        raise InputError(f"unknown theorem {theorem_id!r}{did_you_mean(theorem_id, known)}; "
+                         f"`lmidsl list` shows the {len(known)} theorems")
     theorems = all_theorems()
     if theorem_id not in theorems:
         problems = load_problems(unreported=False)
