@@ -25,6 +25,18 @@ still negative, VSDP's bound (Jansson, Chaykin, Keil, SIAM J. Numer. Anal. 46(1)
 only with an a-priori bound r̄_k ≥ λ_max(S_k) on the primal (``primal_bounds``):
 qᵀx + q₀ ≥ q₀ − ⟨Z, S⁰⟩ + Σ_k d_k·min(0, λ_min(Z_k))·r̄_k (d_k the block size).
 
+**The objective cut.**  The shifted problems run with one more constraint, qᵀx + q₀ ≤ U (U a
+little above the point's objective, :data:`CUT_SLACK`;
+:meth:`~lmidsl.certify.dual_point.DualData.with_objective_cut`): without it a shift of the size
+the correction needs makes the shifted problem unbounded on degenerate optima (the bounded real
+lemma: Z_P = 0, Z_N of rank 2, P free to grow with g).  A bound L of the cut problem gives
+min(L, U) for the original, with no assumption on U (a feasible x above U is above min(L, U)).
+Measured on random stable plants (bounded real lemma): n = 8 now proves (relative width ≈ 1.5e-3
+on γ, where nothing proved before); n ≥ 16 still does not — the shifted solves' duals are only
+accurate to about ε itself, so the correction eats the shift, and a PSD dual with margin ε loses
+ε·max tr S over {objective ≤ U}, which is large (P grows fast along weakly controllable
+directions).
+
 **Which problem.**  The strict LMIs enter with ε = 0 (their closure): the bound is on the
 infimum over the strict set (equal to the closure's minimum when the strict set is non-empty);
 the strictness margin of the compiled model is not in it.  A model compiled with conditioning
@@ -54,9 +66,12 @@ import threading
 import time
 from dataclasses import dataclass, field
 
-import numpy as np
+from types import SimpleNamespace
 
-from ..numeric.proof import round_down
+import numpy as np
+from scipy import sparse
+
+from ..numeric.proof import round_down, round_up
 from ..solver.backends.direct_backend import SolverCrash, clarabel_solve
 from .performance import performance_bound, performance_lower
 from .verdict import OPTIMAL_GAP, dual_gap
@@ -82,6 +97,14 @@ MIN_SHIFT = 1e-9
 #: the main thread and should not make the user wait much longer than the solve.  A bound that has
 #: not proved by then rarely proves later (random 24- and 32-state BRL: shifted solves of 10–25 s
 #: that run to the iteration limit, none proved); the paper examples prove in well under 3 s
+#: the shifted solves whose dual iterate is corrected and checked (the proof does not rely on the
+#: status); an iterate that stalled is taken only with the objective cut (without it a stall is
+#: the mark of an unbounded shifted problem, and the face is tried instead)
+USABLE_STATUS = ("Solved", "AlmostSolved", "InsufficientProgress")
+CUT_ONLY_STATUS = ("InsufficientProgress",)
+#: the objective cut's level U above the point's objective (relative): the cut keeps the shifted
+#: problems bounded (module docstring) and is inactive at the optimum
+CUT_SLACK = 1e-2
 BUDGET_FACTOR = 1.0
 BUDGET_FLOOR = 3.0
 
@@ -139,6 +162,24 @@ class _ShiftedProblem:
         return self._base.clarabel_cones()
 
 
+class _CutProblem:
+    """The compiled problem (Clarabel's units: b − Ax ∈ K, objective qᵀx/scale) with the objective
+    cut s0 − scale·qᵀx ≥ 0 as one more non-negative row after the others
+    (:meth:`~lmidsl.certify.dual_point.DualData.with_objective_cut`, in the constraints' units)."""
+
+    def __init__(self, problem, scale: float, s0: float):
+        self._base = problem
+        self.n, self.q, self.q0 = problem.n, problem.q, problem.q0
+        row = sparse.csc_matrix(scale * np.asarray(problem.q, dtype=float).reshape(1, -1))
+        self.A = sparse.vstack([problem.A, row]).tocsc()
+        self.b = np.append(problem.b, s0)
+        self.cones = list(problem.cones) + [SimpleNamespace(kind="nonneg", dim=1, size=1)]
+
+    def clarabel_cones(self):
+        import clarabel
+        return self._base.clarabel_cones() + [clarabel.NonnegativeConeT(1)]
+
+
 def _solve_shifted(problem, data: DualData, blocks, eps: float, keep=None, max_iter: int | None = None,
                    time_limit: float = math.inf):
     """Solve min qᵀx − ε Σ_{k∈blocks} tr S_k(x) on the compiled ``problem`` (Clarabel's units;
@@ -154,7 +195,8 @@ def _solve_shifted(problem, data: DualData, blocks, eps: float, keep=None, max_i
         result = clarabel_solve(shifted, **options)
     except SolverCrash:
         return None
-    if str(result.status) not in ("Solved", "AlmostSolved"):
+    if str(result.status) not in USABLE_STATUS or (str(result.status) in CUT_ONLY_STATUS and
+                                                   not isinstance(problem, _CutProblem)):
         return None
     z = np.asarray(result.z, dtype=float)
     return z + eps * e if np.all(np.isfinite(z)) else None
@@ -296,6 +338,7 @@ class _BoundJob:
     t0: float
     upper: float | None = None       # the objective at the solve's point, rounded up (as written)
     budget: float = math.inf            # seconds from t0 after which no further shift is tried
+    objective: float | None = None     # the solver's objective at its point (the theorem's units)
 
 
 def _prepare(model, solution) -> _BoundJob | DualBound:
@@ -327,8 +370,12 @@ def _prepare(model, solution) -> _BoundJob | DualBound:
     point = getattr(solution, "objective_bounds", None)
     solve_time = getattr(model._last[1], "solve_time", None)
     budget = BUDGET_FACTOR * float(solve_time) + BUDGET_FLOOR if solve_time else math.inf
+    objective = getattr(model._last[1], "obj_val", None)
+    if objective is not None:
+        objective = (float(objective) + model.problem.q0) * model.equilibration.objective
     return _BoundJob(data, z, model.equilibration.objective, model.problem, model.instance.theorem,
-                     dict(model.instance.params), max_iter, out, t0, None if point is None else point[1], budget)
+                     dict(model.instance.params), max_iter, out, t0, None if point is None else point[1], budget,
+                     objective)
 
 
 def lower_bound(model, solution=None, tries: int = SHIFT_TRIES, primal_bounds=None) -> DualBound:
@@ -458,9 +505,11 @@ if hasattr(threading, "_register_atexit"):      # before threading joins non-dae
     threading._register_atexit(cancel_pending)
 
 
-def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
-    """The bound itself (module docstring), from a prepared job."""
-    data, z, scale, out, t0 = job.data, job.z, job.scale, job.out, job.t0
+def _search(job: _BoundJob, tries: int, primal_bounds) -> None:
+    """The solver's dual corrected and checked, then the shifted re-solves (module docstring),
+    filling ``job.out``."""
+    data, z, scale, out = job.data, job.z, job.scale, job.out
+    t1 = time.perf_counter()
 
     def record(c: _Candidate | None, eps: float):
         out.attempts.append({"epsilon": eps, "worst": None if c is None else c.cone.worst,
@@ -471,13 +520,6 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
     def proved(value: float, eps: float):
         out.lower, out.proved, out.epsilon, out.why = value, True, eps, ""
 
-    t1 = time.perf_counter()
-    unrelated = data.enclose()
-    out.times["enclosure"] = time.perf_counter() - t1
-    if unrelated:
-        out.why = unrelated
-        out.times["total"] = time.perf_counter() - t0
-        return out
     a = _candidate(data, z, scale)
     record(a, 0.0)
     other = None                                          # the support not chosen, tried second
@@ -591,6 +633,44 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
                 other = None
                 continue
             eps *= SHIFT_GROWTH
+
+
+def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
+    """The bound itself (module docstring), from a prepared job: the shifted re-solves on the
+    compiled problem, then (when they prove nothing and the budget allows) on the problem with the
+    objective cut, whose bound L counts as min(L, U)."""
+    data, z, scale, out, t0 = job.data, job.z, job.scale, job.out, job.t0
+
+    t1 = time.perf_counter()
+    unrelated = data.enclose()
+    out.times["enclosure"] = time.perf_counter() - t1
+    if unrelated:
+        out.why = unrelated
+        out.times["total"] = time.perf_counter() - t0
+        return out
+    _search(job, tries, primal_bounds)
+    level = job.upper if job.upper is not None else job.objective
+    if not out.proved and level is not None and math.isfinite(level) and \
+            time.perf_counter() - job.t0 < job.budget:
+        s0 = round_up(round_up(level + CUT_SLACK * max(abs(level), abs(data.q0), 1e-300)) - data.q0)
+        cut = data.with_objective_cut(s0)
+        if cut is not None:
+            ceiling = round_down(round_down(data.q0 - data.q0_rad) + s0)    # ≤ U as written
+            first = DualBound()
+            sub = _BoundJob(cut, np.append(z, 0.0), scale, _CutProblem(job.problem, scale, s0), job.theorem,
+                            job.params, job.max_iter, first, job.t0, job.upper, job.budget, job.objective)
+            sub.cancel = getattr(job, "cancel", None)
+            _search(sub, tries, primal_bounds)
+            out.attempts += [dict(a, cut=True) for a in first.attempts]
+            out.extra_solves += first.extra_solves
+            out.times.update({f"cut_{k}": v for k, v in first.times.items()})
+            if first.proved:
+                # the cut problem's bound L gives min(L, U) (DualData.with_objective_cut)
+                out.lower, out.proved, out.epsilon, out.theta, out.why = \
+                    min(first.lower, ceiling), True, first.epsilon, first.theta, ""
+                out.residual, out.correction, out.min_eigenvalue = first.residual, first.correction, first.min_eigenvalue
+            else:
+                out.why += "; with the objective cut: " + first.why.split("; ")[0]
     if out.proved:
         # the map is proved monotone on [lower, the point's objective]: the verdict uses it only
         # when that point is proved feasible (else [lower, ∞), verdict.bracket)
