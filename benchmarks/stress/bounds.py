@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import os
 import sys
 import time
@@ -37,7 +36,7 @@ RANDOM = [(n, seed, t) for n in (8, 12, 16) for seed in (1, 2) for t in ("contin
 
 def solve_and_bound(theorem: str, data: dict):
     """(γ at the SDP optimum, DualBound) on the direct backend, as the pipeline compiles it."""
-    from lmidsl.certify.dual_bound import lower_bound
+    from lmidsl.certify.dual_bound import lower_bound, performance_bound
     from lmidsl.numeric.scaling import apply_scaling
     from lmidsl.pipeline import make_instance
     from lmidsl.solver.backends.direct_backend import DirectModel
@@ -48,8 +47,9 @@ def solve_and_bound(theorem: str, data: dict):
     model = DirectModel(apply_scaling(instance, "auto").scaled)
     sol = solve_model(model)
     bound = lower_bound(model, sol)
-    gamma = math.sqrt(sol.objective) if sol.objective is not None and sol.objective >= 0 else None
-    return gamma, bound
+    found = None if sol.objective is None else \
+        performance_bound(model.instance.theorem, dict(model.instance.params), sol.objective)
+    return (None if found is None else found[0]), bound
 
 
 def all_cases(only: str | None) -> list[dict]:
@@ -92,7 +92,7 @@ def main(argv=None) -> int:
         false = low is not None and low > case["truth"] * (1 + 1e-9)
         rows.append(dict(name=case["name"], gamma=gamma, lower=low, width=width, truth=case["truth"],
                          false=false, seconds=time.perf_counter() - t0, why=bound.why))
-        print(f"{case['name']:32s} γ={gamma:.9g} lower={low if low is None else f'{low:.9g}'} "
+        print(f"{case['name']:32s} γ={gamma if gamma is None else f'{gamma:.9g}'} lower={low if low is None else f'{low:.9g}'} "
               f"width={'-' if width is None else f'{width:.2e}'} truth={case['truth']:.9g} "
               f"{'FALSE' if false else 'ok'} {rows[-1]['seconds']:.1f}s {'' if low else bound.why[:90]}", flush=True)
     proved = [r for r in rows if r["lower"] is not None]
