@@ -109,12 +109,17 @@ TIGHT = dict(tol_gap_abs=1e-12, tol_gap_rel=1e-12, tol_feas=1e-12, tol_ktratio=1
 #: near-null space on which the interior direction must be ⪰ I
 NULL_FRACTION = 1e-6
 #: steps s = k·δ tried along the interior direction (δ the dual's proved eigenvalue deficit)
-INTERIOR_STEPS = (3.0, 10.0, 30.0, 100.0)
+INTERIOR_STEPS = (1.25, 2.0, 4.0, 10.0, 30.0, 100.0)
 #: the objective cut's level U above the point's objective (relative): the cut keeps the shifted
 #: problems bounded (module docstring) and is inactive at the optimum
 CUT_SLACK = 1e-2
 BUDGET_FACTOR = 1.0
 BUDGET_FLOOR = 3.0
+#: the interior route (two solves) may run past the shifts' budget by this many main solves and
+#: INTERIOR_FLOOR seconds: the shifts rarely prove where it is needed (random plants), and they
+#: would leave it nothing
+INTERIOR_FACTOR = 2.0
+INTERIOR_FLOOR = 1.0
 
 
 @dataclass
@@ -322,7 +327,7 @@ def _interior_dual(job: _BoundJob, data: DualData, z: np.ndarray, slack) -> tupl
         return None
     problem = _InteriorProblem(data, weight, _null_floor(data, z))
     options = {"max_iter": job.max_iter} if job.max_iter else {}
-    left = job.budget - (time.perf_counter() - job.t0)
+    left = job.interior_budget - (time.perf_counter() - job.t0)
     if math.isfinite(left):
         options["time_limit"] = max(left, 0.5)
     try:
@@ -345,7 +350,7 @@ def _interior_route(job: _BoundJob, data: DualData, a: _Candidate | None, out: D
         raise BoundCancelled
     t0 = time.perf_counter()
     base, slack, z_base = a, job.slack, data.from_svec(job.z, job.scale)
-    left = job.budget - (time.perf_counter() - job.t0)
+    left = job.interior_budget - (time.perf_counter() - job.t0)
     try:
         tight = clarabel_solve(job.problem, **dict(TIGHT, time_limit=max(left, 0.5)) if math.isfinite(left) else TIGHT)
         zt = np.asarray(tight.z, dtype=float)
@@ -503,6 +508,7 @@ class _BoundJob:
     budget: float = math.inf            # seconds from t0 after which no further shift is tried
     objective: float | None = None     # the solver's objective at its point (the theorem's units)
     slack: np.ndarray | None = None    # the solver's slacks S(x̂) (Clarabel's svec)
+    interior_budget: float = math.inf  # seconds from t0 after which the interior route is not started
 
 
 def _prepare(model, solution) -> _BoundJob | DualBound:
@@ -534,12 +540,13 @@ def _prepare(model, solution) -> _BoundJob | DualBound:
     point = getattr(solution, "objective_bounds", None)
     solve_time = getattr(model._last[1], "solve_time", None)
     budget = BUDGET_FACTOR * float(solve_time) + BUDGET_FLOOR if solve_time else math.inf
+    interior_budget = budget + INTERIOR_FACTOR * float(solve_time) + INTERIOR_FLOOR if solve_time else math.inf
     objective = getattr(model._last[1], "obj_val", None)
     if objective is not None:
         objective = (float(objective) + model.problem.q0) * model.equilibration.objective
     return _BoundJob(data, z, model.equilibration.objective, model.problem, model.instance.theorem,
                      dict(model.instance.params), max_iter, out, t0, None if point is None else point[1], budget,
-                     objective, np.asarray(getattr(model._last[1], "s", None), dtype=float))
+                     objective, np.asarray(getattr(model._last[1], "s", None), dtype=float), interior_budget)
 
 
 def lower_bound(model, solution=None, tries: int = SHIFT_TRIES, primal_bounds=None) -> DualBound:
@@ -824,7 +831,7 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
     first = getattr(job, "first", None)
     if first is not None and first.cone.worst < 0 and primal_bounds is None and \
             (not out.proved or first.value - out.lower > LOSS_TARGET * max(abs(first.value), 1e-300)) and \
-            time.perf_counter() - job.t0 < job.budget:
+            time.perf_counter() - job.t0 < job.interior_budget:
         inner = _interior_route(job, data, first, out)
         if inner is not None and inner.cone.worst >= 0 and (not out.proved or inner.value > out.lower):
             out.lower, out.proved, out.epsilon, out.theta, out.why = inner.value, True, 0.0, 0.0, ""
