@@ -335,6 +335,7 @@ def _interior_dual(job: _BoundJob, data: DualData, z: np.ndarray, slack) -> tupl
     except SolverCrash:
         return None
     x = np.asarray(result.x, dtype=float)
+    job.interior_status = str(result.status)
     # the iterate is only a direction for the exact correction: a stalled one may do
     if str(result.status) not in USABLE_STATUS + ("NumericalError",) or not np.all(np.isfinite(x)) or not x[-1] >= 0:
         return None
@@ -375,6 +376,9 @@ def _interior_route(job: _BoundJob, data: DualData, a: _Candidate | None, out: D
     out.times["interior_solve"] = time.perf_counter() - t1
     out.extra_solves += 1
     if found is None:
+        job.interior_why = ("no dual direction with an eigenvalue margin at the solver's point (Clarabel: "
+                            f"{getattr(job, 'interior_status', 'no solve')}): the primal has near-free directions, "
+                            "so any dual in the cone loses more than the solver's accuracy allows")
         return None
     delta, c = found
     t1 = time.perf_counter()
@@ -835,6 +839,8 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
         inner = _interior_route(job, data, first, out)
         if inner is not None and inner.cone.worst >= 0 and (not out.proved or inner.value > out.lower):
             out.lower, out.proved, out.epsilon, out.theta, out.why = inner.value, True, 0.0, 0.0, ""
+        elif not out.proved and getattr(job, "interior_why", ""):
+            out.why = job.interior_why + "; " + out.why
     level = job.upper if job.upper is not None else job.objective
     if not out.proved and level is not None and math.isfinite(level) and \
             time.perf_counter() - job.t0 < job.budget:
