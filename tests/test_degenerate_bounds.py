@@ -73,8 +73,9 @@ def test_state_feedback_bound_below_riccati():
     data = lists(case["data"])
     model, sol = solved_model("textbook.hinf_sf_ct", data=data)
     bound = lower_bound(model, sol)
-    achieved = reference("sf", data)
-    assert achieved is not None and abs(achieved - case["truth"]["optimum"]) <= 1e-6 * achieved
+    found = reference("sf", data)             # two bisections: each an achieved level (≥ the optimum)
+    assert found is not None and abs(found - case["truth"]["optimum"]) <= 1e-4 * found
+    achieved = min(found, case["truth"]["optimum"])
     assert bound.proved, bound.why
     assert bound.lower_performance <= achieved * (1 + NORM_SLACK)
     assert (achieved - bound.lower_performance) / achieved <= 2e-2

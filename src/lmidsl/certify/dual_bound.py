@@ -74,6 +74,7 @@ from dataclasses import dataclass, field
 
 from types import SimpleNamespace
 
+import clarabel
 import numpy as np
 from scipy import sparse
 
@@ -195,7 +196,6 @@ class _CutProblem:
         self.cones = list(problem.cones) + [SimpleNamespace(kind="nonneg", dim=1, size=1)]
 
     def clarabel_cones(self):
-        import clarabel
         return self._base.clarabel_cones() + [clarabel.NonnegativeConeT(1)]
 
 
@@ -282,7 +282,6 @@ class _InteriorProblem:
         self.q0 = 0.0
 
     def clarabel_cones(self):
-        import clarabel
         kinds = {"psd": clarabel.PSDTriangleConeT, "nonneg": clarabel.NonnegativeConeT,
                  "zero": clarabel.ZeroConeT}
         return [kinds[c.kind](c.dim) for c in self.cones]
