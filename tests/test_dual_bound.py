@@ -127,7 +127,8 @@ def test_h2_state_feedback_lower_bound_below_lqr_optimum():
 
 #: measured: Clarabel's answer is itself inaccurate (optimal_inaccurate, γ = 45.92 where the
 #: gain it recovers achieves 45.86) and no shifted dual is proved PSD
-SF_UNPROVED = {("continuous", "plant-6")}
+#: proved only by the interior route (lmidsl.certify.dual_bound), wider than the rest: measured 2.1e-3
+SF_WIDER = {("continuous", "plant-6"): 5e-3}
 
 
 @pytest.mark.slow
@@ -143,10 +144,10 @@ def test_hinf_state_feedback_lower_bound_below_achieved_norm(time):
         model, msol = solved_model(theorem, data=d)
         bound = lower_bound(model, msol)
         achieved = float(control.linfnorm(lmidsl.closed_loop(d, sol.design), tol=1e-12)[0])
-        assert bound.proved or (time, name) in SF_UNPROVED, (name, bound.why)
-        if bound.proved:
-            assert bound.lower_performance <= achieved * (1 + NORM_SLACK), (name, bound.lower_performance, achieved)
-            assert (achieved - bound.lower_performance) / achieved <= 1e-3, (name, bound.lower_performance, achieved)
+        assert bound.proved, (name, bound.why)
+        assert bound.lower_performance <= achieved * (1 + NORM_SLACK), (name, bound.lower_performance, achieved)
+        assert (achieved - bound.lower_performance) / achieved <= SF_WIDER.get((time, name), 1e-3), \
+            (name, bound.lower_performance, achieved)
 
 
 def test_performance_mapping_is_monotone_and_rounded_down():

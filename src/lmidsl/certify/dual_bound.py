@@ -25,6 +25,24 @@ still negative, VSDP's bound (Jansson, Chaykin, Keil, SIAM J. Numer. Anal. 46(1)
 only with an a-priori bound r̄_k ≥ λ_max(S_k) on the primal (``primal_bounds``):
 qᵀx + q₀ ≥ q₀ − ⟨Z, S⁰⟩ + Σ_k d_k·min(0, λ_min(Z_k))·r̄_k (d_k the block size).
 
+**Degenerate optima: the interior route, then the objective cut.**  At the bounded real lemma's
+optimum Z_P = 0 and Z_N has rank 1 or 2, and the shifted problems are nearly unbounded (P grows
+along weakly controllable directions at almost no cost): Clarabel solves them only to a relative
+accuracy, so their duals are off by about ε itself and the correction eats the shift.  When the
+shifts prove nothing, or less than within LOSS_TARGET, :func:`_interior_route` solves one small
+SDP instead, min ⟨Δ, S(x̂)⟩ over Δ ⪰ I on the near-null space of the solver's dual with
+M Δ = c q (c ≥ 0) at the solver's point x̂; (Z_a + sΔ)/(1 + sc) satisfies the equations for every
+s, and a few s of the proved deficit δ make it PSD, at a loss of about s⟨Δ, S(x̂)⟩ (the margin is
+O(1) in Δ, so the solver's accuracy does not eat it).  A tight re-solve of the main problem
+(residual ~1e-13 against ~1e-8) gives a smaller δ along the same Δ.  When Δ does not exist within
+the solver's precision (the SDP reported infeasible: the primal has near-free directions, as on
+random plants from 16 states on) the bound says so.  Last, the shifted re-solves run with one more
+constraint, qᵀx + q₀ ≤ U (U a little above the point's objective, :data:`CUT_SLACK`;
+:meth:`~lmidsl.certify.dual_point.DualData.with_objective_cut`), which keeps them bounded; a
+bound L of the cut problem gives min(L, U) for the original, with no assumption on U (a feasible
+x above U is above min(L, U)).  Measured on random stable plants (bounded real lemma, 2 inputs,
+2 outputs): n = 8 and 12 prove within 2e-7 … 7e-5 (before: 3 of 8); n ≥ 16 do not.
+
 **Which problem.**  The strict LMIs enter with ε = 0 (their closure): the bound is on the
 infimum over the strict set (equal to the closure's minimum when the strict set is non-empty);
 the strictness margin of the compiled model is not in it.  A model compiled with conditioning
@@ -54,13 +72,17 @@ import threading
 import time
 from dataclasses import dataclass, field
 
-import numpy as np
+from types import SimpleNamespace
 
-from ..numeric.proof import round_down
+import clarabel
+import numpy as np
+from scipy import sparse
+
+from ..numeric.proof import round_down, round_up
 from ..solver.backends.direct_backend import SolverCrash, clarabel_solve
 from .performance import performance_bound, performance_lower
 from .verdict import OPTIMAL_GAP, dual_gap
-from .dual_point import U, DualData, check_cone, dual_data, corrected_point, last_dual, pairing_bounds
+from .dual_point import U, DualData, check_cone, svec_diagonal, dual_data, corrected_point, last_dual, pairing_bounds
 
 #: shifted re-solves tried: ε = SHIFT_START × the deficit of the solver's dual (in the units of
 #: the solver's objective), then × SHIFT_GROWTH while the shifted dual is not proved PSD (÷ 30 when
@@ -82,8 +104,29 @@ MIN_SHIFT = 1e-9
 #: the main thread and should not make the user wait much longer than the solve.  A bound that has
 #: not proved by then rarely proves later (random 24- and 32-state BRL: shifted solves of 10–25 s
 #: that run to the iteration limit, none proved); the paper examples prove in well under 3 s
+#: the shifted solves whose dual iterate is corrected and checked (the proof does not rely on the
+#: status); an iterate that stalled is taken only with the objective cut (without it a stall is
+#: the mark of an unbounded shifted problem, and the face is tried instead)
+USABLE_STATUS = ("Solved", "AlmostSolved", "InsufficientProgress")
+CUT_ONLY_STATUS = ("InsufficientProgress",)
+#: Clarabel's tolerances for the tight re-solve of the main problem (:func:`_interior_route`):
+#: its dual's residual, hence the correction, drops from ~1e-8 to ~1e-13 on a bounded real lemma
+TIGHT = dict(tol_gap_abs=1e-12, tol_gap_rel=1e-12, tol_feas=1e-12, tol_ktratio=1e-10, max_iter=300)
+#: eigenvalues of the dual estimate at most this fraction of its largest (over all blocks) span the
+#: near-null space on which the interior direction must be ⪰ I
+NULL_FRACTION = 1e-6
+#: steps s = k·δ tried along the interior direction (δ the dual's proved eigenvalue deficit)
+INTERIOR_STEPS = (1.25, 2.0, 4.0, 10.0, 30.0, 100.0)
+#: the objective cut's level U above the point's objective (relative): the cut keeps the shifted
+#: problems bounded (module docstring) and is inactive at the optimum
+CUT_SLACK = 1e-2
 BUDGET_FACTOR = 1.0
 BUDGET_FLOOR = 3.0
+#: the interior route (two solves) may run past the shifts' budget by this many main solves and
+#: INTERIOR_FLOOR seconds: the shifts rarely prove where it is needed (random plants), and they
+#: would leave it nothing
+INTERIOR_FACTOR = 2.0
+INTERIOR_FLOOR = 1.0
 
 
 @dataclass
@@ -139,6 +182,23 @@ class _ShiftedProblem:
         return self._base.clarabel_cones()
 
 
+class _CutProblem:
+    """The compiled problem (Clarabel's units: b − Ax ∈ K, objective qᵀx/scale) with the objective
+    cut s0 − scale·qᵀx ≥ 0 as one more non-negative row after the others
+    (:meth:`~lmidsl.certify.dual_point.DualData.with_objective_cut`, in the constraints' units)."""
+
+    def __init__(self, problem, scale: float, s0: float):
+        self._base = problem
+        self.n, self.q, self.q0 = problem.n, problem.q, problem.q0
+        row = sparse.csc_matrix(scale * np.asarray(problem.q, dtype=float).reshape(1, -1))
+        self.A = sparse.vstack([problem.A, row]).tocsc()
+        self.b = np.append(problem.b, s0)
+        self.cones = list(problem.cones) + [SimpleNamespace(kind="nonneg", dim=1, size=1)]
+
+    def clarabel_cones(self):
+        return self._base.clarabel_cones() + [clarabel.NonnegativeConeT(1)]
+
+
 def _solve_shifted(problem, data: DualData, blocks, eps: float, keep=None, max_iter: int | None = None,
                    time_limit: float = math.inf):
     """Solve min qᵀx − ε Σ_{k∈blocks} tr S_k(x) on the compiled ``problem`` (Clarabel's units;
@@ -154,7 +214,8 @@ def _solve_shifted(problem, data: DualData, blocks, eps: float, keep=None, max_i
         result = clarabel_solve(shifted, **options)
     except SolverCrash:
         return None
-    if str(result.status) not in ("Solved", "AlmostSolved"):
+    if str(result.status) not in USABLE_STATUS or (str(result.status) in CUT_ONLY_STATUS and
+                                                   not isinstance(problem, _CutProblem)):
         return None
     z = np.asarray(result.z, dtype=float)
     return z + eps * e if np.all(np.isfinite(z)) else None
@@ -173,11 +234,184 @@ class _Candidate:
 def _candidate(data: DualData, z_svec, scale: float, keep=None) -> _Candidate | None:
     """The exact correction of one dual estimate (Clarabel's svec units), on the support
     ``keep`` (None: every unknown); None when the correction fails."""
-    point = corrected_point(data, data.from_svec(z_svec, scale), data.q_used, keep)
+    return _candidate_of(data, data.from_svec(z_svec, scale), keep)
+
+
+def _candidate_of(data: DualData, z: np.ndarray, keep=None) -> _Candidate | None:
+    """:func:`_candidate` for an estimate in the unknowns z of ``data`` (its own units)."""
+    point = corrected_point(data, z, data.q_used, keep)
     if point is None:
         return None
     _, high = pairing_bounds(data, point)
     return _Candidate(round_down(round_down(data.q0 - data.q0_rad) - high), check_cone(data, point, keep), point, keep)
+
+
+class _InteriorProblem:
+    """min ⟨Δ, S(x̂)⟩ s.t. Δ_k ⪰ W_k (every cone), M Δ = c q, c ≥ 0 — in Clarabel's form
+    (b − A(Δ, c) ∈ {0} × K × ℝ₊; Δ and W in the unknowns of :class:`DualData`, svec's √2 in the
+    rows); W = I when not given."""
+
+    def __init__(self, data: DualData, weight: np.ndarray, floor: np.ndarray | None = None):
+        nq, nz = data.M.shape
+        q = sparse.csr_matrix(data.q_used.reshape(-1, 1))
+        rows = [sparse.hstack([data.M, -q])]
+        b = [np.zeros(nq)]
+        self.cones = [SimpleNamespace(kind="zero", dim=nq, size=nq)]
+        for blk in data.blocks:
+            scale = np.ones(blk.size)
+            ones = np.ones(blk.size)
+            if blk.kind == "psd":
+                scale[:] = math.sqrt(2.0)
+                scale[svec_diagonal(blk.dim)] = 1.0
+                ones = np.zeros(blk.size)
+                ones[svec_diagonal(blk.dim)] = 1.0
+            if floor is not None:
+                ones = floor[blk.offset: blk.offset + blk.size]
+            block = sparse.csr_matrix((-scale, (np.arange(blk.size), blk.offset + np.arange(blk.size))),
+                                      shape=(blk.size, nz + 1))
+            rows.append(block)
+            b.append(-ones * scale)                 # s = svec(Δ_k) − svec(W_k) ⪰ 0
+            self.cones.append(SimpleNamespace(kind=blk.kind, dim=blk.dim, size=blk.size))
+        rows.append(sparse.csr_matrix(([-1.0], ([0], [nz])), shape=(1, nz + 1)))
+        b.append(np.zeros(1))
+        self.cones.append(SimpleNamespace(kind="nonneg", dim=1, size=1))
+        self.A = sparse.vstack(rows).tocsc()
+        self.b = np.concatenate(b)
+        self.n = nz + 1
+        self.q = np.append(weight, 0.0)
+        self.q0 = 0.0
+
+    def clarabel_cones(self):
+        kinds = {"psd": clarabel.PSDTriangleConeT, "nonneg": clarabel.NonnegativeConeT,
+                 "zero": clarabel.ZeroConeT}
+        return [kinds[c.kind](c.dim) for c in self.cones]
+
+
+def _null_floor(data: DualData, z: np.ndarray) -> np.ndarray:
+    """W_k = V_k V_kᵀ per block (svec, the unknowns of ``data``), V_k the eigenvectors of the dual
+    estimate's Z_k with eigenvalues at most :data:`NULL_FRACTION` of the largest over all blocks
+    (a non-negative block: 1 where its entry is that small, else 0)."""
+    parts, top = [], 0.0
+    for blk in data.blocks:
+        if blk.kind == "psd":
+            w, V = np.linalg.eigh(blk.matrix(z)) if blk.dim else (np.zeros(0), np.zeros((0, 0)))
+        else:
+            w, V = z[blk.offset: blk.offset + blk.size], None
+        parts.append((w, V))
+        top = max(top, float(np.abs(w).max(initial=0.0)))
+    floor = np.zeros(data.nz)
+    for blk, (w, V) in zip(data.blocks, parts):
+        null = w <= NULL_FRACTION * top
+        if blk.kind == "psd":
+            W = V[:, null] @ V[:, null].T
+            i, j = np.triu_indices(blk.dim)
+            floor[blk.offset + j * (j + 1) // 2 + i] = W[i, j]
+        else:
+            floor[blk.offset: blk.offset + blk.size] = null.astype(float)
+    return floor
+
+
+def _interior_dual(job: _BoundJob, data: DualData, z: np.ndarray, slack) -> tuple | None:
+    """(Δ, c): the least-cost Δ of :class:`_InteriorProblem` at the solver's point x̂ (its slacks
+    S(x̂), Clarabel's svec), with Δ ⪰ I on the near-null space of the dual estimate z
+    (:func:`_null_floor`).  Added to a dual Z_a with λ_min ≥ −δ on that space,
+    (Z_a + sΔ)/(1 + sc) (s a few δ) satisfies the equations and is in the cone, and loses about
+    s⟨Δ, S(x̂)⟩: the point's own slacks weighted by Δ, not the primal's reach along near-free
+    directions that a shifted re-solve pays for.  None when there are no slacks or the solve
+    fails."""
+    if slack is None or len(slack) < data.nz:
+        return None
+    weight = np.array(slack[: data.nz], dtype=float)
+    for blk in data.blocks:
+        if blk.kind == "psd":           # ⟨Δ, S⟩ = Σ diag + 2 Σ off-diag; Clarabel's s has √2 off it
+            part = weight[blk.offset: blk.offset + blk.size]
+            mask = np.ones(blk.size, dtype=bool)
+            mask[svec_diagonal(blk.dim)] = False
+            part[mask] *= math.sqrt(2.0)
+    if not np.all(np.isfinite(weight)):
+        return None
+    problem = _InteriorProblem(data, weight, _null_floor(data, z))
+    options = {"max_iter": job.max_iter} if job.max_iter else {}
+    left = job.interior_budget - (time.perf_counter() - job.t0)
+    if math.isfinite(left):
+        options["time_limit"] = max(left, 0.5)
+    try:
+        result = clarabel_solve(problem, **options)
+    except SolverCrash:
+        return None
+    x = np.asarray(result.x, dtype=float)
+    job.interior_status = str(result.status)
+    # the iterate is only a direction for the exact correction: a stalled one may do
+    if str(result.status) not in USABLE_STATUS + ("NumericalError",) or not np.all(np.isfinite(x)) or not x[-1] >= 0:
+        return None
+    return x[:-1], float(x[-1])
+
+
+def _interior_route(job: _BoundJob, data: DualData, a: _Candidate, out: DualBound):
+    """The solver's dual made PSD along the least-cost interior direction (:func:`_interior_dual`,
+    one small SDP); when that proves nothing or a loose bound, the main problem re-solved to tight
+    tolerances (one solve: a dual whose deficit, hence the step, is smaller) along the same
+    direction.  The proved candidate of least loss, or None (and ``job.interior_why``)."""
+    cancel = getattr(job, "cancel", None)
+    if cancel is not None and cancel.is_set():
+        raise BoundCancelled
+    z_a = data.from_svec(job.z, job.scale)
+    t1 = time.perf_counter()
+    found = _interior_dual(job, data, z_a, job.slack)
+    out.times["interior_solve"] = time.perf_counter() - t1
+    out.extra_solves += 1
+    if found is None:
+        job.interior_why = ("no dual direction with an eigenvalue margin at the solver's point (Clarabel: "
+                            f"{getattr(job, 'interior_status', 'no solve')}): the primal has near-free directions, "
+                            "so any dual in the cone loses more than the solver's accuracy allows")
+        return None
+    best = _along(data, z_a, a, found, out, "interior")
+    if best is not None and a.value - best.value <= LOSS_TARGET * max(abs(a.value), 1e-300):
+        return best
+    t0 = time.perf_counter()
+    left = job.interior_budget - (time.perf_counter() - job.t0)
+    if left <= 0:
+        return best
+    try:
+        tight = clarabel_solve(job.problem, **dict(TIGHT, time_limit=max(left, 0.5)) if math.isfinite(left) else TIGHT)
+        zt = np.asarray(tight.z, dtype=float)
+    except SolverCrash:
+        zt = None
+    out.times["tight_solve"] = time.perf_counter() - t0
+    out.extra_solves += 1
+    if zt is None or not np.all(np.isfinite(zt)):
+        return best
+    z_t = data.from_svec(zt, job.scale)
+    t1 = time.perf_counter()
+    c = _candidate_of(data, z_t)
+    _record(out, c, 0.0, route="tight")
+    out.times["verify_tight"] = time.perf_counter() - t1
+    if c is None:
+        return best
+    other = c if c.cone.worst >= 0 else _along(data, z_t, c, found, out, "tight interior")
+    if other is not None and (best is None or other.value > best.value):
+        best = other
+    return best
+
+
+def _along(data: DualData, z: np.ndarray, a: _Candidate, found: tuple, out: DualBound, label: str):
+    """The first of (z + sΔ)/(1 + sc), s = k·δ for k in :data:`INTERIOR_STEPS` (δ the proved
+    deficit of ``a``, the correction of z), proved in the cone (the loss grows with s), or None."""
+    deficit = -a.cone.worst
+    if not math.isfinite(deficit) or deficit <= 0:
+        return None
+    delta, c = found
+    t1 = time.perf_counter()
+    best = None
+    for multiple in INTERIOR_STEPS:
+        step = multiple * deficit
+        cand = _candidate_of(data, (z + step * delta) / (1.0 + step * c))
+        _record(out, cand, step, route=label)
+        if cand is not None and cand.cone.worst >= 0:
+            best = cand
+            break
+    out.times[f"verify_{label.replace(' ', '_')}"] = time.perf_counter() - t1
+    return best
 
 
 def _shift_once(job: _BoundJob, data: DualData, blocks, eps: float, keep, scale: float, out: DualBound,
@@ -296,6 +530,9 @@ class _BoundJob:
     t0: float
     upper: float | None = None       # the objective at the solve's point, rounded up (as written)
     budget: float = math.inf            # seconds from t0 after which no further shift is tried
+    objective: float | None = None     # the solver's objective at its point (the theorem's units)
+    slack: np.ndarray | None = None    # the solver's slacks S(x̂) (Clarabel's svec)
+    interior_budget: float = math.inf  # seconds from t0 after which the interior route is not started
 
 
 def _prepare(model, solution) -> _BoundJob | DualBound:
@@ -327,8 +564,13 @@ def _prepare(model, solution) -> _BoundJob | DualBound:
     point = getattr(solution, "objective_bounds", None)
     solve_time = getattr(model._last[1], "solve_time", None)
     budget = BUDGET_FACTOR * float(solve_time) + BUDGET_FLOOR if solve_time else math.inf
+    interior_budget = budget + INTERIOR_FACTOR * float(solve_time) + INTERIOR_FLOOR if solve_time else math.inf
+    objective = getattr(model._last[1], "obj_val", None)
+    if objective is not None:
+        objective = (float(objective) + model.problem.q0) * model.equilibration.objective
     return _BoundJob(data, z, model.equilibration.objective, model.problem, model.instance.theorem,
-                     dict(model.instance.params), max_iter, out, t0, None if point is None else point[1], budget)
+                     dict(model.instance.params), max_iter, out, t0, None if point is None else point[1], budget,
+                     objective, np.asarray(getattr(model._last[1], "s", None), dtype=float), interior_budget)
 
 
 def lower_bound(model, solution=None, tries: int = SHIFT_TRIES, primal_bounds=None) -> DualBound:
@@ -458,28 +700,29 @@ if hasattr(threading, "_register_atexit"):      # before threading joins non-dae
     threading._register_atexit(cancel_pending)
 
 
-def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
-    """The bound itself (module docstring), from a prepared job."""
-    data, z, scale, out, t0 = job.data, job.z, job.scale, job.out, job.t0
+def _record(out: DualBound, c: _Candidate | None, eps: float, **extra) -> None:
+    """One tried dual point in ``out.attempts`` (its shift, proved λ_min, support size)."""
+    out.attempts.append({"epsilon": eps, "worst": None if c is None else c.cone.worst,
+                         "face": None if c is None or c.keep is None else int(c.keep.sum()), **extra})
+    if c is not None:
+        out.residual, out.correction, out.min_eigenvalue = c.point.residual, c.point.correction, c.cone.worst
+
+
+def _search(job: _BoundJob, tries: int, primal_bounds) -> None:
+    """The solver's dual corrected and checked, then the shifted re-solves (module docstring),
+    filling ``job.out``."""
+    data, z, scale, out = job.data, job.z, job.scale, job.out
+    t1 = time.perf_counter()
 
     def record(c: _Candidate | None, eps: float):
-        out.attempts.append({"epsilon": eps, "worst": None if c is None else c.cone.worst,
-                             "face": None if c is None or c.keep is None else int(c.keep.sum())})
-        if c is not None:
-            out.residual, out.correction, out.min_eigenvalue = c.point.residual, c.point.correction, c.cone.worst
+        _record(out, c, eps)
 
     def proved(value: float, eps: float):
         out.lower, out.proved, out.epsilon, out.why = value, True, eps, ""
 
-    t1 = time.perf_counter()
-    unrelated = data.enclose()
-    out.times["enclosure"] = time.perf_counter() - t1
-    if unrelated:
-        out.why = unrelated
-        out.times["total"] = time.perf_counter() - t0
-        return out
     a = _candidate(data, z, scale)
     record(a, 0.0)
+    job.first = a                                         # the full support (the interior route)
     other = None                                          # the support not chosen, tried second
     if a is not None and a.cone.worst < 0:
         face = data.support(data.from_svec(z, scale))     # dual blocks the solver made singular
@@ -591,7 +834,57 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
                 other = None
                 continue
             eps *= SHIFT_GROWTH
+
+
+def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
+    """The bound itself (module docstring), from a prepared job: the shifted re-solves on the
+    compiled problem; when they prove nothing or a loose bound, the interior route (a tight
+    re-solve and the least-cost interior direction, :func:`_interior_route`); when still nothing,
+    the shifted re-solves on the problem with the objective cut, whose bound L counts as
+    min(L, U) — each while the budget allows."""
+    data, z, scale, out, t0 = job.data, job.z, job.scale, job.out, job.t0
+
+    t1 = time.perf_counter()
+    unrelated = data.enclose()
+    out.times["enclosure"] = time.perf_counter() - t1
+    if unrelated:
+        out.why = unrelated
+        out.times["total"] = time.perf_counter() - t0
+        return out
+    _search(job, tries, primal_bounds)
+    first = getattr(job, "first", None)
+    if first is not None and first.cone.worst < 0 and primal_bounds is None and \
+            (not out.proved or first.value - out.lower > LOSS_TARGET * max(abs(first.value), 1e-300)) and \
+            time.perf_counter() - job.t0 < job.interior_budget:
+        inner = _interior_route(job, data, first, out)
+        if inner is not None and inner.cone.worst >= 0 and (not out.proved or inner.value > out.lower):
+            out.lower, out.proved, out.epsilon, out.theta, out.why = inner.value, True, 0.0, 0.0, ""
+        elif not out.proved and getattr(job, "interior_why", ""):
+            out.why = job.interior_why + "; " + out.why
+    level = job.upper if job.upper is not None else job.objective
+    if not out.proved and level is not None and math.isfinite(level) and \
+            time.perf_counter() - job.t0 < job.budget:
+        s0 = round_up(round_up(level + CUT_SLACK * max(abs(level), abs(data.q0), 1e-300)) - data.q0)
+        cut = data.with_objective_cut(s0)
+        if cut is not None:
+            ceiling = round_down(round_down(data.q0 - data.q0_rad) + s0)    # ≤ U as written
+            cut_out = DualBound()
+            sub = _BoundJob(cut, np.append(z, 0.0), scale, _CutProblem(job.problem, scale, s0), job.theorem,
+                            job.params, job.max_iter, cut_out, job.t0, job.upper, job.budget, job.objective)
+            sub.cancel = getattr(job, "cancel", None)
+            _search(sub, tries, primal_bounds)
+            out.attempts += [dict(a, cut=True) for a in cut_out.attempts]
+            out.extra_solves += cut_out.extra_solves
+            out.times.update({f"cut_{k}": v for k, v in cut_out.times.items()})
+            if cut_out.proved:
+                # the cut problem's bound L gives min(L, U) (DualData.with_objective_cut)
+                out.lower, out.proved, out.epsilon, out.theta, out.why = \
+                    min(cut_out.lower, ceiling), True, cut_out.epsilon, cut_out.theta, ""
+                out.residual, out.correction, out.min_eigenvalue = cut_out.residual, cut_out.correction, cut_out.min_eigenvalue
+            else:
+                out.why += "; with the objective cut: " + cut_out.why.split("; ")[0]
     if out.proved:
+        out.why = ""                  # (a failed later try does not explain a proved bound)
         # the map is proved monotone on [lower, the point's objective]: the verdict uses it only
         # when that point is proved feasible (else [lower, ∞), verdict.bracket)
         out.mapped_upto = job.upper

@@ -58,6 +58,7 @@ from ..numeric.exact import to_matrix
 U = 2.0 ** -53                  # unit roundoff of double precision (round to nearest)
 TINY = 2.0 ** -900              # below this a product may lose its relative error bound (underflow)
 BALL_PRECISION = 128
+OBJECTIVE_CUT = "objective cut"      # the label of DualData.with_objective_cut's block
 
 
 def gamma(k: int) -> float:
@@ -281,6 +282,10 @@ class DualData:
         row = {}
         psd = iter(lmis)
         for b in self.blocks:
+            if b.label == OBJECTIVE_CUT:              # s0 − qᵀx ≥ 0: −q_c as written
+                if q is not None and q != 0:
+                    row[b.offset] = row.get(b.offset, fmpq(0)) - q
+                continue
             if b.kind != "psd":
                 hit = b.cols == c                     # x_c ≥ 0: coefficient 1, exactly
                 for e, v in zip(b.rows[hit], b.vals[hit]):
@@ -305,6 +310,32 @@ class DualData:
                 cells = next(psd)
                 if cells is not None:                 # an irrational LMI: see irrational_unknowns
                     _add_pairing(out, cells, b)
+        return out
+
+    def with_objective_cut(self, s0: float) -> "DualData | None":
+        """These data with one more constraint, the objective cut s0 − qᵀx ≥ 0 (that is,
+        qᵀx + q₀ ≤ U with U = q₀ + s0, q₀ as written), as a non-negative block of dimension 1
+        after the others (its dual μ ≥ 0 is the last unknown; its coefficients −q carry the
+        objective's radii ``q_rad``, its constant s0 is exact); None when :meth:`enclose` failed.  Every bound of the cut problem L gives min(L, U) for the
+        original: a feasible x with objective ≤ U is feasible for the cut problem, one above U is
+        above min(L, U) — no assumption on U (an U below the optimum only gives U back)."""
+        if self.enclose() or not math.isfinite(s0):
+            return None
+        out = object.__new__(type(self))
+        out.__dict__.update(self.__dict__)
+        out._exact_rows = {}                       # the rows now pair with μ too
+        live = np.flatnonzero((self.q_used != 0) | (self.q_rad > 0))
+        cut = Block("nonneg", 1, np.zeros(len(live), np.int64), self.columns[live], -self.q_used[live],
+                    np.array([float(s0)]), False, OBJECTIVE_CUT, self.nz, np.zeros(1))
+        out.blocks, out.nz = self.blocks + [cut], self.nz + 1
+        column = sparse.csr_matrix((-self.q_used[live], (live, np.zeros(len(live), np.int64))),
+                                   shape=(len(self.columns), 1))
+        out.M = sparse.hstack([self.M, column]).tocsr()
+        out.Mabs = sparse.hstack([self.Mabs, abs(column)]).tocsr()
+        radius = sparse.csr_matrix((self.q_rad[live], (live, np.zeros(len(live), np.int64))),
+                                   shape=(len(self.columns), 1))
+        out.Mrad = sparse.hstack([self.Mrad, radius]).tocsr()
+        out.terms = self.terms + (self.q_used != 0)
         return out
 
     # -- clarabel's dual in these unknowns -----------------------------------------------
@@ -337,6 +368,8 @@ class DualData:
             return keep
         for b in self.blocks:
             part = z0[b.offset: b.offset + b.size]
+            if b.label == OBJECTIVE_CUT:
+                continue                        # μ = 0 at the optimum; the shifted duals need it
             if b.kind != "psd":
                 keep[b.offset: b.offset + b.size] = part > threshold * top
                 continue
