@@ -227,6 +227,7 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
             finish_solution(optimum, **finish)       # the user's back-off failed: the optimum, not yet finished
         return optimum
     candidate.times["backoff"] = time.perf_counter() - t0
+    candidate.times.update({f"optimum_{k}": v for k, v in optimum.times.items() if k.startswith("road_")})
     candidate.bounds = optimum.bounds
     if reason:
         candidate.backoff["reason"] = reason

@@ -31,6 +31,7 @@ is the feasp diagnosis of a solve that gave no certified point.
 """
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
 
 from ..errors import LmidslError
@@ -86,7 +87,11 @@ class Plan:
         compiled model of the plan's backend to update to ``instance`` instead of compiling it
         as written (a bisection re-solves one compiled model).  ``solved``: a list that receives
         the models solved as written and conditioned (the one not kept still holds its dual: a
-        second proved lower bound when the kept model's is loose)."""
+        second proved lower bound when the kept model's is loose).  The kept solution's ``times``
+        gain the road's own: ``road_as_written``, ``road_conditioned``, ``road_other_routes``
+        (compiles included), so that its record accounts for the wall time of every route tried."""
+        t0 = time.perf_counter()
+        road = {}
         model_class = get_backend(self.backend)
         if model is not None:
             model.update(instance)
@@ -99,17 +104,24 @@ class Plan:
         solved = [] if solved is None else solved
         solved.append(plain)
         proposal = equilibrate(instance, plain)
+        road["road_as_written"] = time.perf_counter() - t0
         if not proposal.trivial:
+            t1 = time.perf_counter()
             conditioned = model_class(instance, margin=self.margin, conditioning=proposal)
             other = self._solve_model(conditioned, self.solver, restore_margin=restore_margin)
             solved.append(conditioned)
+            road["road_conditioned"] = time.perf_counter() - t1
             kept = better(solution, other)
             before, after = proposal.spread
             kept.notes.append(f"conditioning (coefficient spread 2^{before:.0f} -> 2^{after:.0f}): as written "
                               f"{said(solution)}; conditioned {said(other)}; kept "
                               + ("the conditioned" if kept is other else "as written"))
             solution, model = kept, (conditioned if kept is other else plain)
-        return self._other_routes(model, solution), model
+        t2 = time.perf_counter()
+        kept = self._other_routes(model, solution)
+        road["road_other_routes"] = time.perf_counter() - t2
+        kept.times.update(road)
+        return kept, model
 
     def solve_point(self, model, instance) -> Solution:
         """A parametric study's point (a sweep, a scalar search): ``model``, compiled once with the
