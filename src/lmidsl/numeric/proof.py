@@ -32,6 +32,7 @@ import threading
 from contextlib import contextmanager
 from functools import reduce
 
+import mpmath
 import numpy as np
 import sympy as sp
 from flint import arb, arb_mat, ctx
@@ -490,6 +491,26 @@ def prove_block_matrix(evaluator_args: tuple, spec, strict: bool = True) -> tupl
             return NUMERICAL, f"no ball evaluation ({type(exc).__name__}: {exc})"
 
 
+def accurate_max_eigenvalue(evaluator_args: tuple, spec) -> float | None:
+    """λ_max((N + Nᵀ)/2) for N of the form ``spec`` at a point, N assembled in :data:`PRECISION`-bit
+    balls and the eigenvalues of their midpoints computed by mpmath at that precision (None when no
+    ball evaluation exists).  An estimate, not a proof: what numpy's rounded eigenvalue cannot
+    resolve on a badly scaled N (entries ~1e16 around a margin ~1e-7, whose sign the proof decides)."""
+    with ball_precision(PRECISION):
+        try:
+            N = evaluate_block_matrix(BallEvaluator(*evaluator_args), spec)
+        except (ZeroDivisionError, ValueError, TypeError, KeyError):
+            return None
+        N = np.asarray(N, dtype=object)
+        if not all(x.is_finite() for x in N.flat):
+            return None
+        mid = [[x.mid().man_exp() for x in row] for row in N]
+    with mpmath.workprec(PRECISION):
+        M = mpmath.matrix([[mpmath.ldexp(int(m), int(e)) for m, e in row] for row in mid])
+        S = (M + M.T) / 2
+        return float(max(mpmath.eigsy(S, eigvals_only=True)))
+
+
 def spec_dimension(evaluator_args: tuple, spec) -> int | None:
     """The dimension of the block matrix ``spec`` under the bound dimensions, or None."""
     try:
@@ -501,4 +522,4 @@ def spec_dimension(evaluator_args: tuple, spec) -> int | None:
 
 __all__ = ["PROVED", "NUMERICAL", "VIOLATED", "BallEvaluator", "negative_definite", "EnclosureEvaluator",
            "verified_positive_definite", "lower_eigenvalue_bound", "verified_spd_solve", "prove_negative_definite", "rump_shift",
-           "prove_block_matrix", "decimal_ball", "PRECISION", "ball_precision", "round_down", "round_up"]
+           "prove_block_matrix", "accurate_max_eigenvalue", "decimal_ball", "PRECISION", "ball_precision", "round_down", "round_up"]
