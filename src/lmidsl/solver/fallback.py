@@ -120,6 +120,12 @@ def riccati_point(instance: Instance, synthesis_gamma, tolerance):
     return None
 
 
+ROUNDING = 1e-9
+"""A positive numpy λmax below this fraction of the LMI's ‖N‖₂ may be rounding (double precision
+resolves ~1e-16‖N‖₂ per entry; n² entries and ill-conditioned P add decades); above it the
+candidate is dropped without a proof."""
+
+
 def _certified_point(instance: Instance, values: dict, objective: float) -> Solution | None:
     """A Solution (backend "riccati") at ``values`` when every LMI holds there, else None: by
     numpy's eigenvalues, or, where those are rounding (a stiff realisation: entries ~1e16, margin
@@ -127,6 +133,8 @@ def _certified_point(instance: Instance, values: dict, objective: float) -> Solu
     point = {**instance.data, **values}
     lmis = lmi_certificate(instance, point)
     if lmis and not all(r.max_eig < 0 for r in lmis):
+        if any(r.max_eig > ROUNDING * r.scale for r in lmis):
+            return None          # violated beyond what rounding explains: no proof is tried
         lmis = lmi_certificate(instance, point, prove=True)
         if not all(r.proof == PROVED for r in lmis):
             return None
