@@ -63,10 +63,9 @@ def _unstabilisable(time, theorem, keys, perturb=0.0):
 @pytest.mark.parametrize("theorem, keys", [
     ("textbook.hinf_sf_ct", ("A", "B1", "B2", "C1", "D11", "D12")),
     ("textbook.h2_ct_sf", ("A", "B1", "B2", "C1", "D12")),
-    pytest.param("textbook.pole_region_sf_ct", ("A", "B2"), marks=pytest.mark.xfail(
-        strict=True, reason="the sector LMI's sin θ is irrational as written, and the certificate the "
-        "alternative SDP finds uses that block: an exact certificate needs rational coefficients on "
-        "every block it uses (issue 33: proofs about the data as written, never the compiled doubles)"))])
+    # the sector LMI's sin θ is irrational as written: the certificate is one of the other LMIs
+    # alone (the alternative SDP with Z = 0 on the sector block), proved exactly
+    ("textbook.pole_region_sf_ct", ("A", "B2"))])
 def test_hidden_unreachable_unstable_mode_is_proved_infeasible(theorem, keys):
     """Integer data with an unstable mode (λ = 2) no input reaches, hidden by a unimodular change
     of basis: rank [A − 2I, B2] < n in exact arithmetic (sympy, independent of lmidsl), and lmidsl
