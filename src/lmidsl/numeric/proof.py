@@ -95,6 +95,42 @@ def _object_array(values, convert) -> np.ndarray:
     return out
 
 
+class PreciseMatrix(np.ndarray):
+    """A point's value whose exact value is a rational matrix (``exact``: an object array of
+    python-flint ``fmpq``) that doubles cannot hold: numpy sees the rounded floats, the proofs
+    (:class:`BallEvaluator`, :class:`EnclosureEvaluator`) the exact value.  Any array derived from
+    it (a view, a product, a copy) is a plain float matrix again: ``exact`` is ``None`` there.
+
+    Made for the storage of a stiff bounded-real lemma (:mod:`lmidsl.numeric.riccati`): with
+    entries of the LMI ~1e16 around a margin ~1e-18, rounding P to doubles alone violates it."""
+
+    exact = None
+
+    @classmethod
+    def of(cls, exact) -> "PreciseMatrix":
+        exact = np.asarray(exact, dtype=object)
+        out = np.array([[float(x) for x in row] for row in exact], dtype=float).view(cls)
+        out.exact = exact
+        return out
+
+    def __array_finalize__(self, obj):
+        self.exact = None
+
+    def __reduce__(self):                      # a pickled copy is the float matrix
+        return np.asarray(self).__reduce__()
+
+
+def _exact_balls(value) -> np.ndarray | None:
+    """The balls of a :class:`PreciseMatrix`'s exact value (at the current precision), or None."""
+    exact = getattr(value, "exact", None)
+    if exact is None:
+        return None
+    out = np.empty(exact.shape, dtype=object)
+    for idx, x in np.ndenumerate(exact):
+        out[idx] = arb(x)
+    return out
+
+
 class BallEvaluator(ExpressionWalker):
     """Evaluate a theorem's expressions in ball arithmetic (numpy object arrays of arb)."""
 
@@ -113,7 +149,9 @@ class BallEvaluator(ExpressionWalker):
         return _object_array(self._lookup(symbol), decimal_ball)
 
     def variable(self, symbol):
-        return _object_array(self._lookup(symbol), arb)
+        value = self._lookup(symbol)
+        exact = _exact_balls(value)
+        return _object_array(value, arb) if exact is None else exact
 
     def scalar_variable(self, symbol):
         return arb(float(np.asarray(self._lookup(symbol)).reshape(())))
@@ -433,7 +471,11 @@ class EnclosureEvaluator(ExpressionWalker):
         return Enclosure.decimal(np.atleast_2d(np.asarray(self.balls._lookup(symbol), dtype=float)))
 
     def variable(self, symbol):
-        return Enclosure.point(np.atleast_2d(np.asarray(self.balls._lookup(symbol), dtype=float)))
+        value = self.balls._lookup(symbol)
+        if getattr(value, "exact", None) is not None:
+            with ball_precision(PRECISION):
+                return Enclosure.of_balls(_exact_balls(value))
+        return Enclosure.point(np.atleast_2d(np.asarray(value, dtype=float)))
 
     def identity(self, n: int):
         return Enclosure.point(np.eye(n))
@@ -522,4 +564,4 @@ def spec_dimension(evaluator_args: tuple, spec) -> int | None:
 
 __all__ = ["PROVED", "NUMERICAL", "VIOLATED", "BallEvaluator", "negative_definite", "EnclosureEvaluator",
            "verified_positive_definite", "lower_eigenvalue_bound", "verified_spd_solve", "prove_negative_definite", "rump_shift",
-           "prove_block_matrix", "accurate_max_eigenvalue", "decimal_ball", "PRECISION", "ball_precision", "round_down", "round_up"]
+           "prove_block_matrix", "accurate_max_eigenvalue", "PreciseMatrix", "decimal_ball", "PRECISION", "ball_precision", "round_down", "round_up"]

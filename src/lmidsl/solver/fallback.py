@@ -31,7 +31,7 @@ import numpy as np
 from ..numeric.evaluate import NumericEvaluator
 from ..numeric.instance import Instance
 from ..numeric.proof import PROVED
-from ..numeric.riccati import full_information_gain, hinf_norm, storage_candidates
+from ..numeric.riccati import full_information_gain, hinf_norm, realisation_norm, storage_candidates
 from .backends import Route, get_backend
 from .solution import Solution, evaluate_performance, lmi_certificate
 from .status import OPTIMAL
@@ -103,7 +103,7 @@ def riccati_point(instance: Instance, synthesis_gamma, tolerance):
     ev = NumericEvaluator(instance.dims, dict(instance.data), instance.params)
     A, B, C, D = (np.atleast_2d(np.asarray(ev.visit(e), dtype=float)) for e in form.system)
     time = instance.theorem.time
-    norm = hinf_norm(A, B, C, D, time)
+    norm, measured = realisation_norm(A, B, C, D, time)
     if norm is None:
         return None
     levels = [norm * (1 + r) for r in RICCATI_LEVELS]
@@ -115,7 +115,7 @@ def riccati_point(instance: Instance, synthesis_gamma, tolerance):
             sol = _certified_point(instance, values, gamma ** 2)
             if sol is not None:
                 sol.notes.append(f"P from the bounded-real Riccati equation at γ = {gamma:.10g} "
-                                 f"(python-control's norm {norm:.10g}; {how})")
+                                 f"({measured} {norm:.10g}; {how})")
                 return sol
     return None
 
@@ -133,7 +133,8 @@ def _certified_point(instance: Instance, values: dict, objective: float) -> Solu
     point = {**instance.data, **values}
     lmis = lmi_certificate(instance, point)
     if lmis and not all(r.max_eig < 0 for r in lmis):
-        if any(r.max_eig > ROUNDING * r.scale for r in lmis):
+        precise = any(getattr(v, "exact", None) is not None for v in values.values())
+        if not precise and any(r.max_eig > ROUNDING * r.scale for r in lmis):
             return None          # violated beyond what rounding explains: no proof is tried
         lmis = lmi_certificate(instance, point, prove=True)
         if not all(r.proof == PROVED for r in lmis):
