@@ -115,7 +115,10 @@ def riccati_point(instance: Instance, synthesis_gamma, tolerance):
             sol = _certified_point(instance, values, gamma ** 2)
             if sol is not None:
                 sol.notes.append(f"P from the bounded-real Riccati equation at γ = {gamma:.10g} "
-                                 f"({measured} {norm:.10g}; {how})")
+                                 f"({measured} {norm:.10g}; {how})"
+                                 + ("; P is proved as an exact rational matrix: its rounded doubles, as "
+                                    "exported, may not satisfy the LMI" if getattr(P, "exact", None) is not None
+                                    else ""))
                 return sol
     return None
 
