@@ -6,8 +6,10 @@ point's values are binary floats taken exactly, so float(0.3) − 3/10 < 0 is a 
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
 import numpy as np
+import pytest
 import sympy as sp
 from flint import arb
 
@@ -45,8 +47,10 @@ def test_data_are_the_decimals_written_and_the_point_is_exact():
     thm = _tiny_theorem("decimal")
     inst = bind(thm, {"D": [[0.3]]})
     below = lmi_certificate(inst, {"D": np.array([[0.3]]), "X": np.array([[0.3]])}, prove=True)
-    # float(0.3) = 0.299999999999999988898 < 3/10: X − D < 0 exactly, although numpy sees 0
-    assert below[0].max_eig == 0.0 and below[0].proof == PROVED
+    # float(0.3) = 0.299999999999999988898 < 3/10: X − D < 0 exactly, although numpy sees 0; the
+    # reported λmax is then the one at the proof's precision: float(0.3) − 3/10 exactly
+    exact = float(Fraction(0.3) - Fraction(3, 10))
+    assert below[0].proof == PROVED and below[0].max_eig == pytest.approx(exact, rel=1e-12) and exact < 0
     above = lmi_certificate(inst, {"D": np.array([[0.3]]),
                                    "X": np.array([[math.nextafter(0.3, 1.0)]])}, prove=True)
     assert above[0].proof == VIOLATED

@@ -344,6 +344,30 @@ def _brl_cases():
     return out
 
 
+def stiff_hinf_loop(seed: int):
+    """(A, B, C, D) of the closed loop of a random plant (kind by seed mod 4: unstable, weak
+    actuator, spread scales, lightly damped; 3 to 6 states) with SB10AD's controller at its γ
+    estimate, or None when that loop is unstable: eigenvalues up to 3e10 next to 1 (seeds 100–123:
+    15 stable loops), where SLICOT's norm of the data as written is off by up to 50 %."""
+    rng = _rng(seed)
+    kind, n = ("unstable", "weak", "spread", "light")[seed % 4], 3 + seed % 4
+    if kind == "unstable":
+        P = regular_plant(rng, random_unstable(rng, n, CT))
+    elif kind == "weak":
+        P = regular_plant(rng, random_unstable(rng, n, CT), weak=1e-2)
+    elif kind == "spread":
+        A = random_unstable(rng, n, CT)
+        P = regular_plant(rng, A)
+        P["A"], P["B1"], P["C1"] = spread(A, P["B1"], P["C1"])
+    else:
+        A = np.block([[random_stable(rng, n - 2, CT), np.zeros((n - 2, 2))],
+                      [np.zeros((2, n - 2)), light_block(1.3, 1e-3, CT)]])
+        P = regular_plant(rng, A)
+    _, K = hinfsyn_ct(P)
+    loop = of_closed_loop(P, K)
+    return loop if stable(loop[0], CT) else None
+
+
 def _sf_data(P, keys=("A", "B1", "B2", "C1", "D11", "D12")):
     return {k: P[k] for k in keys}
 

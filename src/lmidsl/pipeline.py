@@ -124,6 +124,8 @@ def _recover_and_certify(model, applied, solution: Solution, backoff, bounds: bo
     instance = solution.instance
     if backoff is None or not solution.ok:
         finish_solution(solution, **finish)
+        if backoff is None and solution.message.startswith("recovery failed"):
+            solution.message += "; a back-off (--backoff) may recover a well-conditioned design"
         if bounds and not solution.ok:
             t0 = time.perf_counter()
             solution.infeasibility = prove_infeasible(model)
@@ -141,6 +143,9 @@ def _recover_and_certify(model, applied, solution: Solution, backoff, bounds: bo
             return kept
     if finish["certify"] and solution.analysis is None and not failed:
         certify_point(solution, finish["plan"])     # no back-off point: the optimum's certificate
+    if failed:                                   # never advise what was just tried
+        solution.message += (f"; the automatic back-off (δ = {AUTO_DELTAS[0]:g} to {AUTO_DELTAS[-1]:g}) "
+                             "gave no certified design either")
     return solution
 
 

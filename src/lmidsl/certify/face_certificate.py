@@ -61,18 +61,25 @@ def _rational(x: float, denominator: int):
         rest = 1 / frac
 
 
-def _face(Z: np.ndarray, rank_tol: float, denominator: int):
+NOISE = 1e-6
+"""A block whose eigenvalues are all below this fraction of the estimate's largest entry is taken
+as zero (its face is empty): a block the estimate pins at 0 comes back at ~1e-9, and its own
+noise would otherwise span a full face (a sector LMI with no rational coefficients as written,
+whose unknowns an exact certificate must leave at 0)."""
+
+
+def _face(Z: np.ndarray, rank_tol: float, denominator: int, floor: float = 0.0):
     """A rational basis (list of columns) of the span of Z's eigenvectors with eigenvalue above
-    ``rank_tol``·max, or None.  The basis is the span's reduced echelon form (the identity on
-    pivot rows chosen by QR with column pivoting), so a rational subspace has rational entries
-    whatever mixture of it the estimate holds."""
+    ``rank_tol``·max and above ``floor``, or None.  The basis is the span's reduced echelon form
+    (the identity on pivot rows chosen by QR with column pivoting), so a rational subspace has
+    rational entries whatever mixture of it the estimate holds."""
     from scipy.linalg import qr
 
     w, U = np.linalg.eigh((Z + Z.T) / 2)
     top = float(np.abs(w).max()) if len(w) else 0.0
-    if top == 0:
+    if top <= floor:
         return []
-    U = U[:, w > rank_tol * top]
+    U = U[:, w > max(rank_tol * top, floor)]
     r = U.shape[1]
     if r == 0:
         return []
@@ -112,7 +119,7 @@ def exact_face_point(data: DualData, z0: np.ndarray, rank_tol: float = 1e-3,
     for b in data.blocks:
         part = b.matrix(z0)
         if b.kind == "psd":
-            V = _face(part, rank_tol, denominator)
+            V = _face(part, rank_tol, denominator, NOISE * scale)
             if V is None:
                 return None
             faces.append((V, unknowns))

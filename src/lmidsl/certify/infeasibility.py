@@ -85,16 +85,19 @@ def margin_free_constants(data: DualData) -> np.ndarray:
     return np.concatenate(out) if out else np.zeros(0)
 
 
-def alternative_estimate(model, data: DualData, shift: float = 0.0, solver_options: dict | None = None):
+def alternative_estimate(model, data: DualData, shift: float = 0.0, solver_options: dict | None = None,
+                         zero: np.ndarray | None = None):
     """Solve the alternative SDP (module docstring) with Clarabel, with every block shifted,
-    Z_k ⪰ shift·I (an interior certificate survives an exact correction); returns (z in svec,
-    optimal value) or None."""
+    Z_k ⪰ shift·I (an interior certificate survives an exact correction), and the unknowns of the
+    mask ``zero`` fixed at 0; returns (z in svec, optimal value) or None."""
     problem = model.problem
     m, n = problem.A.shape
     e = data.selector(data.blocks)
-    A = sparse.vstack([problem.A.T, sparse.csr_matrix(e.reshape(1, -1)), -sparse.identity(m)]).tocsc()
-    b = np.concatenate([np.zeros(n), [1.0], -shift * e])
-    cones = [clarabel.ZeroConeT(n + 1)] + problem.clarabel_cones()
+    fixed = np.flatnonzero(zero) if zero is not None else np.zeros(0, dtype=int)
+    pin = sparse.csr_matrix((np.ones(len(fixed)), (np.arange(len(fixed)), fixed)), shape=(len(fixed), m))
+    A = sparse.vstack([problem.A.T, sparse.csr_matrix(e.reshape(1, -1)), pin, -sparse.identity(m)]).tocsc()
+    b = np.concatenate([np.zeros(n), [1.0], np.zeros(len(fixed)), -shift * e])
+    cones = [clarabel.ZeroConeT(n + 1 + len(fixed))] + problem.clarabel_cones()
     settings = clarabel.DefaultSettings()
     settings.verbose = False
     settings.max_threads = 1
@@ -207,6 +210,13 @@ def prove_infeasible(model, shifts=(0.0, 1e-6, 1e-4)) -> InfeasibilityCertificat
         estimates.append(("solver", lambda z=z: z))
     for shift in shifts:
         estimates.append(("alternative", lambda s=shift: alternative_estimate(model, data, s)))
+    irrational = data.irrational_unknowns()
+    if irrational.any():
+        # an LMI with no rational coefficients as written (sin θ of a sector) cannot carry an
+        # exact certificate: the alternative of the other LMIs alone (Z = 0 on that one) is one,
+        # of a relaxation of the problem, hence of the problem (pole region with a hidden
+        # unreachable unstable mode: the half-plane LMI alone is infeasible)
+        estimates.append(("alternative", lambda: alternative_estimate(model, data, 0.0, zero=irrational)))
     # Clarabel's defaults stall ("InsufficientProgress") on the alternative SDP of output feedback
     # with an unreachable unstable mode; more iterations and a smaller regularisation solve it
     estimates.append(("alternative", lambda: alternative_estimate(model, data, 0.0, PATIENT)))

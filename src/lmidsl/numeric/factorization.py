@@ -57,7 +57,7 @@ def balanced_split(M: np.ndarray, label: str = "M"):
     U, s, Vt = np.linalg.svd(M)
     if s[-1] <= s[0] * np.finfo(float).eps * M.shape[0]:
         raise FactorizationError(f"R Sᵀ = {label}: {label} is numerically singular "
-                                 f"(cond {_cond(M):.3g}); try the back-off (--backoff)")
+                                 f"(cond {_cond(M):.3g})")
     root = np.sqrt(s)
     R = U * root
     S = Vt.T * root

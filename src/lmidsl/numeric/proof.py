@@ -32,6 +32,7 @@ import threading
 from contextlib import contextmanager
 from functools import reduce
 
+import mpmath
 import numpy as np
 import sympy as sp
 from flint import arb, arb_mat, ctx
@@ -94,6 +95,42 @@ def _object_array(values, convert) -> np.ndarray:
     return out
 
 
+class PreciseMatrix(np.ndarray):
+    """A point's value whose exact value is a rational matrix (``exact``: an object array of
+    python-flint ``fmpq``) that doubles cannot hold: numpy sees the rounded floats, the proofs
+    (:class:`BallEvaluator`, :class:`EnclosureEvaluator`) the exact value.  Any array derived from
+    it (a view, a product, a copy) is a plain float matrix again: ``exact`` is ``None`` there.
+
+    Made for the storage of a stiff bounded-real lemma (:mod:`lmidsl.numeric.riccati`): with
+    entries of the LMI ~1e16 around a margin ~1e-18, rounding P to doubles alone violates it."""
+
+    exact = None
+
+    @classmethod
+    def of(cls, exact) -> "PreciseMatrix":
+        exact = np.asarray(exact, dtype=object)
+        out = np.array([[float(x) for x in row] for row in exact], dtype=float).view(cls)
+        out.exact = exact
+        return out
+
+    def __array_finalize__(self, obj):
+        self.exact = None
+
+    def __reduce__(self):                      # a pickled copy is the float matrix
+        return np.asarray(self).__reduce__()
+
+
+def _exact_balls(value) -> np.ndarray | None:
+    """The balls of a :class:`PreciseMatrix`'s exact value (at the current precision), or None."""
+    exact = getattr(value, "exact", None)
+    if exact is None:
+        return None
+    out = np.empty(exact.shape, dtype=object)
+    for idx, x in np.ndenumerate(exact):
+        out[idx] = arb(x)
+    return out
+
+
 class BallEvaluator(ExpressionWalker):
     """Evaluate a theorem's expressions in ball arithmetic (numpy object arrays of arb)."""
 
@@ -112,7 +149,9 @@ class BallEvaluator(ExpressionWalker):
         return _object_array(self._lookup(symbol), decimal_ball)
 
     def variable(self, symbol):
-        return _object_array(self._lookup(symbol), arb)
+        value = self._lookup(symbol)
+        exact = _exact_balls(value)
+        return _object_array(value, arb) if exact is None else exact
 
     def scalar_variable(self, symbol):
         return arb(float(np.asarray(self._lookup(symbol)).reshape(())))
@@ -461,7 +500,11 @@ class EnclosureEvaluator(ExpressionWalker):
         return Enclosure.decimal(np.atleast_2d(np.asarray(self.balls._lookup(symbol), dtype=float)))
 
     def variable(self, symbol):
-        return Enclosure.point(np.atleast_2d(np.asarray(self.balls._lookup(symbol), dtype=float)))
+        value = self.balls._lookup(symbol)
+        if getattr(value, "exact", None) is not None:
+            with ball_precision(PRECISION):
+                return Enclosure.of_balls(_exact_balls(value))
+        return Enclosure.point(np.atleast_2d(np.asarray(value, dtype=float)))
 
     def identity(self, n: int):
         return Enclosure.point(np.eye(n))
@@ -519,6 +562,26 @@ def prove_block_matrix(evaluator_args: tuple, spec, strict: bool = True) -> tupl
             return NUMERICAL, f"no ball evaluation ({type(exc).__name__}: {exc})"
 
 
+def accurate_max_eigenvalue(evaluator_args: tuple, spec) -> float | None:
+    """λ_max((N + Nᵀ)/2) for N of the form ``spec`` at a point, N assembled in :data:`PRECISION`-bit
+    balls and the eigenvalues of their midpoints computed by mpmath at that precision (None when no
+    ball evaluation exists).  An estimate, not a proof: what numpy's rounded eigenvalue cannot
+    resolve on a badly scaled N (entries ~1e16 around a margin ~1e-7, whose sign the proof decides)."""
+    with ball_precision(PRECISION):
+        try:
+            N = evaluate_block_matrix(BallEvaluator(*evaluator_args), spec)
+        except (ZeroDivisionError, ValueError, TypeError, KeyError):
+            return None
+        N = np.asarray(N, dtype=object)
+        if not all(x.is_finite() for x in N.flat):
+            return None
+        mid = [[x.mid().man_exp() for x in row] for row in N]
+    with mpmath.workprec(PRECISION):
+        M = mpmath.matrix([[mpmath.ldexp(int(m), int(e)) for m, e in row] for row in mid])
+        S = (M + M.T) / 2
+        return float(max(mpmath.eigsy(S, eigvals_only=True)))
+
+
 def spec_dimension(evaluator_args: tuple, spec) -> int | None:
     """The dimension of the block matrix ``spec`` under the bound dimensions, or None."""
     try:
@@ -530,4 +593,4 @@ def spec_dimension(evaluator_args: tuple, spec) -> int | None:
 
 __all__ = ["PROVED", "NUMERICAL", "VIOLATED", "BallEvaluator", "negative_definite", "EnclosureEvaluator",
            "verified_positive_definite", "lower_eigenvalue_bound", "verified_spd_solve", "prove_negative_definite", "rump_shift",
-           "prove_block_matrix", "decimal_ball", "PRECISION", "ball_precision", "round_down", "round_up"]
+           "prove_block_matrix", "accurate_max_eigenvalue", "PreciseMatrix", "decimal_ball", "PRECISION", "ball_precision", "round_down", "round_up"]

@@ -23,11 +23,33 @@ Nothing here is a proof: the point is handed to the certificate
 would be.  What it avoids is the SDP: on closed loops whose controller is nearly singular
 (recovery condition numbers ~1e11), SDP solvers certify only a γ well above the closed loop's
 norm while the Riccati route lands within ε of it.
+
+**Stiff realisations.**  On closed loops with a pole at −5e7 and output entries ~1e8 (an H∞
+controller of large gain) the Riccati solution in the coordinates as written is wrong in its
+sign (λ_min(P) ≈ −1e-2, also after ``matrix_balance``): the LMI's entries reach 1e16 and the
+margin it needs is ~1e-7.  :func:`storage_candidates` therefore also solves the equation for
+the *balanced* realisation (Ab, Bb, Cb) = (T⁻¹AT, T⁻¹B, CT) (square-root balancing, Laub,
+Heath, Paige and Ward, IEEE TAC 1987; the Gramians' Cholesky factors by SLICOT SB03OD
+(Hammarling), each Gramian of (A, [B  ρI]) and (Aᵀ, [Cᵀ  ρI]) so that T exists for a
+non-minimal system) and maps the storage back, P = T⁻ᵀ Pb T⁻¹: the LMI at P is the congruence
+diag(T⁻ᵀ, I, I) · LMI_b(Pb) · diag(T⁻¹, I, I), so P is feasible iff Pb is.  In the balanced
+coordinates the equation is solved with CᵀC + ε W, W = diag(w) weighting state i by the size of
+row and column i of Ab (relative to the smallest): the rounding of AᵀP + PA in row i is
+~u‖Ab_i‖‖Pb‖, so the margin is put where the rounding is (the augmented norm then rises by at
+most ε ‖W^½(sI − A)⁻¹B‖∞²).  P is a float matrix; whether the LMI holds at it for the data as
+written is for the ball-arithmetic proof to say (:func:`lmidsl.numeric.proof.prove_block_matrix`
+at 212 bits, which a rounded eigenvalue of an LMI with entries ~1e16 cannot decide).
+Measured on the stress set's stiff closed loops (``benchmarks/stress/designs.py``): proved at
+γ = ‖G‖∞ (1 + 1e-5 … 9e-5) where the SDP certified 14.716 against the norm 2.631 (light-1),
+nothing (huge_gain-2) and 2.8 % above the norm (spread-3).
 """
 from __future__ import annotations
 
+import mpmath
 import numpy as np
+from flint import fmpq
 
+from .proof import PreciseMatrix
 from .systems import hinf_norm as systems_hinf_norm, is_stable
 
 FRACTIONS = (0.5, 0.05)
@@ -36,14 +58,16 @@ equation raises the squared norm by at most ε ‖(sI − A)⁻¹B‖∞², so t
 norm below γ (a stabilising solution exists) while making the LMI as strict as possible."""
 
 
-def bounded_real_storage(A, B, C, D, g: float, time: str, eps: float) -> np.ndarray | None:
-    """The stabilising solution P of the bounded-real Riccati equation with CᵀC + εI at the level
-    g = γ² (module docstring), or None when there is none (γ ≤ the norm, or A unstable)."""
+def bounded_real_storage(A, B, C, D, g: float, time: str, eps: float,
+                         weights: np.ndarray | None = None) -> np.ndarray | None:
+    """The stabilising solution P of the bounded-real Riccati equation with CᵀC + ε diag(w)
+    (w = ``weights``, default all ones) at the level g = γ² (module docstring), or None when there
+    is none (γ ≤ the norm, or A unstable)."""
     from scipy.linalg import solve_continuous_are, solve_discrete_are
 
     A, B, C, D = (np.atleast_2d(np.asarray(m, dtype=float)) for m in (A, B, C, D))
     n = A.shape[0]
-    Q = C.T @ C + eps * np.eye(n)
+    Q = C.T @ C + eps * (np.eye(n) if weights is None else np.diag(weights))
     R = D.T @ D - g * np.eye(B.shape[1])
     S = C.T @ D
     try:
@@ -69,20 +93,160 @@ def hinf_norm(A, B, C, D, time: str) -> float | None:
     return None if value == float("inf") else value
 
 
+def realisation_norm(A, B, C, D, time: str) -> tuple[float | None, str]:
+    """(‖G‖∞, how) by SLICOT AB13DD on the square-root balanced realisation when it exists (else
+    on the data as written; None when A is not stable).  On stiff closed loops AB13DD on the data
+    as written is wrong both ways (stress closed loops of hinfsyn controllers, eigenvalues to 3e10:
+    7.832 where σ_max(G(jω)) on a grid peaks at 5.0287 and the balanced realisation gives 5.02870;
+    1.8747 where the grid shows 2.00251); the balanced realisation's value agreed with the grid to
+    4 digits on all of them.  Not a proof either way: the level only seeds the Riccati route, whose
+    point is proved."""
+    A, B, C = (np.atleast_2d(np.asarray(m, dtype=float)) for m in (A, B, C))
+    balanced = balancing_transform(A, B, C, time)
+    if balanced is not None:
+        T, Ti = balanced
+        value = hinf_norm(Ti @ A @ T, Ti @ B, C @ T, D, time)
+        if value is not None and np.isfinite(value):
+            return value, "SLICOT's norm of the balanced realisation"
+    return hinf_norm(A, B, C, D, time), "SLICOT's norm"
+
+
 def storage_candidates(A, B, C, D, g: float, time: str, norm: float):
-    """(ε, P) for each ε of :data:`FRACTIONS` of the room below the level g = γ² (``norm``:
-    ‖G‖∞ < γ), those for which a stabilising solution exists."""
+    """(how, P) for the storages P of the bounded-real Riccati equation at the level g = γ² > ‖G‖∞²
+    (``norm``): in the coordinates as written with ε = each of :data:`FRACTIONS` of the room
+    (g − ‖G‖∞²) / ‖(sI − A)⁻¹B‖∞², then for the balanced realisation with ε I and ε W
+    (module docstring), mapped back; only those for which a stabilising solution exists.  ``how``
+    says which (for the notes); the candidates are not proved here."""
     A = np.atleast_2d(np.asarray(A, dtype=float))
     B = np.atleast_2d(np.asarray(B, dtype=float))
+    C = np.atleast_2d(np.asarray(C, dtype=float))
     n = A.shape[0]
-    gain = hinf_norm(A, B, np.eye(n), np.zeros((n, B.shape[1])), time)
-    if gain is None or not g > norm ** 2:
+    if not g > norm ** 2:
         return
-    for fraction in FRACTIONS:
-        eps = fraction * (g - norm ** 2) / max(gain ** 2, 1e-300)
-        P = bounded_real_storage(A, B, C, D, g, time, eps)
-        if P is not None:
-            yield eps, P
+    realisations = [("as written", np.eye(n), np.eye(n))]
+    balanced = balancing_transform(A, B, C, time)
+    for how, T, Ti in realisations + ([("balanced", *balanced)] if balanced is not None else []):
+        Ab, Bb, Cb = Ti @ A @ T, Ti @ B, C @ T
+        size = np.linalg.norm(Ab, axis=0) + np.linalg.norm(Ab, axis=1)
+        weightings = [("I", np.ones(n))]
+        if how == "balanced" and size.min() > 0:
+            weightings.append(("W", size / size.min()))
+        gains = {}
+        for name, w in weightings:
+            gains[name] = gain = hinf_norm(Ab, Bb, np.diag(np.sqrt(w)), np.zeros((n, B.shape[1])), time)
+            if gain is None:
+                return
+            for fraction in FRACTIONS:
+                eps = fraction * (g - norm ** 2) / max(gain ** 2, 1e-300)
+                Pb = bounded_real_storage(Ab, Bb, Cb, D, g, time, eps, None if name == "I" else w)
+                if Pb is not None:
+                    P = Ti.T @ Pb @ Ti
+                    yield f"{how}, CᵀC + ε{name} with ε = {eps:.3g}", (P + P.T) / 2
+        if how == "balanced" and time == "continuous":      # the last resort: one 60-digit solve
+            name, w = weightings[-1]
+            eps = FRACTIONS[0] * (g - norm ** 2) / max(gains[name] ** 2, 1e-300)
+            P = precise_storage(A, B, C, D, g, eps, w, Ti)
+            if P is not None:
+                yield f"{how}, {PRECISE_DIGITS}-digit Hamiltonian, CᵀC + ε{name} with ε = {eps:.3g}", P
+
+
+PRECISE_DIGITS = 60
+"""Decimal digits of the Hamiltonian route (:func:`precise_storage`)."""
+
+
+def precise_storage(A, B, C, D, g: float, eps: float, weights, Ti):
+    """The stabilising storage of the continuous bounded-real Riccati equation (CᵀC + ε diag(w))
+    computed at :data:`PRECISE_DIGITS` digits and kept exactly (a
+    :class:`~lmidsl.numeric.proof.PreciseMatrix`), or None.
+
+    The realisation is (Ti A Ti⁻¹, Ti B, C Ti⁻¹) with the data the decimals as written (what the
+    proof reads: a float's binary value differs by ~1e-17, more than the margin) and Ti's floats
+    taken exactly (Ti⁻¹ at that precision); with Ā = A + BR⁻¹Sᵀ, Q̄ = Q + SR⁻¹Sᵀ, R = gI − DᵀD, S = CᵀD, the stable invariant
+    subspace [X₁; X₂] of the Hamiltonian [[Ā, BR⁻¹Bᵀ], [−Q̄, −Āᵀ]] (mpmath's eigenvectors) gives
+    Pb = X₂X₁⁻¹ (Zhou, Doyle, Glover 1996, ch. 13), mapped back P = Tiᵀ Pb Ti and rounded to
+    rationals.  For a stiff closed loop (eigenvalues 1e9 next to 1) the LMI's margin at the exact
+    storage is ~1e-18 of entries ~1e9: double precision cannot hold P, its exact value can; the proof
+    decides (:class:`~lmidsl.numeric.proof.PreciseMatrix` is what it reads)."""
+    n, m = A.shape[0], B.shape[1]
+    with mpmath.workdps(PRECISE_DIGITS):
+        def mp(M, written=True):         # data: the decimals as written (repr); Ti: its floats
+            M = np.atleast_2d(np.asarray(M, dtype=float))
+            return mpmath.matrix([[mpmath.mpf(repr(float(x))) if written else mpmath.mpf(float(x))
+                                   for x in row] for row in M])
+
+        Am, Bm, Cm, Dm, Tm = mp(A), mp(B), mp(C), mp(D), mp(Ti, written=False)
+        try:
+            Tinv = Tm ** -1
+            Ab, Bb, Cb = Tm * Am * Tinv, Tm * Bm, Cm * Tinv
+            S = Cb.T * Dm
+            Ri = (mpmath.mpf(g) * mpmath.eye(m) - Dm.T * Dm) ** -1
+            Abar = Ab + Bb * Ri * S.T
+            Qbar = Cb.T * Cb + mpmath.mpf(eps) * mpmath.diag([float(x) for x in weights]) + S * Ri * S.T
+            G = Bb * Ri * Bb.T
+            H = mpmath.zeros(2 * n)
+            for i in range(n):
+                for j in range(n):
+                    H[i, j], H[i, n + j], H[n + i, j], H[n + i, n + j] = Abar[i, j], G[i, j], -Qbar[i, j], -Abar[j, i]
+            E, V = mpmath.eig(H)
+            stable = [k for k in range(2 * n) if mpmath.re(E[k]) < 0]
+            if len(stable) != n:
+                return None
+            X1, X2 = mpmath.matrix(n, n), mpmath.matrix(n, n)
+            for c, k in enumerate(stable):
+                for i in range(n):
+                    X1[i, c], X2[i, c] = V[i, k], V[n + i, k]
+            P = Tm.T * (X2 * X1 ** -1) * Tm
+        except (ZeroDivisionError, ValueError, ArithmeticError):
+            return None
+
+        def rational(x):                  # exactly (mpmath's man_exp drops the sign)
+            x = mpmath.mpf(mpmath.re(x))
+            man, exp = x.man_exp
+            man = -int(man) if x < 0 else int(man)
+            return fmpq(man * 2 ** int(exp)) if exp >= 0 else fmpq(man, 2 ** int(-exp))
+
+        exact = np.array([[rational(P[i, j]) for j in range(n)] for i in range(n)], dtype=object)
+    exact = (exact + exact.T) / 2                  # symmetric exactly
+    if not np.all(np.isfinite([[float(x) for x in row] for row in exact])):
+        return None
+    return PreciseMatrix.of(exact)
+
+
+BALANCING_REGULARISATION = 1e-12
+"""ρ² relative to ‖B‖², ‖C‖²: the Gramians of (A, [B ρI]) and (Aᵀ, [Cᵀ ρI]) are positive
+definite also for a non-minimal system, and differ from the plain ones by ~1e-12 relative."""
+
+
+def balancing_transform(A, B, C, time: str):
+    """(T, T⁻¹) of square-root balancing (module docstring), or None (A not stable, SLICOT
+    unavailable or failing): Lc Lcᵀ, Lo Loᵀ the Gramians of (A, [B ρI]) and (Aᵀ, [Cᵀ ρI]) (SB03OD),
+    Loᵀ Lc = U Σ Vᵀ, T = Lc V Σ^-½, T⁻¹ = Σ^-½ Uᵀ Loᵀ (then T⁻¹ A T has equal, diagonal Gramians)."""
+    if not is_stable(A, time):
+        return None
+    n = A.shape[0]
+    try:
+        rho = np.sqrt(BALANCING_REGULARISATION)
+        Lc = gramian_factor(A, np.hstack([B, rho * max(np.linalg.norm(B, 2), 1e-300) * np.eye(n)]), time)
+        Lo = gramian_factor(A.T, np.hstack([C.T, rho * max(np.linalg.norm(C, 2), 1e-300) * np.eye(n)]), time)
+        U, sigma, Vt = np.linalg.svd(Lo.T @ Lc)
+    except (ImportError, ValueError, np.linalg.LinAlgError):
+        return None
+    if not (np.all(np.isfinite(sigma)) and sigma[-1] > 0):
+        return None
+    root = sigma ** -0.5
+    return Lc @ Vt.T * root, (U * root).T @ Lo.T
+
+
+def gramian_factor(A, B, time: str) -> np.ndarray:
+    """L with L Lᵀ = X, the Gramian A X + X Aᵀ + B Bᵀ = 0 (discrete: A X Aᵀ − X + B Bᵀ = 0), A
+    stable, by SLICOT SB03OD (Hammarling's method: the Cholesky factor directly, never X)."""
+    from slycot import sb03od
+
+    n = A.shape[0]
+    R = np.linalg.qr(B.T, mode="r")              # BBᵀ = RᵀR, R with n columns
+    R = np.vstack([R, np.zeros((n - R.shape[0], n))]) if R.shape[0] < n else R
+    U, scale, _ = sb03od(n, n, A.T.copy(), np.zeros((n, n)), R, "C" if time == "continuous" else "D")
+    return U.T / scale
 
 
 def full_information_gain(A, B1, B2, C1, D11, D12, gamma: float, time: str, eps: float = 0.0):
@@ -124,4 +288,5 @@ def full_information_gain(A, B1, B2, C1, D11, D12, gamma: float, time: str, eps:
     return F[m1:, :]
 
 
-__all__ = ["FRACTIONS", "bounded_real_storage", "full_information_gain", "hinf_norm", "storage_candidates"]
+__all__ = ["BALANCING_REGULARISATION", "FRACTIONS", "PRECISE_DIGITS", "precise_storage", "realisation_norm", "balancing_transform", "bounded_real_storage",
+           "full_information_gain", "gramian_factor", "hinf_norm", "storage_candidates"]
