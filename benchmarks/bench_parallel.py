@@ -62,7 +62,8 @@ def reference_pool(workers: int, n: int) -> dict:
     from lmidsl.numeric.scaling import apply_scaling
     from lmidsl.pipeline import make_instance
     from lmidsl.solver.backends import DEFAULT_BACKEND
-    from lmidsl.studies.sweep import SweepTask, parse_grid
+    from lmidsl.studies.sweep import SweepTask
+    from lmidsl.studies.defaults import parse_grid
 
     grids = [parse_grid(g) for g in (f"xi1=0.05:0.95:{n}", f"xi2=0.05:0.95:{n}")]
     base = apply_scaling(make_instance(THEOREM, EXAMPLE), "auto").scaled

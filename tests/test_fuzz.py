@@ -17,7 +17,7 @@ from fuzzing import run_case  # noqa: E402
 from lmidsl.cli.common import parse_overrides  # noqa: E402
 from lmidsl.errors import LmidslError  # noqa: E402
 from lmidsl.pipeline import make_instance  # noqa: E402
-from lmidsl.studies.sweep import parse_grid  # noqa: E402
+from lmidsl.studies.defaults import parse_grid  # noqa: E402
 
 FAST = settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 

@@ -12,7 +12,8 @@ from lmidsl.cli import main
 from lmidsl.numeric.factorization import balanced_split
 from lmidsl.theorem.registry import get_theorem
 from lmidsl.numeric.scaling import apply_scaling
-from lmidsl.studies.sweep import parse_grid, sweep
+from lmidsl.studies.sweep import sweep
+from lmidsl.studies.defaults import parse_grid
 
 warnings.filterwarnings("ignore", message="Solution may be inaccurate")
 

@@ -61,7 +61,8 @@ def test_solution_html_shows_verdict_gamma_and_design():
 
 
 def test_sweep_html_has_one_row_per_point():
-    from lmidsl.studies.sweep import parse_grid, sweep
+    from lmidsl.studies.sweep import sweep
+    from lmidsl.studies.defaults import parse_grid
     result = sweep("wang_l2linf.thm3", [parse_grid("rbar=0.1,0.5", 10)])
     page = notebook.html(result)
     assert page.count("<tr>") == 1 + len(result.points)

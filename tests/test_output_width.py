@@ -117,7 +117,8 @@ def test_reproduce_fits(monkeypatch):
 
 def test_sweep_fits(monkeypatch):
     from lmidsl.render.text import format_sweep
-    from lmidsl.studies.sweep import parse_grid, sweep
+    from lmidsl.studies.sweep import sweep
+    from lmidsl.studies.defaults import parse_grid
     result = sweep("wang_l2linf.thm3", [parse_grid("rbar=0.1,0.5", 10)])
     texts = texts_at_widths(monkeypatch, lambda: format_sweep(result))
     assert_fits_and_whole(texts, result.as_dict(), must=("wang_l2linf.thm3",))

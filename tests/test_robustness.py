@@ -20,7 +20,8 @@ from lmidsl.cli import main
 from lmidsl.errors import InputError
 from lmidsl.studies.store import JsonLinesStore, strict_json
 from lmidsl.render.text import format_timing
-from lmidsl.studies.sweep import SweepPoint, SweepResult, parse_grid
+from lmidsl.studies.sweep import SweepPoint, SweepResult
+from lmidsl.studies.defaults import parse_grid
 
 THM3 = ("wang_l2linf.thm3", "--example", "paper-full")
 

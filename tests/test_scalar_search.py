@@ -9,7 +9,7 @@ from lmidsl import Source, Theorem
 from lmidsl.errors import InputError
 from lmidsl.numeric.instance import bind
 from lmidsl.studies.search import scalar_search
-from lmidsl.studies.sweep import parse_grid
+from lmidsl.studies.defaults import parse_grid
 
 
 def _brl_theorem():

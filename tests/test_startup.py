@@ -71,7 +71,10 @@ def warm(tmp_path_factory):
 
 @pytest.mark.parametrize("argv", [["solve", "nosuch.thm"], ["latex", "nosuch.thm"], ["verify", "nosuch.thm"],
                                   ["simulate", "nosuch.thm"], ["derive-check", "nosuch.thm"],
-                                  ["reproduce", "--theorem", "nosuch.thm"], ["solve", "textbook.brl_cx"]],
+                                  ["reproduce", "--theorem", "nosuch.thm"], ["solve", "textbook.brl_cx"],
+                                  ["sweep", "--grid", "a=1:2:2", "nosuch.thm"], ["check", "nosuch.thm"],
+                                  ["search", "--grid", "a=1:2:2", "nosuch.thm"], ["successive", "nosuch.thm"],
+                                  ["export", "--format", "sdpa", "--output", "x.dat-s", "nosuch.thm"]],
                          ids=lambda a: " ".join(a))
 def test_an_unknown_theorem_is_one_line_before_sympy_is_imported(warm, argv):
     """``textbook.brl_cx``: a module that exists, an id it does not define (its cache entry, valid

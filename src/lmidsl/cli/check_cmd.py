@@ -5,9 +5,9 @@ input.  See :mod:`lmidsl.studies.cross_check` for what "certified" and "trusted"
 """
 from __future__ import annotations
 
-from ..studies.cross_check import DEFAULT_TOLERANCE, FIRST_ORDER_CAP, check, plan_rows
 from ..render.progress import Progress
-from ..render.text import text
+from ..studies.defaults import DEFAULT_TOLERANCE, FIRST_ORDER_CAP
+from ..theorem.registry import get_theorem
 from .common import (add_output_arguments, add_parallel_arguments, add_solve_arguments, check_options_for_rows, instance_spec,
                      parallel_spec, parse_solver_options, positive_float, print_json, show_progress)
 
@@ -47,6 +47,11 @@ def run(args):
         return Progress(plan, "check", lambda row: f"{row[0]}:{row[1]}", enabled=show_progress(args))
 
     options = parse_solver_options(args.solver_options)
+    get_theorem(args.theorem)
+    # the study, imported once the theorem id is known good (an unknown id is answered from the
+    # index, without the solving stack)
+    from ..render.text import text
+    from ..studies.cross_check import check, plan_rows
     check_options_for_rows(plan_rows(requested_rows(args)), options)    # bad options: exit 2 first
     result = check(args.theorem, solvers=requested_rows(args),
                    options=options, tolerance=args.tolerance,

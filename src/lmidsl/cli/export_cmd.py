@@ -5,10 +5,9 @@ SDP: :func:`lmidsl.studies.export.check_round_trip`)."""
 from __future__ import annotations
 
 from ..errors import InputError
-from ..pipeline import make_instance, solve_instance
 from ..render.terminal import echo
-from ..render.text import format_export
-from ..studies.export import FORMATS, OPTIMUM_RTOL, check_round_trip, export
+from ..studies.defaults import FORMATS, OPTIMUM_RTOL
+from ..theorem.registry import get_theorem
 from .common import add_solve_arguments, instance_spec, print_json, refuse, solve_arguments
 
 ORDER = 75
@@ -30,6 +29,12 @@ def run(args):
     if args.check and args.format == "json":
         raise InputError("--check reads the written SDP back and solves it; --format json writes only "
                          "the map: use --format sdpa or cbf with --check")
+    get_theorem(args.theorem)
+    # the study, imported once the theorem id is known good (an unknown id is answered from the
+    # index, without the solving stack)
+    from ..pipeline import make_instance, solve_instance
+    from ..render.text import format_export
+    from ..studies.export import check_round_trip, export
     instance = make_instance(args.theorem, **instance_spec(args))
     if not args.check:
         refuse(args, "export writes the SDP (compiled by PICOS) and solves nothing; the backend and "

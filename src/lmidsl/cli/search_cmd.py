@@ -3,13 +3,11 @@ from __future__ import annotations
 
 import sys
 
-from ..pipeline import make_instance, solve_instance
 from ..errors import InputError
 from ..render.progress import Progress
 from ..render.terminal import is_terminal, wrap
-from ..render.text import text
-from ..studies.search import OBJECTIVES, scalar_search
-from ..studies.sweep import parse_grid
+from ..studies.defaults import OBJECTIVES, parse_grid
+from ..theorem.registry import get_theorem
 from .common import (add_parallel_arguments, add_solve_arguments, instance_spec, parallel_spec,
                      positive_int, print_json, solve_arguments)
 
@@ -39,6 +37,12 @@ def run(args):
     if not args.grid:
         raise InputError("search: give at least one --grid NAME=a:b:n")
     axes = dict(parse_grid(g) for g in args.grid)
+    get_theorem(args.theorem)
+    # the study, imported once the theorem id is known good (an unknown id is answered from the
+    # index, without the solving stack)
+    from ..pipeline import make_instance, solve_instance
+    from ..render.text import text
+    from ..studies.search import scalar_search
     instance = make_instance(args.theorem, **instance_spec(args))
     result = scalar_search(instance, axes, args.objective, refine_best=args.refine,
                            **parallel_spec(args), progress=None if args.no_progress or args.json else _bar,

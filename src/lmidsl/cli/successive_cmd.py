@@ -13,11 +13,9 @@ import sys
 import numpy as np
 
 from ..errors import InputError
-from ..pipeline import make_instance
 from ..render.progress import Stages
 from ..render.terminal import echo, is_terminal
-from ..render.text import text
-from ..studies.bmi import successive_lmi
+from ..theorem.registry import get_theorem
 from .common import (add_output_arguments, add_solve_arguments, instance_spec, positive_float, positive_int,
                      print_json, refuse, show_progress, solve_arguments, strict_loads)
 
@@ -55,6 +53,12 @@ def parse_start(text: str, instance) -> dict:
 
 def run(args):
     refuse(args, "each step is solved with the solver's defaults (studies.bmi)", "--solver-option")
+    get_theorem(args.theorem)
+    # the study, imported once the theorem id is known good (an unknown id is answered from the
+    # index, without the solving stack)
+    from ..pipeline import make_instance
+    from ..render.text import text
+    from ..studies.bmi import successive_lmi
     instance = make_instance(args.theorem, **instance_spec(args))
     if not instance.theorem.linearisation:
         raise InputError(f"{instance.theorem.id} declares no linearisation point (Theorem.linearise): "

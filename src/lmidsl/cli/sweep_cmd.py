@@ -2,11 +2,10 @@
 from __future__ import annotations
 
 from ..errors import InputError
-from ..render.figures import sweep_figure
 from ..render.progress import Progress
-from ..render.text import text
+from ..studies.defaults import MAX_POINTS, parse_grid
 from ..studies.store import ensure_writable_dir
-from ..studies.sweep import MAX_POINTS, parse_grid, sweep
+from ..theorem.registry import get_theorem
 from .common import (add_output_arguments, add_parallel_arguments, add_solve_arguments, instance_spec,
                      parallel_spec, positive_int, print_json, show_progress, solve_arguments)
 
@@ -43,6 +42,12 @@ def run(args):
     if args.resume and not args.out:
         raise InputError("sweep: --resume needs --out DIR (the folder of the interrupted sweep)")
     out = ensure_writable_dir(args.out, "--out") if args.out else None   # before the first solve
+    get_theorem(args.theorem)
+    # the study, imported once the theorem id is known good (an unknown id is answered from the
+    # index, without the solving stack)
+    from ..render.figures import sweep_figure
+    from ..render.text import text
+    from ..studies.sweep import sweep
 
     def progress(combos):
         label = lambda combo: ", ".join(f"{n}={v:g}" for (n, _), v in zip(grids, combo))  # noqa: E731

@@ -37,11 +37,9 @@ from ..solver.status import OPTIMAL
 from ..solver.backends import (BACKENDS, DEFAULT_BACKEND, backend_info, options_for, SOLVER_INFO, backend_sdp_solvers, is_first_order,
                                resolve_solver)
 from ..errors import InputError, LmidslError
+from .defaults import DEFAULT_TOLERANCE, FIRST_ORDER_CAP
 from .parallel import Runner, Task, check_workers, items_as_finished
 
-DEFAULT_TOLERANCE = 1e-3
-FIRST_ORDER_CAP = 3.0
-"""A first-order row's default time limit, as a multiple of the interior-point rows' median time."""
 MIN_CAP = 2.0
 """The shortest time limit a first-order row gets, seconds."""
 

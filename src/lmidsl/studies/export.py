@@ -29,8 +29,8 @@ from ..errors import InputError, LmidslError
 from ..numeric.instance import Instance, random_point
 from ..numeric.scaling import apply_scaling
 from ..solver.backends import get_backend
+from .defaults import FORMATS, OPTIMUM_RTOL
 
-FORMATS = ("sdpa", "cbf", "json")
 
 
 @dataclass
@@ -277,12 +277,6 @@ def blocks_at(problem: SDPAProblem, x: np.ndarray) -> list[np.ndarray]:
             for b in range(len(problem.blocks))]
 
 
-#: the file's optimum and lmidsl's (the same SDP, the same margin) agree within this (relative):
-#: Clarabel's reduced duality-gap tolerance 5e-5 on each side of a solve that ends "inaccurate",
-#: and primal residuals of 1e-8 times duals of ~1e3–1e4 on the random H∞ filter plants
-#: (textbook.hinf_filter_dt: 5.703912 from the file, 5.703574 from the direct backend, both
-#: "optimal")
-OPTIMUM_RTOL = 1e-4
 #: the encoding identity: at one point, cᵀx against the objective and each block's eigenvalues
 #: against its LMI's (−N − εI), relative to the size of the numbers (rounding only)
 IDENTITY_RTOL = 1e-9

@@ -36,9 +36,9 @@ from ..numeric.proof import PROVED
 from ..solver.feasibility import DEFAULT_RADIUS, JointFeasp
 from ..solver.plan import Plan
 from ..solver.solution import lmi_certificate
+from .defaults import OBJECTIVES
 from .parallel import Runner, Task
 
-OBJECTIVES = ("gamma", "tmin")
 
 
 @dataclass

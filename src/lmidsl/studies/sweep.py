@@ -31,42 +31,10 @@ from ..solver.solution import evaluate_performance, lmi_certificate
 from ..solver.backends import choose_backend, get_backend
 from .. import __version__
 from ..errors import InputError, Interrupted, LmidslWarning, NoResultError
+from .defaults import MAX_POINTS
 from .parallel import Runner, Task, check_workers, items_as_finished, worker_state
 from .store import JsonLinesStore, atomic_path, atomic_write_text, strict_json
 from ..numeric.scaling import apply_scaling
-
-
-#: the largest grid a sweep runs unless told otherwise (``--max-points``)
-MAX_POINTS = 100_000
-
-
-def parse_grid(text: str, max_points: int = MAX_POINTS) -> tuple[str, list[float]]:
-    """'xi1=0.05:0.95:19' (start:stop:count, inclusive) or 'xi1=0.1,0.5,0.9' → (name, values);
-    finite numbers only, at most ``max_points`` values."""
-    name, sep, spec = text.partition("=")
-    name = name.strip()
-    if not sep or not name or not spec:
-        raise InputError(f"--grid {text!r}: expected NAME=START:STOP:COUNT or NAME=V1,V2,...")
-    try:
-        if ":" in spec:
-            start, stop, count = spec.split(":")
-            count = int(count)
-            if count < 1:
-                raise ValueError
-            ends = [float(start), float(stop)]
-            if not all(math.isfinite(v) for v in ends):
-                raise InputError(f"--grid {text!r}: START and STOP must be finite numbers")
-            if count > max_points:
-                raise InputError(f"--grid {text!r}: {count} points exceed the maximum of {max_points} "
-                                 f"(raise it with --max-points)")
-            values = np.linspace(ends[0], ends[1], count).tolist()
-        else:
-            values = [float(v) for v in spec.split(",")]
-            if not all(math.isfinite(v) for v in values):
-                raise InputError(f"--grid {text!r}: values must be finite numbers (no nan, inf)")
-    except ValueError:
-        raise InputError(f"--grid {text!r}: expected NAME=START:STOP:COUNT (COUNT ≥ 1) or NAME=V1,V2,...") from None
-    return name, [round(v, 12) for v in values]
 
 
 def grid_size(grids: list) -> int:
