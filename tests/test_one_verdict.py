@@ -18,7 +18,7 @@ from lmidsl.certify.verdict import CERTIFIED_BOUND, CERTIFIED_WORDS
 
 from conftest import ROOT, run_cli
 
-RECORD_KEYS = {"certified", "word", "gamma", "why", "quantity", "quantity_words", "levels", "reasons"}
+RECORD_KEYS = {"certified", "word", "gamma", "why", "quantity", "quantity_words", "levels", "reasons", "headline"}
 
 
 def test_the_road_tries_the_named_or_default_solver_then_the_fallback_routes():

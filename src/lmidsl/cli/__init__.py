@@ -488,6 +488,10 @@ def _run_command_here(args, deadline) -> int:
         print(deadline.message() if deadline.expired else "error: interrupted", file=sys.stderr)
         return 1 if deadline.expired else 130
     except Exception as exc:  # a bug, not bad input: say so in one line unless debugging
+        if deadline.expired:  # the deadline's interrupt, turned into another error by a library
+            deadline.cancel()  # (numpy's import makes an ImportError of it): it timed out
+            print(deadline.message(), file=sys.stderr)
+            return 1
         return _internal_error(exc)
     return code or 0
 

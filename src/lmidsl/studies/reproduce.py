@@ -75,11 +75,15 @@ class ReproductionRow:
                 "as_expected": self.as_expected}
 
 
-def _verdict(kind, printed, computed, rel, certified, status):
-    if not solved(status):
-        return status
+def _comparison(kind, printed, computed, rel, certified, sol) -> str:
+    """The printed value against the computed one, in words; without a point to use, the
+    verdict's word (``infeasible`` only when proved)."""
+    if not sol.ok:
+        return sol.verdict.word
     if printed is None:
         verdict = "computed (no printed value)"
+    elif computed is None:
+        verdict = "no level computed"
     elif kind == "gamma_bound":
         holds = computed <= printed * (1 + REPRODUCED_TOLERANCE)
         verdict = "printed bound holds" if holds else "printed bound NOT certified"
@@ -130,7 +134,7 @@ def reproduce_one(theorem_id: str, example: str, solver: str | None = None, **so
     if figure is not None and sol.point_gamma is not None:
         exact_ok = figure.value is not None and figure.value <= sol.point_gamma * (1 + EXACT_TOLERANCE)
         certified = certified and exact_ok
-    verdict = _verdict(kind, printed, computed, rel, certified, sol.status)
+    verdict = _comparison(kind, printed, computed, rel, certified, sol)
     if exact_ok is False:
         verdict += (", NOT mean-square stable" if figure.value is None
                     else ", exact figure EXCEEDS γ")
