@@ -153,14 +153,12 @@ def _backoff_reason(solution: Solution, instance: Instance, finish: dict) -> str
     """Why the automatic back-off is needed (None: it is not; the optimum is then certified).
     Recovery failure and ill-conditioning are known before the analysis, which is then spent on
     the back-off point only; each stage of the optimum runs once."""
+    if not instance.theorem.conditioned:
+        finish_solution(solution, **finish)
+        return None
     plan = finish["plan"]
     prove_point(solution, plan, finish["diagnose"])
-    recovered = recover_point(solution)
-    if not instance.theorem.conditioned:
-        if recovered and finish["certify"]:
-            certify_point(solution, plan)
-        return None
-    if not recovered:
+    if not recover_point(solution):
         return solution.message
     cond = solution.design.worst_condition if solution.design is not None else None
     if cond is not None and cond > ILL_CONDITIONED:

@@ -31,7 +31,7 @@ from typing import Callable
 from ..errors import InputError
 from . import budget
 from .index_set import count_members
-from .members import MemberRule, specialise
+from .members import MemberRule, built_member
 from .theorem import Source, Theorem
 
 
@@ -57,8 +57,10 @@ class TheoremFamily(Theorem):
         return IntegerRule()
 
     def member(self, value) -> Theorem:
-        """The theorem for ``index = value`` (:func:`lmidsl.theorem.members.specialise`)."""
-        return specialise(self, {self.index: value})
+        """The theorem for ``index = value`` (built once per declaration,
+        :func:`lmidsl.theorem.members.built_member`; the limits are checked by ``specialise``)."""
+        rule = IntegerRule()
+        return built_member(self, rule, rule.key(self, {self.index: value}))
 
     def index_value(self, inputs: dict):
         """The family index the inputs give (the default when absent)."""

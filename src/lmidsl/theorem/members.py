@@ -42,16 +42,21 @@ class MemberRule:
 
 def specialise(theorem, inputs: dict):
     """The theorem for these inputs: itself when it is no family (``member_rule()`` None), else
-    its member for the key the inputs select, built once per key and declaration."""
+    its member for the key the inputs select (:func:`built_member`), admitted by the rule."""
     rule = theorem.member_rule()
     if rule is None:
         return theorem
-    key = rule.key(theorem, inputs)
+    return rule.admit(theorem, built_member(theorem, rule, rule.key(theorem, inputs)), inputs)
+
+
+def built_member(theorem, rule: MemberRule, key: tuple):
+    """The member for ``key``, built once per key and declaration (the theorem's fingerprint: a
+    theorem changed after a solve builds afresh)."""
     stamp = (key, theorem.fingerprint())
     members = theorem.__dict__.setdefault("_members", {})
     if stamp not in members:
         members[stamp] = rule.build(theorem, key)
-    return rule.admit(theorem, members[stamp], inputs)
+    return members[stamp]
 
 
-__all__ = ["MemberRule", "specialise"]
+__all__ = ["MemberRule", "specialise", "built_member"]

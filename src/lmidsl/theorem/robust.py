@@ -55,7 +55,7 @@ from ..symbolic.simplex import (HomogeneousPolynomial, coefficient_blocks, expon
                                 vertex_exponents)
 from ..symbolic.symbols import DataMatrix
 from .budget import check, robust_estimate
-from .members import MemberRule
+from .members import MemberRule, built_member
 from .theorem import Theorem
 from .values import LMI
 
@@ -267,12 +267,9 @@ class RobustTheorem(Theorem):
         return robust_estimate(self, tuple(sizes), degree, polya, inputs or {}, lmi_degrees)
 
     def member(self, sizes: tuple, degree: int, polya: int) -> Theorem:
-        """The coefficient theorem for these sizes and degrees (:func:`lmidsl.theorem.members.specialise`)."""
-        key = (tuple(sizes), int(degree), int(polya))
-        stamp = (key, self.fingerprint())            # a changed declaration expands afresh
-        if stamp not in self._members:
-            self._members[stamp] = self._expand(*key)
-        return self._members[stamp]
+        """The coefficient theorem for these sizes and degrees (built once per declaration,
+        :func:`lmidsl.theorem.members.built_member`; no limit check: ``specialise`` makes it)."""
+        return built_member(self, SimplexRule(), (tuple(sizes), int(degree), int(polya)))
 
     def _expand(self, sizes: tuple, degree: int, polya: int) -> Theorem:
         m = Theorem.__new__(Theorem)
