@@ -105,7 +105,8 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str |
         return judge(_recover_and_certify(model, applied, solution, backoff, bounds, finish))
     # the bound reads the models' duals now (a back-off or level solve replaces them) and runs on
     # a worker thread while the design is recovered and certified
-    pending = PendingBound(model, solution, [m for m in solved if m is not model], solution.point_gamma)
+    pending = PendingBound(model, solution, [m for m in solved if m is not model], solution.point_gamma,
+                           instance=instance)
     try:
         final = _recover_and_certify(model, applied, solution, backoff, bounds, finish)
     except BaseException:             # an interrupt, a deadline, an error: the bound is not wanted

@@ -82,6 +82,7 @@ from ..numeric.proof import round_down, round_up
 from ..solver.backends.direct_backend import SolverCrash, clarabel_solve
 from .performance import performance_bound, performance_lower
 from .verdict import OPTIMAL_GAP, dual_gap
+from .frequency_bound import frequency_lower_bound
 from .dual_point import U, DualData, check_cone, svec_diagonal, dual_data, corrected_point, last_dual, pairing_bounds
 
 #: shifted re-solves tried: ε = SHIFT_START × the deficit of the solver's dual (in the units of
@@ -150,6 +151,8 @@ class DualBound:
     times: dict = field(default_factory=dict)
     route: str = ""                       # the model whose dual gave it, when not the kept one
     mapped_upto: float | None = None      # the performance map is proved monotone on [lower, this]
+    method: str = "dual"                  # "dual" (a dual point) or "frequency" (frequency_bound)
+    how: str = ""                         # the frequency route: where the bound was evaluated
 
     def as_dict(self) -> dict:
         return {"lower": self.lower, "lower_performance": self.lower_performance,
@@ -157,7 +160,7 @@ class DualBound:
                 "why": self.why, "epsilon": self.epsilon, "theta": self.theta, "extra_solves": self.extra_solves,
                 "min_eigenvalue": self.min_eigenvalue, "residual": self.residual,
                 "correction": self.correction, "attempts": self.attempts, "times": self.times,
-                "route": self.route, "mapped_upto": self.mapped_upto}
+                "route": self.route, "mapped_upto": self.mapped_upto, "method": self.method, "how": self.how}
 
     def gap_to(self, level: float | None) -> float | None:
         """How far the optimum's ``level`` is from the proved performance bound, relatively (≥ 0
@@ -618,9 +621,12 @@ class PendingBound:
     next shifted solve, and the one in flight finishes (its iterations are capped at four times
     the main solve's)."""
 
-    def __init__(self, model, solution, others=(), level: float | None = None, tries: int = SHIFT_TRIES):
+    def __init__(self, model, solution, others=(), level: float | None = None, tries: int = SHIFT_TRIES,
+                 instance=None):
         # now: a later solve on the model (back-off, level problem) replaces its dual
         jobs = [_prepare(model, solution)] + [_prepare(m, None) for m in others]
+        point = getattr(solution, "objective_bounds", None)
+        self._frequency = None if instance is None else (instance, None if point is None else point[1])
         self._cancel = threading.Event()
         for job in jobs:
             if isinstance(job, _BoundJob):
@@ -635,18 +641,18 @@ class PendingBound:
 
     def _run(self, jobs, others, level, tries):
         try:
-            best = None
+            best = None if self._frequency is None else frequency_route(*self._frequency)
             for k, job in enumerate(jobs):
                 if self._cancel.is_set():
                     raise BoundCancelled
+                if best is not None and best.proved and (best.gap_to(level) is None or
+                                                          best.gap_to(level) <= OPTIMAL_GAP):
+                    break                 # tight, or no level to be loose against
                 bound = job if isinstance(job, DualBound) else _bound(job, tries, None)
                 if k:
                     bound.route = "conditioned" if others[k - 1].conditioning is not None else "as written"
-                if best is None or bound.proved and (not best.proved or bound.lower > best.lower):
-                    best = bound
-                gap = best.gap_to(level)
-                if best.proved and (gap is None or gap <= OPTIMAL_GAP):
-                    break                 # tight, or no level to be loose against
+                best = bound if best is None or not best.proved or bound.proved and bound.lower > best.lower \
+                    else best
             self._done = best
         except BoundCancelled:
             self._done = DualBound(why="not computed: cancelled (interrupted)")
@@ -885,13 +891,37 @@ def _bound(job: _BoundJob, tries: int, primal_bounds) -> DualBound:
                 out.why += "; with the objective cut: " + cut_out.why.split("; ")[0]
     if out.proved:
         out.why = ""                  # (a failed later try does not explain a proved bound)
-        # the map is proved monotone on [lower, the point's objective]: the verdict uses it only
-        # when that point is proved feasible (else [lower, ∞), verdict.bracket)
-        out.mapped_upto = job.upper
-        found = performance_bound(job.theorem, job.params, out.lower, job.upper)
-        if found is not None:
-            setattr(out, f"{found[1]}_performance", found[0])
+        _map_performance(out, job.theorem, job.params, job.upper)
     out.times["total"] = time.perf_counter() - t0
+    return out
+
+
+def _map_performance(out: DualBound, theorem, params: dict, upper: float | None) -> None:
+    """The performance at a proved bound: the map is proved monotone on [lower, the point's
+    objective ``upper``]; the verdict uses it only when that point is proved feasible (else
+    [lower, ∞), :func:`lmidsl.certify.verdict.bracket`)."""
+    out.mapped_upto = upper
+    found = performance_bound(theorem, params, out.lower, upper)
+    if found is not None:
+        setattr(out, f"{found[1]}_performance", found[0])
+
+
+def frequency_route(instance, upper: float | None) -> DualBound | None:
+    """The frequency-response bound (:mod:`lmidsl.certify.frequency_bound`) as a record, for an
+    instance whose theorem's LMI is its declared bounded-real form; None for any other.  It needs
+    no dual, so it also bounds a point from another backend or a Riccati route."""
+    t0 = time.perf_counter()
+    found = frequency_lower_bound(instance)
+    if found is None:
+        return None
+    out = DualBound(method="frequency")
+    lower, how = found
+    if lower is None:
+        out.why = f"frequency response: {how}"
+    else:
+        out.lower, out.proved, out.how = lower, True, how
+        _map_performance(out, instance.theorem, instance.params, upper)
+    out.times["frequency"] = out.times["total"] = time.perf_counter() - t0
     return out
 
 

@@ -36,18 +36,25 @@ def hinf_norm(A, B, C, D, time: str, tol: float = 1e-10) -> float:
     Steinbuch, via slycot) — the routine behind python-control's ``norm(sys, "inf")`` and
     ``linfnorm``, called directly so that the evidence does not import python-control (scipy.signal
     and matplotlib: 2–3 s of CPU) to compute one norm."""
+    return hinf_peak(A, B, C, D, time, tol)[0]
+
+
+def hinf_peak(A, B, C, D, time: str, tol: float = 1e-10) -> tuple[float, float]:
+    """(‖G‖∞, the frequency of the peak) of a stable system by AB13DD (see :func:`hinf_norm`):
+    ω in rad/s (continuous) or θ in rad/sample (discrete, z = e^{jθ}); +∞ for a peak at infinity;
+    (+∞, nan) when A is not stable."""
     A = np.atleast_2d(np.asarray(A, dtype=float))
     B, C = np.atleast_2d(np.asarray(B, dtype=float)), np.atleast_2d(np.asarray(C, dtype=float))
     D = np.atleast_2d(np.asarray(D, dtype=float)) if D is not None else np.zeros((C.shape[0], B.shape[1]))
     if A.size == 0:
-        return float(np.linalg.svd(D, compute_uv=False)[0]) if D.size else 0.0
+        return (float(np.linalg.svd(D, compute_uv=False)[0]) if D.size else 0.0), 0.0
     if not is_stable(A, time):
-        return float("inf")
+        return float("inf"), float("nan")
     from slycot import ab13dd     # 0.5 s to import: only when a norm is computed
     n, m, p = A.shape[0], B.shape[1], C.shape[0]
-    gpeak, _ = ab13dd("C" if time == "continuous" else "D", "I", "S", "Z" if not D.any() else "D",
-                      n, m, p, A, np.eye(n), B, C, D, tol)
-    return float(gpeak)
+    gpeak, fpeak = ab13dd("C" if time == "continuous" else "D", "I", "S", "Z" if not D.any() else "D",
+                          n, m, p, A, np.eye(n), B, C, D, tol)
+    return float(gpeak), float(fpeak)
 
 
 def default_grid(time: str, sampling: float = 1.0, points: int = 1200, top: float = 1e4) -> np.ndarray:
