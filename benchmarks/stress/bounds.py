@@ -4,13 +4,15 @@ every proved end is below an independent optimum.
 Cases: the design stress set's bounded-real analyses (``designs.cases()``, truth = the H∞ norm by
 SLICOT AB13DD) and its H∞ state-feedback syntheses (truth = the best level the full-information
 Riccati bisection achieves: an upper bound on the optimum), and random stable plants
-(``cases.system("random", seed, ...)``, n = 8, 12, 16, both time domains; truth = AB13DD).  Each
-is solved on the direct backend as the pipeline does (declared scalings applied) and bounded by
-:func:`lmidsl.certify.dual_bound.lower_bound`.  Printed: per case the proved lower γ, the SDP's γ,
-the relative width (γ_sdp − lower)/γ_sdp, and "FALSE" if a proved lower end exceeds the truth; then
-the share proved, the median and worst width over the proved ones.
+(``cases.system("random", seed, ...)``, n = 8, 12, 16, 24, 32, both time domains; truth = AB13DD).  Each
+is solved as a user solves it (``lmidsl.solve``: the verdict's bracket, every route of the lower
+end) or, with ``--route dual``, on the direct backend as the pipeline compiles it (declared
+scalings applied) and bounded by :func:`lmidsl.certify.dual_bound.lower_bound` alone.  Printed: per
+case the proved lower γ, the upper γ, the relative width (upper − lower)/upper, and "FALSE" if a
+proved lower end exceeds the truth; then the share proved, the median and worst width over the
+proved ones.
 
-    python benchmarks/stress/bounds.py [--budget 600] [--json FILE] [--only brl|sf|random]
+    python benchmarks/stress/bounds.py [--budget 600] [--json FILE] [--only brl|sf|random] [--route dual]
 
 Runs against whichever ``lmidsl`` is importable (``PYTHONPATH=.../src`` for another checkout).
 """
@@ -31,7 +33,22 @@ sys.path.insert(0, HERE)
 from cases import lists, system  # noqa: E402
 from designs import cases as design_cases, linf  # noqa: E402
 
-RANDOM = [(n, seed, t) for n in (8, 12, 16) for seed in (1, 2) for t in ("continuous", "discrete")]
+RANDOM = [(n, seed, t) for n in (8, 12, 16, 24, 32) for seed in (1, 2) for t in ("continuous", "discrete")]
+
+
+def solve_and_bracket(theorem: str, data: dict):
+    """(the certified upper end of γ, the proved lower end or None, why none) as a user gets them:
+    ``lmidsl.solve`` (every route: the frequency response first where the theorem's LMI is its
+    declared bounded-real form, then the duals) and its verdict's bracket."""
+    import lmidsl
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sol = lmidsl.solve(theorem, data=lists(data))
+    box = sol.verdict.bracket or {}
+    upper = box.get("upper") if box.get("upper_proved") else None
+    lower = box.get("lower") if box.get("lower_proved") else None
+    method = "" if sol.bounds is None else sol.bounds.method
+    return upper, lower, (box.get("why") or "") + (f" [{method}]" if method else "")
 
 
 def solve_and_bound(theorem: str, data: dict):
@@ -76,6 +93,8 @@ def main(argv=None) -> int:
     parser.add_argument("--budget", type=float, default=600.0, help="seconds for the whole set")
     parser.add_argument("--only", choices=["brl", "sf", "random"])
     parser.add_argument("--json")
+    parser.add_argument("--route", choices=["pipeline", "dual"], default="pipeline",
+                        help="pipeline: lmidsl.solve's bracket (every route); dual: the dual route alone")
     args = parser.parse_args(argv)
     end = time.monotonic() + args.budget
     rows = []
@@ -85,18 +104,21 @@ def main(argv=None) -> int:
             continue
         t0 = time.perf_counter()
         try:
-            gamma, bound = solve_and_bound(case["theorem"], case["data"])
+            if args.route == "dual":
+                gamma, bound = solve_and_bound(case["theorem"], case["data"])
+                low, why = (bound.lower_performance if bound.proved else None), bound.why
+            else:
+                gamma, low, why = solve_and_bracket(case["theorem"], case["data"])
         except Exception as exc:                      # a stress run reports and goes on
             print(f"{case['name']}: error {type(exc).__name__}: {exc}")
             continue
-        low = bound.lower_performance if bound.proved else None
         width = (gamma - low) / gamma if low is not None and gamma else None
         false = bool(low is not None and low > case["truth"] * (1 + 1e-9))
         rows.append(dict(name=case["name"], gamma=gamma, lower=low, width=width, truth=case["truth"],
-                         false=false, seconds=time.perf_counter() - t0, why=bound.why))
+                         false=false, seconds=time.perf_counter() - t0, why=why))
         print(f"{case['name']:32s} γ={gamma if gamma is None else f'{gamma:.9g}'} lower={low if low is None else f'{low:.9g}'} "
               f"width={'-' if width is None else f'{width:.2e}'} truth={case['truth']:.9g} "
-              f"{'FALSE' if false else 'ok'} {rows[-1]['seconds']:.1f}s {'' if low else bound.why[:90]}", flush=True)
+              f"{'FALSE' if false else 'ok'} {rows[-1]['seconds']:.1f}s {'' if low else why[:90]}", flush=True)
     proved = [r for r in rows if r["lower"] is not None]
     widths = sorted(r["width"] for r in proved)
     print(f"proved {len(proved)}/{len(rows)}; median width "
