@@ -77,8 +77,11 @@ print(float(g.value))
 #: entries of the ``times`` record that are the proofs' cost (on the main thread or waited for)
 PROVING = ("certificate", "analysis", "lower_bound_wait", "infeasibility_proof")
 #: entries that partition the wall time of ``lmidsl solve`` (the others overlap them)
-PARTS = ("startup", "bind", "compile", "solve", "other_routes", "feasp", "backoff", "recover", "certificate", "analysis",
-         "checks", "evidence", "lower_bound_wait", "infeasibility_proof")
+#: (the plan's road, Plan.solve: compiles and solves of every route; a back-off point's record keeps
+#: its optimum's road under optimum_road_*, and its own solves under backoff)
+ROAD = ("road_as_written", "road_conditioned", "road_other_routes")
+PARTS = ("startup", "bind", *ROAD, *(f"optimum_{k}" for k in ROAD), "feasp", "backoff", "recover", "certificate",
+         "analysis", "checks", "evidence", "lower_bound_wait", "infeasibility_proof")
 
 
 def plant_data(problem: str, n: int) -> dict:
@@ -144,6 +147,8 @@ def one(problem: str, n: int, where: str, timeout: float) -> dict:
     wall, out = run([sys.executable, "-m", "lmidsl", "solve", THEOREMS[problem], "--data", path, "--json"], timeout)
     row = {"problem": problem, "n": n, "wall": wall, "hand": hand_wall, "ratio": wall / hand_wall,
            "hand_gamma": float(hand.stdout.split()[-1]) if hand is not None and hand.stdout.strip() else None}
+    if row["hand_gamma"] is None:      # the hand script gives the user no γ: its time is not a reference
+        row["hand_error"] = "timeout" if hand is None else (hand.stderr.strip().splitlines() or ["no output"])[-1]
     if out is None or not out.stdout.strip():
         row["error"] = "timeout" if out is None else (out.stderr.strip().splitlines() or ["no output"])[-1]
         return row
@@ -170,6 +175,8 @@ def show(row: dict) -> str:
             f"[{f(row['lower'], '.8g')}, {f(row['upper'], '.8g')}] width {f(row.get('width'), '.1e')}  "
             f"proving {row['proving']:.0%}  unaccounted {row['unaccounted']:.0%}  "
             f"reference {f(row['reference'], '.8g')}" + ("" if row.get("lower_ok", True) else "  LOWER ABOVE REFERENCE")
+            + (f"\n          the hand script gave no γ ({row['hand_error'][:80]}): the ratio is against a failure"
+               if "hand_error" in row else "")
             + ("" if row["lower"] is not None else f"\n          lower not proved: {row['why']}"))
 
 

@@ -125,3 +125,26 @@ def test_an_extra_lmi_only_raises_the_optimum():
     # loose by 5×: the dual route runs too, and its tighter bound is kept
     assert sol.bounds.proved and sol.bounds.method == "dual"
     assert 100 / 19 * (1 - 1e-5) <= sol.bounds.lower <= 100 / 19
+
+
+def test_an_uncertain_system_gives_no_frequency_bound():
+    """A + δ with |δ| ≤ 0.5 imposed at both vertices: the declared system is not one system."""
+    thm = Theorem("adv.uncertain", time="continuous")
+    A, B, C, D = (thm.data(k, 1, 1) for k in "ABCD")
+    d = thm.uncertain("d", bound=0.5)
+    P = thm.var("P", 1, kind="symmetric")
+    g = thm.scalar("g")
+    Ad = A + d * sp.Identity(1)
+    thm.lmi("(L)", [[He(P * Ad)], [B.T * P, -g * I], [C, D, -I]])
+    thm.positive(P)
+    thm.minimize(g, performance=("gamma", sp.sqrt(g)))
+    thm.bounded_real_form(P, g, (Ad, B, C, D))
+    assert bounded_real_lmi(thm) is None
+
+
+def test_a_form_with_a_variable_in_its_system_is_refused():
+    thm = _declared("variable", lambda P, g, A, B, C, D: [[He(P * A)], [B.T * P, -g * I], [C, D, -I]])
+    X = thm.var("X", 1, 1)
+    form = thm.bounded_real
+    thm.bounded_real_form(form.storage, form.level, (form.system[0], form.system[1], X, form.system[3]))
+    assert bounded_real_lmi(thm) is None

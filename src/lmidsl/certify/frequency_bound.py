@@ -44,6 +44,9 @@ from ..numeric.evaluate import NumericEvaluator
 from ..numeric.proof import BallEvaluator, ball_precision, round_down
 from ..numeric.systems import hinf_peak
 from ..symbolic.blocks import I, block_matrix
+from ..symbolic.symbols import DECISION_TYPES, ScalarVariable, SymmetricVariable, expand_derived
+from ..symbolic.uncertainty import UNCERTAIN_TYPES, uncertain_atoms_of_lmi
+from ..theorem.values import symbols_in
 
 #: working precision (bits) of the ball evaluation
 PRECISION = 128
@@ -78,18 +81,30 @@ def _same(a, b) -> bool:
         (getattr(difference, "is_ZeroMatrix", False) is True)
 
 
+def _data_only(expr) -> bool:
+    """Whether ``expr`` involves no decision variable and no uncertain symbol (data, parameters
+    and numbers only, derived parameters expanded)."""
+    atoms = symbols_in(expand_derived(expr)) if isinstance(expr, sp.Basic) else frozenset()
+    return not any(isinstance(a, DECISION_TYPES + UNCERTAIN_TYPES) for a in atoms)
+
+
 def bounded_real_lmi(theorem):
     """The theorem's LMI that is its declared bounded-real form, block for block, or None (no
-    form, an objective other than the form's level g, no LMI that is the form)."""
+    form; a storage that is not a symmetric variable or a level that is not a scalar variable; a
+    system with a variable or an uncertain symbol in it; an objective other than the level g; no
+    LMI — certain, for every vertex alike, not quantified — that is the form)."""
     form = getattr(theorem, "bounded_real", None)
     if form is None or theorem.objective is None or not _same(sp.sympify(theorem.objective), form.level):
+        return None
+    if not isinstance(form.storage, SymmetricVariable) or not isinstance(form.level, ScalarVariable) \
+            or not all(_data_only(e) for e in form.system):
         return None
     try:
         canonical = block_matrix(form_rows(form, theorem.time), where=f"{theorem.id}: bounded_real_form")
     except Exception:                 # a form whose blocks do not fit: nothing to compare with
         return None
     for lmi in theorem.lmis:
-        if getattr(lmi, "quantifier", None) is not None or lmi.per_vertex:
+        if getattr(lmi, "quantifier", None) is not None or lmi.per_vertex or uncertain_atoms_of_lmi(lmi):
             continue
         N = lmi.negative_form()
         if N.nblocks != canonical.nblocks:
@@ -149,6 +164,15 @@ def frequency_lower_bound(instance) -> tuple[float | None, str] | None:
     theorem = instance.theorem
     if getattr(instance, "nvertices", 1) > 1 or bounded_real_lmi(theorem) is None:
         return None
+    try:
+        return _bound(instance)
+    except (ArithmeticError, ValueError, KeyError, TypeError, np.linalg.LinAlgError) as exc:
+        return None, f"the frequency response could not be evaluated ({type(exc).__name__}: {exc})"
+
+
+def _bound(instance) -> tuple[float | None, str]:
+    """:func:`frequency_lower_bound` once the route applies."""
+    theorem = instance.theorem
     form = theorem.bounded_real
     ev = NumericEvaluator(instance.dims, dict(instance.data), instance.params)
     A, B, C, D = (np.atleast_2d(np.asarray(ev.visit(e), dtype=float)) for e in form.system)
