@@ -148,3 +148,4 @@ def test_a_form_with_a_variable_in_its_system_is_refused():
     form = thm.bounded_real
     thm.bounded_real_form(form.storage, form.level, (form.system[0], form.system[1], X, form.system[3]))
     assert bounded_real_lmi(thm) is None
+

@@ -7,6 +7,7 @@ s; a state rescaling x → s x changes nothing).
 from __future__ import annotations
 
 import json
+import re
 
 import control
 import numpy as np
@@ -208,3 +209,18 @@ def test_a_named_solver_alone_cannot_declare_infeasible():
     assert max(abs(np.linalg.eigvals(data["A"]))) < 1
     sol = lmidsl.solve("textbook.brl_dt", data=cases.lists(data), solver="CLARABEL")
     assert sol.status != "infeasible", sol.notes
+
+
+def test_a_wide_bracket_is_not_blamed_on_the_back_off_alone():
+    """δ = 0.01: the delivered level is 1 % above the lower end; the verdict names the SDP
+    optimum's own distance to the dual end (tiny here) and the back-off's cost separately."""
+    thm = lmidsl.get_theorem("textbook.hinf_sf_ct")
+    sol = lmidsl.solve(thm, example=next(iter(thm.examples)), backoff=0.01)
+    why = sol.verdict.why
+    box = sol.verdict.bracket
+    said = re.search(r"itself is ([0-9.e+-]+) from the proved dual end", why)
+    assert said is not None, why
+    optimum_part = (box["upper"] - box["lower"]) / box["upper"]     # box["upper"]: the SDP optimum
+    assert float(said.group(1)) == pytest.approx(optimum_part, rel=0.2, abs=1e-9), (why, box)
+    assert float(said.group(1)) < 1e-3 < (sol.gamma - box["lower"]) / box["lower"]
+    assert "the back-off (δ = 0.01) costs" in why, why
