@@ -47,7 +47,7 @@ def solve_and_bracket(theorem: str, data: dict):
     box = sol.verdict.bracket or {}
     upper = box.get("upper") if box.get("upper_proved") else None
     lower = box.get("lower") if box.get("lower_proved") else None
-    method = "" if sol.bounds is None else sol.bounds.method
+    method = getattr(sol.bounds, "method", "")
     return upper, lower, (box.get("why") or "") + (f" [{method}]" if method else "")
 
 
