@@ -38,6 +38,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "stress"))
 from cases import lists, plant, system  # noqa: E402
+from lmidsl.pipeline import TIME_PARTS  # noqa: E402
 
 THEOREMS = {"brl": "textbook.brl_ct", "sf": "textbook.hinf_sf_ct"}
 
@@ -75,13 +76,11 @@ print(float(g.value))
 }
 
 #: entries of the ``times`` record that are the proofs' cost (on the main thread or waited for)
-PROVING = ("certificate", "analysis", "lower_bound_wait", "infeasibility_proof")
+PROVING = ("point_proof", "optimum_point_proof", "analysis", "optimum_analysis", "lower_bound_wait",
+           "infeasibility_proof")
 #: entries that partition the wall time of ``lmidsl solve`` (the others overlap them)
-#: (the plan's road, Plan.solve: compiles and solves of every route; a back-off point's record keeps
-#: its optimum's road under optimum_road_*, and its own solves under backoff)
-ROAD = ("road_as_written", "road_conditioned", "road_other_routes")
-PARTS = ("startup", "bind", *ROAD, *(f"optimum_{k}" for k in ROAD), "feasp", "backoff", "recover", "certificate",
-         "analysis", "checks", "evidence", "lower_bound_wait", "infeasibility_proof")
+#: (lmidsl.pipeline.TIME_PARTS: the entries after start-up that partition the wall time)
+PARTS = ("startup", *TIME_PARTS)
 
 
 def plant_data(problem: str, n: int) -> dict:

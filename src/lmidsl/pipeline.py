@@ -138,8 +138,10 @@ def _recover_and_certify(model, applied, solution: Solution, backoff, bounds: bo
     if reason is None:
         return solution
     failed = solution.message.startswith("recovery failed")
+    started = time.perf_counter()
     for delta in AUTO_DELTAS:   # the smallest δ that gives a certified design
-        kept = backed_off(model, applied, solution, delta, reason, finish, searched=delta in SEARCHED)
+        kept = backed_off(model, applied, solution, delta, reason, finish, searched=delta in SEARCHED,
+                          started=started)
         if kept is not solution:
             return kept
     if finish["certify"] and solution.analysis is None and not failed:
@@ -148,6 +150,17 @@ def _recover_and_certify(model, applied, solution: Solution, backoff, bounds: bo
         solution.message += (f"; the automatic back-off (δ = {AUTO_DELTAS[0]:g} to {AUTO_DELTAS[-1]:g}) "
                              "gave no certified design either")
     return solution
+
+
+#: the ``times`` entries of a point's own stages (prove, recover, certify): with the plan's road
+#: (``road_*``), start-up, bind, a back-off and the lower bound's wait they partition the wall time
+STAGE_TIMES = ("feasp", "point_proof", "recover", "analysis", "checks", "evidence")
+#: the ``times`` entries that partition a solve's wall time after start-up (``total``): the plan's
+#: road (:meth:`lmidsl.solver.plan.Plan.solve`), the point's stages, the optimum's road and stages
+#: behind a back-off point (``optimum_*``), the back-off's own solves, the wait for the lower bound
+ROAD_TIMES = ("road_as_written", "road_conditioned", "road_other_routes")
+TIME_PARTS = ("bind", *ROAD_TIMES, *STAGE_TIMES, *(f"optimum_{k}" for k in ROAD_TIMES + STAGE_TIMES),
+              "backoff", "lower_bound_wait", "infeasibility_proof")
 
 
 def _backoff_reason(solution: Solution, instance: Instance, finish: dict) -> str | None:
@@ -173,7 +186,7 @@ def _backoff_reason(solution: Solution, instance: Instance, finish: dict) -> str
 
 
 def backed_off(model, applied, optimum: Solution, delta: float, reason: str | None, finish: dict,
-               searched: bool = True) -> Solution:
+               searched: bool = True, started: float | None = None) -> Solution:
     """The design at objective ≤ (1 + δ)·optimum (:mod:`lmidsl.solver.backoff`) by two methods:
     the *level problem* (the LMIs and that bound, no objective, along the plan's routes: one
     solve, a central point of the slab) and the *condition-minimising search* (golden section on
@@ -187,11 +200,12 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
     cond(X − Z) = 130, 675 and γ 0.38287 in 0.14 s; the search 136, 137 and γ 0.38290 in 3.4 s.
     Without ``reason`` (the user's δ) the search first, the level problem when it fails, and the
     answer is returned as it is.  ``searched=False``: the level problem only (a rung of the automatic
-    ladder, :data:`lmidsl.solver.backoff.AUTO_DELTAS`)."""
+    ladder, :data:`lmidsl.solver.backoff.AUTO_DELTAS`).  ``started``: when the back-off began (the
+    ladder's first rung), for its time."""
     plan = finish["plan"]
     instance = optimum.instance
     automatic = reason is not None
-    t0 = time.perf_counter()
+    t0 = time.perf_counter() if started is None else started
 
     def search():
         try:
@@ -217,7 +231,9 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
         if found is None:
             continue
         found.certify = optimum.certify
+        started = time.perf_counter()
         finish_solution(found, **finish)
+        finished = time.perf_counter() - started     # recorded under the stages' own names
         if automatic and not judge(found).verdict.certified:    # judged again with the bounds, if kept
             optimum.notes.append(f"the {name}'s back-off point is not certified: {'; '.join(found.verdict.reasons)}")
             continue
@@ -230,8 +246,8 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
         elif optimum.design is None and optimum.analysis is None:
             finish_solution(optimum, **finish)       # the user's back-off failed: the optimum, not yet finished
         return optimum
-    candidate.times["backoff"] = time.perf_counter() - t0
-    candidate.times.update({f"optimum_{k}": v for k, v in optimum.times.items() if k.startswith("road_")})
+    # the back-off's own solves (and candidates not kept); the kept point's stages are under their
+    # names, the optimum's road and stages under optimum_*: the record partitions the wall time
     candidate.bounds = optimum.bounds
     if reason:
         candidate.backoff["reason"] = reason
@@ -240,6 +256,9 @@ def backed_off(model, applied, optimum: Solution, delta: float, reason: str | No
             candidate.backoff["recovery_cond_before"] = recover(applied.scaled, optimum.values)[1]
         except LmidslError as exc:
             candidate.backoff["recovery_cond_before"] = f"recovery failed: {exc}"
+    candidate.times["backoff"] = time.perf_counter() - t0 - finished
+    candidate.times.update({f"optimum_{k}": v for k, v in optimum.times.items()
+                            if k.startswith("road_") or k in STAGE_TIMES})
     return candidate
 
 
@@ -265,11 +284,13 @@ def prove_point(solution: Solution, plan: Plan, diagnose: bool = True) -> None:
         t0 = time.perf_counter()
         plan.diagnose(solution)
         solution.times["feasp"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
     if solution.ok:
         solution.lmis = lmi_certificate(instance, {**instance.data, **solution.values}, prove=True,
                                         congruence=solution.congruence)
     if solution.ok and instance.theorem.reported:
         solution.reported = evaluate_reported(instance, {**instance.data, **solution.values})
+    solution.times["point_proof"] = time.perf_counter() - t0
 
 
 def recover_point(solution: Solution) -> bool:
