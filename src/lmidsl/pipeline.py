@@ -10,6 +10,7 @@ import time
 
 from .certify.dual_bound import PendingBound
 from .certify.infeasibility import prove_infeasible
+from .solver.fallback import CLOSED_FORM
 from .solver.plan import Plan
 from .certify.verdict import headline_level, judge
 from .certify import certify_by_analysis
@@ -175,8 +176,10 @@ def _backoff_reason(solution: Solution, instance: Instance, finish: dict) -> str
     if not recover_point(solution):
         return solution.message
     cond = solution.design.worst_condition if solution.design is not None else None
-    if cond is not None and cond > ILL_CONDITIONED:
+    if cond is not None and cond > ILL_CONDITIONED and not (solution.backend == CLOSED_FORM and finish["certify"]):
         return f"the recovery at the optimum inverts a matrix of condition number {cond:.3g}"
+    # a closed form's point is built from its design (W = K Y): however ill-conditioned Y, the
+    # analysis of the recovered design decides, and a back-off's SDP would only move away from it
     if finish["certify"]:
         certify_point(solution, plan)
     if solution.analysis is not None and not solution.analysis.passed:

@@ -38,7 +38,7 @@ from ..errors import LmidslError
 from .backends import Route, choose_backend, fallback_routes, get_backend, is_first_order, second_opinion
 from .backends.base import DEFAULT_MARGIN
 from .conditioning import equilibrate
-from .fallback import better, declares_closed_form, good, riccati_point, route_model, said
+from .fallback import CLOSED_FORM, better, declares_closed_form, good, riccati_point, route_model, said
 from .feasibility import FEASP_INFEASIBLE, diagnosis_needed, feasp
 from .margin import solve_model
 from .solution import Solution
@@ -203,7 +203,7 @@ class Plan:
         if self.closed_forms:
             closed = riccati_point(instance, target_gamma, tolerance)
             if closed is not None and (target_gamma is None or closed.point_gamma <= target_gamma * (1 + tolerance)):
-                return closed, "riccati", closed.point_gamma, "riccati/scipy ARE"
+                return closed, CLOSED_FORM, closed.point_gamma, f"{CLOSED_FORM}/scipy ARE"
         proposal = equilibrate(instance)
         conditionings = [None] if proposal.trivial else [None, proposal]
         result = None
