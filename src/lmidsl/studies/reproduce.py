@@ -52,7 +52,7 @@ class ReproductionRow:
     verdict: dict | None = None     # the solve's verdict record (lmidsl.certify.verdict), refuted by
                                     # an exact figure above the certified level
     bounds: dict | None = None      # the optimum's bracket: proved lower bound, proved optimum level
-    seconds: float | None = None    # wall time of the row where it ran (solve, proofs, evidence)
+    wall_time: float | None = None  # seconds the row took where it ran (solve, proofs, evidence)
 
     @property
     def outcome(self) -> str:
@@ -181,7 +181,7 @@ class ReproduceTask(Task):
     def row(self, job) -> ReproductionRow:
         start = time.perf_counter()
         row = reproduce_one(*job, self.solver, **self.solve_options)
-        row.seconds = time.perf_counter() - start
+        row.wall_time = time.perf_counter() - start
         return row
 
 
