@@ -15,11 +15,6 @@ ROOT = Path(__file__).resolve().parents[1]
 # lmidsl's caches (theorem index, built theorems) in a folder of the test runs, not the user's:
 # the tests' temporary theorem files would leave entries there (subprocesses inherit it)
 os.environ.setdefault("LMIDSL_CACHE_DIR", os.path.join(tempfile.gettempdir(), "lmidsl-tests-cache"))
-# the interpreters the tests start (the command line, xdist's workers) keep their bytecode in a
-# folder of the test runs when the environment forbids writing it beside the sources
-# (PYTHONDONTWRITEBYTECODE): compiling lmidsl's modules again costs each of them 0.2-0.6 s
-if os.environ.pop("PYTHONDONTWRITEBYTECODE", None):
-    os.environ.setdefault("PYTHONPYCACHEPREFIX", os.path.join(tempfile.gettempdir(), "lmidsl-tests-pycache"))
 
 
 def load_theorem_module(stem: str, alias: str | None = None):
@@ -50,29 +45,20 @@ def run_cli_here(*argv, env=None):
     import contextlib
     import contextvars
     import io
+    from unittest import mock
 
     from lmidsl.cli import main
 
     out, err = io.StringIO(), io.StringIO()
-    saved = {k: os.environ.get(k) for k in (env or {})}
-    debug = os.environ.pop("LMIDSL_DEBUG", None)
-    os.environ.update(env or {})
-    try:
-        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-            try:
-                # in a copy of this context: what a command sets for its process (the expansion
-                # limits of --max-lmis, a ContextVar) ends with it
-                code = contextvars.copy_context().run(main, list(argv))
-            except SystemExit as exc:
-                code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
-    finally:
-        for k, v in saved.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
-        if debug is not None:
-            os.environ["LMIDSL_DEBUG"] = debug
+    with mock.patch.dict(os.environ, env or {}), contextlib.redirect_stdout(out), \
+            contextlib.redirect_stderr(err):
+        os.environ.pop("LMIDSL_DEBUG", None)        # restored with the environment
+        try:
+            # in a copy of this context: what a command sets for its process (the expansion
+            # limits of --max-lmis, a ContextVar) ends with it
+            code = contextvars.copy_context().run(main, list(argv))
+        except SystemExit as exc:
+            code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
     return code, out.getvalue(), err.getvalue()
 
 
