@@ -23,7 +23,46 @@ def load_theorem_module(stem: str, alias: str | None = None):
     return importlib.import_module(f"lmidsl.theorems.{stem}.theorems")
 
 
-def run_cli(*argv, env=None, cwd=None):
+#: environment variables :func:`run_cli` may set for a command run in this process (read at each
+#: call, never cached by lmidsl)
+IN_PROCESS_ENV = frozenset({"COLUMNS"})
+
+
+def run_cli(*argv, env=None, cwd=None, process=False):
+    """``lmidsl ARGV``: (exit code, stdout, stderr).  In this process (:func:`run_cli_here`) unless
+    the test is about the process -- ``process=True``, a ``cwd``, or an ``env`` beyond
+    :data:`IN_PROCESS_ENV` (a theorem path, a cache folder: read once per process) -- then in a
+    subprocess (:func:`run_cli_process`).  A new interpreter costs ~1.5 s of CPU (sympy, the
+    solving stack, the theorems read again) for the same exit code and the same two streams."""
+    if process or cwd is not None or set(env or ()) - IN_PROCESS_ENV:
+        return run_cli_process(*argv, env=env, cwd=cwd)
+    return run_cli_here(*argv, env=env)
+
+
+def run_cli_here(*argv, env=None):
+    """``lmidsl.cli.main(ARGV)`` in this process, stdout and stderr captured (argparse's exit
+    included): what ``python -m lmidsl ARGV`` prints and returns, less a new interpreter."""
+    import contextlib
+    import contextvars
+    import io
+    from unittest import mock
+
+    from lmidsl.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with mock.patch.dict(os.environ, env or {}), contextlib.redirect_stdout(out), \
+            contextlib.redirect_stderr(err):
+        os.environ.pop("LMIDSL_DEBUG", None)        # restored with the environment
+        try:
+            # in a copy of this context: what a command sets for its process (the expansion
+            # limits of --max-lmis, a ContextVar) ends with it
+            code = contextvars.copy_context().run(main, list(argv))
+        except SystemExit as exc:
+            code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+    return code, out.getvalue(), err.getvalue()
+
+
+def run_cli_process(*argv, env=None, cwd=None):
     """Run ``python -m lmidsl ARGV`` (the installed package) in a subprocess; returns (exit code, stdout, stderr)."""
     full_env = dict(os.environ)
     full_env.pop("LMIDSL_DEBUG", None)

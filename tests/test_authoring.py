@@ -16,8 +16,6 @@ from __future__ import annotations
 
 import importlib.util
 import json
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -25,6 +23,7 @@ from sympy import Trace, sqrt
 
 import lmidsl
 from lmidsl import He, I, Source, Theorem, TheoremDefinitionError, UnusedDataWarning
+from conftest import run_cli
 
 control = pytest.importorskip("control")
 
@@ -117,12 +116,11 @@ def test_cli_hinf_sf_json_gives_the_gain_and_the_closed_loop_norm(tmp_path):
     plant = _plant()                                  # a full generalized plant: C2, D21, D22 unused
     path = tmp_path / "plant.json"
     path.write_text(json.dumps(plant))
-    run = subprocess.run([sys.executable, "-m", "lmidsl", "solve", "textbook.hinf_sf_ct", "--data",
-                          str(path), "--json"], capture_output=True, text=True, timeout=600)
-    assert run.returncode == 0, run.stderr
-    lines = [l for l in run.stderr.splitlines() if "lmidsl" in l or l.startswith(("warning", "error"))]
+    code, stdout, stderr = run_cli("solve", "textbook.hinf_sf_ct", "--data", str(path), "--json")
+    assert code == 0, stderr
+    lines = [l for l in stderr.splitlines() if "lmidsl" in l or l.startswith(("warning", "error"))]
     assert lines == ["warning: textbook.hinf_sf_ct: ignoring data the theorem does not use: C2, D21, D22"]
-    out = json.loads(run.stdout)
+    out = json.loads(stdout)
     assert out["verdict"]["certified"], out["verdict"]
     K = np.array(out["design"]["matrices"]["K"])
     assert out["design"]["kind"] == "gain" and K.shape == (1, 3)
@@ -135,11 +133,10 @@ def test_cli_hinf_sf_json_gives_the_gain_and_the_closed_loop_norm(tmp_path):
     assert abs(loop["hinf_norm"] - norm) <= 1e-6 * norm
     assert norm <= out["gamma"] * (1 + 1e-6)
 
-    bad = subprocess.run([sys.executable, "-m", "lmidsl", "solve", "textbook.hinf_sf_ct", "--data",
-                          str(path), "--set", "C3=[[1]]"], capture_output=True, text=True, timeout=600)
-    assert bad.returncode == 2
-    assert bad.stderr.strip().splitlines()[-1].startswith("error: textbook.hinf_sf_ct: unknown data or parameter 'C3'")
-    assert "Traceback" not in bad.stderr
+    code, _, stderr = run_cli("solve", "textbook.hinf_sf_ct", "--data", str(path), "--set", "C3=[[1]]")
+    assert code == 2
+    assert stderr.strip().splitlines()[-1].startswith("error: textbook.hinf_sf_ct: unknown data or parameter 'C3'")
+    assert "Traceback" not in stderr
 
 
 def test_python_api_gives_statespace_systems():

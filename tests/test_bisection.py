@@ -101,3 +101,35 @@ def test_any_parameter_can_be_bisected_without_a_declaration():
     assert all(s["solver"] for s in result.steps)
     with pytest.raises(InputError, match="not a parameter"):
         bis.bisect(make_instance("decay_rate.quadratic", "single"), parameter="beta", lower=0, upper=1)
+
+
+def test_a_bisection_step_ends_at_the_first_route_that_says_infeasible(monkeypatch):
+    """``infeasible_ends`` (a bisection step): after the first route fails, the first fallback
+    that says "infeasible" ends the road -- the later routes (which would compile and solve the
+    step again, SCS included) are not tried; without it every route is tried."""
+    from types import SimpleNamespace
+
+    from lmidsl.solver import plan as plan_module
+    from lmidsl.solver.plan import Plan
+    from lmidsl.solver.solution import Solution
+
+    def answer(backend, solver, status):
+        return Solution("t", None, backend, solver, status)
+
+    first = answer("direct", "CLARABEL", "solver_error")
+    model = SimpleNamespace(instance=SimpleNamespace(theorem=SimpleNamespace(state_feedback=None,
+                                                                             bounded_real=None)))
+    for infeasible_ends, expected in ((True, 1), (False, 3)):
+        tried = []
+        monkeypatch.setattr(plan_module, "route_model", lambda model, route, margin=None: route)
+
+        def solve_route(self, route, solver, **extra):
+            tried.append(route)
+            return answer(route.backend, route.solver, "infeasible")
+        monkeypatch.setattr(Plan, "_solve_model", solve_route)
+        monkeypatch.setattr(Plan, "routes", lambda self: [SimpleNamespace(backend=b, solver=s) for b, s in (
+            ("direct", "CLARABEL"), ("picos", "cvxopt"), ("cvxpy", "CLARABEL"), ("cvxpy", "CVXOPT"))])
+        kept = Plan(None, None, infeasible_ends=infeasible_ends)._other_routes(model, first)
+        assert [(r.backend, r.solver) for r in tried] == [("picos", "cvxopt"), ("cvxpy", "CLARABEL"),
+                                                          ("cvxpy", "CVXOPT")][:expected]
+        assert kept.status == "solver_error" and not kept.ok        # no point: the step is "no"

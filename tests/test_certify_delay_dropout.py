@@ -200,6 +200,7 @@ def test_reproduce_row_shows_the_exact_h_infinity_figure():
     assert row["exact_gamma"] < row["certified_gamma"] <= row["computed_gamma"] * 1.01
 
 
+@pytest.mark.slow
 def test_cli_verify_backoff(capsys):
     """`verify --backoff 1e-2`: the filter of the back-off point is the one certified."""
     code = main(["verify", THM, "--example", "paper", "--backoff", "1e-2", "--runs", "0", "--json"])

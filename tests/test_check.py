@@ -2,8 +2,6 @@
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -13,15 +11,15 @@ pytest.importorskip("picos")
 from lmidsl.studies.cross_check import CheckRow, check, compare, options_for, plan_rows  # noqa: E402
 from lmidsl.cli.check_cmd import parse_solver_options  # noqa: E402
 from lmidsl.errors import InputError  # noqa: E402
+import conftest  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 THM3 = ("wang_l2linf.thm3", "--example", "paper-full")
 
 
 def run_cli(*args):
-    out = subprocess.run([sys.executable, "-m", "lmidsl", "check", *args], cwd=ROOT,
-                         capture_output=True, text=True)
-    return out.returncode, out.stdout, out.stderr
+    """``lmidsl check ARGS``: (exit code, stdout, stderr), in this process (conftest.run_cli)."""
+    return conftest.run_cli("check", *args)
 
 
 @pytest.fixture(scope="module")

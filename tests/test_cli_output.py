@@ -203,7 +203,7 @@ def test_solver_options_reach_the_solver():
 
 
 def test_timeout_stops_with_one_line_and_exit_1():
-    code, _, err = run_cli("reproduce", "--timeout", "0.5")
+    code, _, err = run_cli("reproduce", "--timeout", "0.5", process=True)   # the clock covers start-up
     assert code == 1, err
     assert err.strip().splitlines()[-1].startswith("error: --timeout 0.5: stopped after 0.5 s"), err
     assert "Traceback" not in err

@@ -336,9 +336,12 @@ def test_h2_output_feedback_matches_h2syn_many():
     assert compared >= 14     # measured: 15 of 20 solved accurately and certified (see the report)
 
 
-def test_mixed_designs_meet_both_bounds():
+def test_mixed_designs_meet_both_bounds(seeds=range(11, 15), least=4):
+    """H2/H∞ state feedback on random plants (``seeds``): a certified design keeps the closed
+    loop's H∞ norm (python-control) under γ₀ and its H2 norm under the certified level; at least
+    ``least`` of them are certified."""
     met = 0
-    for seed in range(11, 21):
+    for seed in seeds:
         ex = mixed._example(seed, True)
         ref = lmidsl.solve(lmidsl.get_theorem("textbook.hinf_sf_ct"),
                            data={k: ex[k] for k in ("A", "B1", "B2", "C1", "D11", "D12")})
@@ -353,7 +356,12 @@ def test_mixed_designs_meet_both_bounds():
         hinf = control.norm(control.ss(Acl, d["B1"], d["C1"] + d["D12"] @ K, d["D11"]), "inf")
         h2 = control.norm(control.ss(Acl, d["B1"], d["Cz"] + d["Dz"] @ K, 0), 2)
         assert hinf < g0 and h2 <= sol.gamma * (1 + 1e-6)
-    assert met >= 8
+    assert met >= least
+
+
+@pytest.mark.slow
+def test_mixed_designs_meet_both_bounds_many():
+    test_mixed_designs_meet_both_bounds(range(11, 21), least=8)
 
 
 def test_energy_to_peak_design_is_below_its_bound_by_the_gramian():

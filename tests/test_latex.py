@@ -11,6 +11,7 @@ from __future__ import annotations
 import re
 import shutil
 import subprocess
+from functools import lru_cache
 
 import pytest
 import sympy as sp
@@ -172,10 +173,17 @@ def test_hats_bars_subscripts_and_transposes():
     assert p.doprint(-xi * S) == "-\\bar{\\xi}_1 S"
 
 
+@lru_cache(maxsize=None)
+def document(theorem_id: str) -> str:
+    """The document of a built-in theorem (no solution), built once per test process: the
+    tests below read the same text (0.16 s of sympy printing a theorem)."""
+    return theorem_latex(get_theorem(theorem_id))
+
+
 def test_symmetric_transposes_never_printed_in_any_theorem():
     """No document of any theorem contains ``X^{T}`` for a symmetric variable ``X``."""
     for thm in all_theorems().values():
-        text = theorem_latex(thm)
+        text = document(thm.id)
         for decl in thm.var_decl.values():
             s = decl.symbol
             if isinstance(s, SymmetricVariable):
@@ -274,14 +282,29 @@ def test_twelve_block_columns_compile(tmp_path):
 THEOREM_IDS = sorted(all_theorems())
 
 
+@pytest.fixture(scope="module")
+def compiled(tmp_path_factory):
+    """``compiled(theorem_id)``: (text, folder, name) of the theorem's document, compiled by
+    pdflatex once per module (:func:`assert_compiles`) for the tests that read its PDF and log."""
+    done = {}
+
+    def get(theorem_id):
+        if theorem_id not in done:
+            name = theorem_id.replace(".", "_")
+            folder = tmp_path_factory.mktemp(name)
+            assert_compiles(document(theorem_id), folder, name)
+            done[theorem_id] = (document(theorem_id), folder, name)
+        return done[theorem_id]
+    return get
+
+
 @needs_pdflatex
 @pytest.mark.parametrize("theorem_id", THEOREM_IDS)
-def test_every_theorem_document_compiles(theorem_id, tmp_path):
-    text = theorem_latex(get_theorem(theorem_id))
+def test_every_theorem_document_compiles(theorem_id, compiled):
+    text, _, _ = compiled(theorem_id)
     for lmi in get_theorem(theorem_id).lmis:
         if lmi.label.startswith("("):
             assert f"}}{{{lmi.label}}}" in text, lmi.label  # every paper label is tagged
-    assert_compiles(text, tmp_path, theorem_id.replace(".", "_"))
 
 
 @needs_pdflatex
@@ -297,15 +320,16 @@ def test_example_document_with_solution(tmp_path):
 
 def test_parameter_domain_printed_as_checked():
     """r̄ is checked in the open interval (0, 1) (wang_l2linf): the document says (0, 1)."""
-    text = theorem_latex("wang_l2linf.thm3")
+    text = document("wang_l2linf.thm3")
     assert r"$\bar{r}$ & $\in (0, 1)$" in text
-    assert r"$\bar{\xi}_1$ & $\in [0, 1]$" in theorem_latex("li_delay_dropout.thm2")
+    assert r"$\bar{\xi}_1$ & $\in [0, 1]$" in document("li_delay_dropout.thm2")
 
 
 def test_scaled_example_prints_the_data_as_given():
     """Seed 001 is solved with the output scaled by 32: the document prints C₁ as given
     (23.737, not 23.737/32 = 0.7418) and states the scaling apart."""
-    sol = lmidsl.solve("li_delay_dropout.thm2", example="paper", certify=False)
+    sol = lmidsl.solve("li_delay_dropout.thm2", example="paper", certify=False, bounds=False,
+                       backoff=None)         # the point at the optimum: its data are what is printed
     assert sol.scaling is not None and sol.scaling.active
     text = theorem_latex("li_delay_dropout.thm2", sol)
     assert r"C_1 = \begin{bmatrix} 23.737 & 20.287 & 0 \end{bmatrix}" in text
@@ -377,22 +401,19 @@ def page_problems(tex: str, folder, name: str) -> list[str]:
 
 @needs_pdflatex
 @pytest.mark.parametrize("theorem_id", sorted(all_theorems()))
-def test_every_theorem_document_is_portrait_full_size_and_full(theorem_id, tmp_path):
+def test_every_theorem_document_is_portrait_full_size_and_full(theorem_id, compiled):
     """Every theorem's document: portrait pages, no LMI shrunk below 0.8 (a large LMI has named
     blocks), no near-empty page, no heading alone at the foot of a page."""
-    text = theorem_latex(theorem_id)
-    name = theorem_id.replace(".", "_")
-    assert_compiles(text, tmp_path, name)
-    assert page_problems(text, tmp_path, name) == []
+    assert page_problems(*compiled(theorem_id)) == []
 
 
 def test_large_lmis_are_printed_with_named_blocks():
-    text = theorem_latex("interconnected_delay.thm2")
+    text = document("interconnected_delay.thm2")
     assert "\\Phi_{11} = " in text and "\\Psi_{11} = " in text      # one letter per LMI
     body = text[text.index("\\subsection*{Conditions}"):]
     first = body[body.index("\\lmidisplay{"):body.index("\\end{bmatrix}")]
     assert "\\Phi_{21} & \\Phi_{22}" in first                      # the matrix names its long blocks
-    small = theorem_latex("textbook.brl_ct")
+    small = document("textbook.brl_ct")
     assert "\\Phi_{" not in small                                    # a small LMI is written out
 
 
@@ -404,7 +425,7 @@ def test_document_text_is_mathematics_where_it_is_mathematics():
     li = get_theorem("li_delay_dropout.thm2")
     assert _inverted_latex(li, "S.T", printer_for(li)) == "$S^{T}$"
     assert _inverted_latex(li, "I - X*Z**(-1)", printer_for(li)) == "$I - X Z^{-1}$"
-    doc = theorem_latex("li_delay_dropout.thm1")
+    doc = document("li_delay_dropout.thm1")
     assert "\\sqrt{\\gamma^2}" not in doc and "square root of the optimal value" in doc
 
 

@@ -71,6 +71,7 @@ def test_backoff_filter_certified_by_theorem1(backed_off):
     assert set(sol.recovered) == {"Af", "Bf", "Cf", "Df"}
 
 
+@pytest.mark.slow
 def test_same_filter_transfer_function_across_solvers():
     """Both solvers' backed-off filters: the certified levels agree to 0.5 %."""
     gammas = [backoff_solution(s).analysis.gamma for s in SOLVERS]

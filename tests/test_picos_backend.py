@@ -3,8 +3,6 @@ same optimum as cvxpy on the paper's examples."""
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -14,6 +12,7 @@ import sympy as sp
 pytest.importorskip("picos")
 
 from lmidsl import I, Source, Theorem  # noqa: E402
+from conftest import run_cli  # noqa: E402
 from lmidsl.pipeline import make_instance  # noqa: E402
 from lmidsl.solver.backends import get_backend  # noqa: E402
 from lmidsl.errors import SolverUnavailableError  # noqa: E402
@@ -142,10 +141,9 @@ def test_picos_cvxopt_same_gamma_as_cvxpy(example):
 def test_cli_solve_picos_matches_cvxpy():
     """`lmidsl solve wang_l2linf.thm3 --example paper-full --backend picos --solver cvxopt`."""
     def run(*extra):
-        out = subprocess.run([sys.executable, "-m", "lmidsl", "solve", "wang_l2linf.thm3",
-                              "--example", "paper-full", "--json", *extra],
-                             cwd=ROOT, capture_output=True, text=True, check=True)
-        return json.loads(out.stdout)
+        code, out, err = run_cli("solve", "wang_l2linf.thm3", "--example", "paper-full", "--json", *extra)
+        assert code == 0, err
+        return json.loads(out)
     picos_sol = run("--backend", "picos", "--solver", "cvxopt")
     cvxpy_sol = run()
     assert picos_sol["backend"] == "picos" and picos_sol["certified"]
@@ -158,11 +156,10 @@ def test_picos_refuses_clarabel_and_scs_in_one_line(solver):
     instance = make_instance("wang_l2linf.thm3", "paper-full")
     with pytest.raises(SolverUnavailableError, match=r"PICOS 2\.\d+(\.\d+)? has no interface for solver"):
         get_backend("picos")(instance).solve(solver)
-    out = subprocess.run([sys.executable, "-m", "lmidsl", "solve", "wang_l2linf.thm3", "--example",
-                          "paper-full", "--backend", "picos", "--solver", solver],
-                         cwd=ROOT, capture_output=True, text=True)
-    assert out.returncode == 2
-    lines = out.stderr.strip().splitlines()
+    code, _, err = run_cli("solve", "wang_l2linf.thm3", "--example", "paper-full", "--backend", "picos",
+                           "--solver", solver)
+    assert code == 2
+    lines = err.strip().splitlines()
     assert len(lines) == 1 and "has no interface" in lines[0] and "--backend cvxpy" in lines[0]
 
 

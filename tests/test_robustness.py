@@ -291,7 +291,10 @@ THEOREMS = [thm]
 
 
 def _user_env(tmp_path, folder):
+    """User theorem files in ``folder``, with the test run's cache folder (conftest), where the
+    built-in theorems are built already (the user files are entries of their own)."""
     env = _env(tmp_path)
+    env["LMIDSL_CACHE_DIR"] = os.environ["LMIDSL_CACHE_DIR"]
     env["LMIDSL_THEOREM_PATH"] = str(folder)
     return env
 

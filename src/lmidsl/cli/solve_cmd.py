@@ -54,7 +54,6 @@ def run(args):
     # the solving stack, imported once the theorem id is known good (an unknown id is answered
     # from the index, without sympy); the startup reported counts it
     from ..pipeline import solve
-    from ..render.report import format_solution
     startup = process_age()
     sol = solve(args.theorem, certify=not args.no_certify, scaling=args.scaling, backoff=args.backoff,
                 bounds=not args.no_bounds,
@@ -64,6 +63,7 @@ def run(args):
     if args.json:
         print_json(sol.as_dict())
     else:
+        from ..render.report import format_solution     # rich's tables: needed once there is a result
         print(wrap(format_solution(sol)))
     return 0 if sol.verdict.certified else 1
 

@@ -52,8 +52,9 @@ class Plan:
     ``fallbacks``: try the fallback routes (default: when no solver is named).
     ``closed_forms``: try the theorem's declared closed forms (a cross-check of one named
     solver turns them off, so that its row is that solver's answer).
-    ``infeasible_ends``: a solver's "infeasible" ends the road (a bisection step: the bracket's
-    infeasible end is then the solver's word, reported as such, not a proof)."""
+    ``infeasible_ends``: a solver's "infeasible" ends the road, the first route's or a fallback's
+    after the first failed (a bisection step: the bracket's infeasible end is then the solver's
+    word, reported as such, not a proof; the feasible end is always a certified, proved point)."""
 
     backend: str
     solver: str | None = None
@@ -151,8 +152,8 @@ class Plan:
             tried.append(said(other))
             points = points or other.ok
             kept = better(kept, other)
-            if good(other):
-                break
+            if good(other) or (self.infeasible_ends and other.status == INFEASIBLE):
+                break          # a bisection step after a solver error: the first "infeasible" ends it
         if closed_form:
             closed = riccati_point(model.instance, None, 0.0)
             if closed is not None:

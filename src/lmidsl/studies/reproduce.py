@@ -10,6 +10,7 @@ which must not exceed the computed γ; otherwise the row is not certified.
 """
 from __future__ import annotations
 
+import time
 from dataclasses import asdict, dataclass, fields
 
 from ..pipeline import make_instance, solve
@@ -51,6 +52,7 @@ class ReproductionRow:
     verdict: dict | None = None     # the solve's verdict record (lmidsl.certify.verdict), refuted by
                                     # an exact figure above the certified level
     bounds: dict | None = None      # the optimum's bracket: proved lower bound, proved optimum level
+    wall_time: float | None = None  # seconds the row took where it ran (solve, proofs, evidence)
 
     @property
     def outcome(self) -> str:
@@ -177,7 +179,10 @@ class ReproduceTask(Task):
         return self.row
 
     def row(self, job) -> ReproductionRow:
-        return reproduce_one(*job, self.solver, **self.solve_options)
+        start = time.perf_counter()
+        row = reproduce_one(*job, self.solver, **self.solve_options)
+        row.wall_time = time.perf_counter() - start
+        return row
 
 
 def reproduce_all(solver: str | None = None, theorems: list[str] | None = None, progress=None,
