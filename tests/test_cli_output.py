@@ -220,3 +220,20 @@ def test_solution_repr_is_one_line_and_theorem_has_latex():
     assert latex.startswith("$$") and latex.endswith("$$") and "\\begin{bmatrix}" in latex
     assert "lmidisplay" not in latex and "fitlmi" not in latex     # no macros of the document's preamble
     assert repr(theorem).startswith("<Theorem wang_l2linf.thm3:")
+
+
+@pytest.mark.parametrize("fired,expected", [(False, 130), (True, 1)])
+def test_a_late_interrupt_never_kills_the_command_by_sigint(fired, expected):
+    """A KeyboardInterrupt that escapes the command after it handled its own (a late signal in the
+    clean-up, a second Ctrl-C) ends the process with an exit code — 1 after a deadline, 130 for an
+    interrupt — never by SIGINT (Python's exit for an unhandled KeyboardInterrupt, seen as −2)."""
+    import subprocess
+    import sys
+    script = ("import lmidsl.cli as c\n"
+              f"c.Deadline.fired = {fired}\n"
+              "def late(argv=None):\n    raise KeyboardInterrupt\n"
+              "c.main = late\nc.console_main()\n")
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert done.returncode == expected, (done.returncode, done.stderr)
+    assert "Traceback" not in done.stderr
+    assert ("error: interrupted" in done.stderr) == (not fired)

@@ -196,6 +196,8 @@ class Deadline:
     GRACE = 5.0
     #: end the process from the watchdog (the ``lmidsl`` command; not ``main()`` inside a test)
     hard_exit = False
+    #: a deadline of this process has expired (read by :func:`console_main`)
+    fired = False
 
     def __init__(self, seconds: float | None):
         self.seconds, self.expired, self.timer, self.watchdog = seconds, False, None, None
@@ -218,7 +220,7 @@ class Deadline:
         raise KeyboardInterrupt
 
     def _expire(self):
-        self.expired = True
+        self.expired = Deadline.fired = True
         if self.hard_exit:
             self.watchdog = threading.Timer(self.GRACE, self._end_process)
             self.watchdog.daemon = True
@@ -327,7 +329,15 @@ def console_main() -> None:
     coverage), which write their results at the normal exit.  ``main(argv)`` itself returns, for
     tests and embedding."""
     Deadline.hard_exit = True
-    code = main()
+    try:
+        code = main()
+    except KeyboardInterrupt:
+        # an interrupt after the command handled its own (a late signal during clean-up, a second
+        # Ctrl-C): the exit code still says what happened, never death by SIGINT (Python's exit
+        # for an unhandled KeyboardInterrupt); a deadline has printed its line already
+        if not Deadline.fired:
+            print("error: interrupted", file=sys.stderr)
+        code = 1 if Deadline.fired else 130
     if not _background_work_ended():
         _leave(code)
     if threading.active_count() > 1 or sys.getprofile() is not None or sys.gettrace() is not None:
