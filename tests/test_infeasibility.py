@@ -116,3 +116,21 @@ def test_quadratic_stability_of_a_switching_pair_is_proved_infeasible():
     sol = lmidsl.solve("textbook.quadstab_dt", "interval-3")
     assert sol.infeasibility is not None and sol.infeasibility.proved, sol.infeasibility
     assert sol.verdict.word == "infeasible"
+
+
+def test_a_proved_infeasibility_ends_the_road():
+    """A = diag(1, −2) has an unstable mode (numpy's eigenvalues), so no P ≻ 0 has AᵀP + PA ≺ 0:
+    once the first route's "infeasible" is proved, no fallback route is tried (they could only
+    fail to find a point; reproduce's infeasible rows spent two thirds of their time there)."""
+    import lmidsl
+    from lmidsl import Theorem
+    A = np.array([[1.0, 0.0], [0.0, -2.0]])
+    assert np.linalg.eigvals(A).real.max() > 0
+    thm = Theorem("adv.unstable_lyapunov")
+    P = thm.var("P", 2, kind="symmetric")
+    thm.lmi([[A.T @ P + P @ A]])
+    thm.lmi([[P]], sense=">")
+    sol = lmidsl.solve(thm)
+    assert sol.infeasibility is not None and sol.infeasibility.proved
+    assert any(n.startswith("no other route tried") for n in sol.notes), sol.notes
+    assert sol.verdict.word == "infeasible"

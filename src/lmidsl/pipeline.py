@@ -6,6 +6,7 @@
 """
 from __future__ import annotations
 
+import dataclasses
 import time
 
 from .certify.dual_bound import PendingBound
@@ -96,6 +97,8 @@ def solve_instance(instance: Instance, solver: str | None = None, backend: str |
     infeasibility certificate (:mod:`lmidsl.certify.infeasibility`); direct backend only.
     """
     plan = plan or Plan(backend, solver, options, margin)
+    if bounds and plan.infeasibility_proof is None:       # a proved infeasibility ends the road
+        plan = dataclasses.replace(plan, infeasibility_proof=prove_infeasible)
     applied = apply_scaling(instance, scaling)
     solved = []
     solution, model = plan.solve(applied.scaled, solved=solved)
@@ -128,7 +131,7 @@ def _recover_and_certify(model, applied, solution: Solution, backoff, bounds: bo
         finish_solution(solution, **finish)
         if backoff is None and solution.message.startswith("recovery failed"):
             solution.message += "; a back-off (--backoff) may recover a well-conditioned design"
-        if bounds and not solution.ok:
+        if bounds and not solution.ok and solution.infeasibility is None:   # (not tried on the road)
             t0 = time.perf_counter()
             solution.infeasibility = prove_infeasible(model)
             solution.times["infeasibility_proof"] = time.perf_counter() - t0

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from typing import Callable
 
 from ..errors import LmidslError
 from .backends import Route, choose_backend, fallback_routes, get_backend, is_first_order, second_opinion
@@ -54,7 +55,13 @@ class Plan:
     solver turns them off, so that its row is that solver's answer).
     ``infeasible_ends``: a solver's "infeasible" ends the road, the first route's or a fallback's
     after the first failed (a bisection step: the bracket's infeasible end is then the solver's
-    word, reported as such, not a proof; the feasible end is always a certified, proved point)."""
+    word, reported as such, not a proof; the feasible end is always a certified, proved point).
+    ``infeasibility_proof``: callable(model) → certificate (``.proved``), tried on the model whose
+    solver said "infeasible" before any other route: a proved infeasibility ends the road (each
+    fallback route, SCS included, could only fail to find a point; reproduce's infeasible rows
+    spent two thirds of their time there).  The proof lives above this layer: the pipeline passes
+    :func:`lmidsl.certify.infeasibility.prove_infeasible`; the certificate is kept in the
+    solution's ``infeasibility``."""
 
     backend: str
     solver: str | None = None
@@ -63,6 +70,7 @@ class Plan:
     fallbacks: bool | None = None
     closed_forms: bool = True
     infeasible_ends: bool = False
+    infeasibility_proof: Callable | None = None
 
     def __post_init__(self):
         self.backend = choose_backend(self.backend, self.solver)
@@ -120,7 +128,10 @@ class Plan:
             solution, model = kept, (conditioned if kept is other else plain)
         t2 = time.perf_counter()
         kept = self._other_routes(model, solution)
-        road["road_other_routes"] = time.perf_counter() - t2
+        proving = solution.times.get("infeasibility_proof", 0.0)       # a part of its own
+        road["road_other_routes"] = time.perf_counter() - t2 - proving
+        if proving:
+            road["infeasibility_proof"] = proving
         kept.times.update(road)
         return kept, model
 
@@ -138,6 +149,13 @@ class Plan:
         closed_form = self.closed_forms and declares_closed_form(model.instance.theorem)
         if (good(first) and not closed_form) or (self.infeasible_ends and first.status == INFEASIBLE):
             return first
+        if first.status == INFEASIBLE and self.infeasibility_proof is not None:
+            t0 = time.perf_counter()
+            first.infeasibility = self.infeasibility_proof(model)
+            first.times["infeasibility_proof"] = time.perf_counter() - t0
+            if first.infeasibility.proved:
+                first.notes.append("no other route tried: the infeasibility is proved on the first route's model")
+                return first
         kept, tried = first, [said(first)]
         points = first.ok           # some route returned a point (certified or not)
         for route in (self.routes()[1:] if self.fallbacks and not good(first) else []):
