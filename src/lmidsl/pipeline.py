@@ -138,6 +138,11 @@ def _recover_and_certify(model, applied, solution: Solution, backoff, bounds: bo
         return solution
     if backoff != "auto":
         return backed_off(model, applied, solution, backoff, None, finish)
+    if not finish["certify"]:
+        # the automatic back-off keeps a point only once it is certified; with nothing certified
+        # (--no-certify) it could only spend its solves (seed 001: 38 solves, 11.9 s against 4.6 s)
+        finish_solution(solution, **finish)
+        return solution
     reason = _backoff_reason(solution, instance, finish)
     if reason is None:
         return solution
