@@ -651,8 +651,7 @@ class PendingBound:
                 bound = job if isinstance(job, DualBound) else _bound(job, tries, None)
                 if k:
                     bound.route = "conditioned" if others[k - 1].conditioning is not None else "as written"
-                best = bound if best is None or not best.proved or bound.proved and bound.lower > best.lower \
-                    else best
+                best = _preferred(best, bound)
             self._done = best
         except BoundCancelled:
             self._done = DualBound(why="not computed: cancelled (interrupted)")
@@ -685,6 +684,16 @@ class PendingBound:
         if self._error is not None:
             raise self._error
         return self._done
+
+
+def _preferred(best: DualBound | None, bound: DualBound) -> DualBound:
+    """The record to keep of two: the higher proved bound; of two unproved, the kept model's
+    (the first dual tried) — its reason is the one to print — over the frequency route's."""
+    if best is None:
+        return bound
+    if bound.proved:
+        return bound if not best.proved or bound.lower > best.lower else best
+    return bound if not best.proved and best.method == "frequency" else best
 
 
 def cancel_pending(wait: float | None = None) -> bool:
