@@ -149,3 +149,16 @@ def test_a_form_with_a_variable_in_its_system_is_refused():
     thm.bounded_real_form(form.storage, form.level, (form.system[0], form.system[1], X, form.system[3]))
     assert bounded_real_lmi(thm) is None
 
+
+
+def test_which_bound_record_is_kept():
+    """The higher proved bound; of two unproved, the kept model's (first) reason, except that a
+    dual's reason replaces the frequency route's."""
+    from lmidsl.certify.dual_bound import DualBound, _preferred
+    first, later = DualBound(why="first"), DualBound(why="later")
+    assert _preferred(_preferred(None, first), later) is first
+    frequency = DualBound(why="frequency", method="frequency")
+    assert _preferred(frequency, later) is later
+    low, high = DualBound(lower=1.0, proved=True), DualBound(lower=2.0, proved=True)
+    assert _preferred(first, low) is low and _preferred(low, first) is low
+    assert _preferred(low, high) is high and _preferred(high, low) is high
