@@ -237,3 +237,17 @@ def test_a_late_interrupt_never_kills_the_command_by_sigint(fired, expected):
     assert done.returncode == expected, (done.returncode, done.stderr)
     assert "Traceback" not in done.stderr
     assert ("error: interrupted" in done.stderr) == (not fired)
+
+
+def test_a_sigint_after_the_command_ended_does_not_change_its_exit_code():
+    """The command is over (exit 1 decided): a SIGINT reaching the process during the clean-up
+    (Dask's workers closing, the interpreter's exit) leaves the exit code as it was."""
+    import subprocess
+    import sys
+    script = ("import os, signal\nimport lmidsl.cli as c\n"
+              "c.main = lambda argv=None: 1\n"
+              "def ended():\n    os.kill(os.getpid(), signal.SIGINT)\n    return True\n"
+              "c._background_work_ended = ended\nc.console_main()\n")
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 1, (done.returncode, done.stderr)
+    assert "Traceback" not in done.stderr
