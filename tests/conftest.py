@@ -49,7 +49,12 @@ def run_cli_here(*argv, env=None):
 
     from lmidsl.cli import main
 
+    import signal
+
     out, err = io.StringIO(), io.StringIO()
+    # a command leaves this process as it found it: its signal dispositions too (a SIGINT left
+    # ignored here is inherited by every later subprocess, whose Ctrl-C then does nothing)
+    handlers = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGALRM)}
     with mock.patch.dict(os.environ, env or {}), contextlib.redirect_stdout(out), \
             contextlib.redirect_stderr(err):
         os.environ.pop("LMIDSL_DEBUG", None)        # restored with the environment
@@ -59,6 +64,10 @@ def run_cli_here(*argv, env=None):
             code = contextvars.copy_context().run(main, list(argv))
         except SystemExit as exc:
             code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+        finally:
+            for sig, handler in handlers.items():
+                if signal.getsignal(sig) is not handler and handler is not None:
+                    signal.signal(sig, handler)
     return code, out.getvalue(), err.getvalue()
 
 

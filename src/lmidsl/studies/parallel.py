@@ -250,8 +250,9 @@ def _workers_ignore_ctrl_c():
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
+    previous = signal.getsignal(signal.SIGINT)
+    try:      # set inside the try: an interrupt (a deadline's) right after it still restores it
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
         yield
     finally:
         signal.signal(signal.SIGINT, previous)
