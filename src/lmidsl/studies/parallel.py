@@ -250,12 +250,18 @@ def _workers_ignore_ctrl_c():
     if threading.current_thread() is not threading.main_thread():
         yield
         return
+    # SIGINT blocked first: a Ctrl-C while the workers start stays pending (Linux queues a blocked
+    # signal even while it is ignored) and reaches this process once the mask is restored, instead
+    # of being discarded — the cluster starts lazily, mid-run, and a Ctrl-C that fell in this window
+    # was lost (the run went on to its end: the slow suite's Ctrl-C tests, at load)
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     previous = signal.getsignal(signal.SIGINT)
     try:      # set inside the try: an interrupt (a deadline's) right after it still restores it
         signal.signal(signal.SIGINT, signal.SIG_IGN)
         yield
     finally:
         signal.signal(signal.SIGINT, previous)
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
 
 
 def dashboard_options() -> dict:
