@@ -43,7 +43,7 @@ from flint import acb, acb_mat, arb
 from ..numeric.evaluate import NumericEvaluator
 from ..numeric.proof import BallEvaluator, ball_precision, round_down
 from ..numeric.riccati import balancing_transform
-from ..numeric.systems import hinf_peak
+from ..numeric.systems import frequency_variable, hinf_peak
 from ..symbolic.blocks import I, block_matrix
 from ..symbolic.symbols import DECISION_TYPES, ScalarVariable, SymmetricVariable, expand_derived
 from ..symbolic.uncertainty import UNCERTAIN_TYPES, uncertain_atoms_of_lmi
@@ -115,14 +115,22 @@ def bounded_real_lmi(theorem):
     return None
 
 
-def _gain(A, B, C, D, frequency: float, time: str) -> float:
-    """σ_max(G(s)) in floating point at ω (continuous) or θ (discrete); 0 where sI − A is singular."""
-    s = 1j * frequency if time == "continuous" else complex(math.cos(frequency), math.sin(frequency))
+def _response(A, B, C, D, frequency: float, time: str) -> np.ndarray | None:
+    """G(s) in floating point at ω (continuous) or θ (discrete), D at ∞; None where sI − A is
+    singular."""
+    if math.isinf(frequency):
+        return np.atleast_2d(D)
+    s = frequency_variable(frequency, time)
     try:
-        G = C @ np.linalg.solve(s * np.eye(A.shape[0]) - A, B) + D
+        return np.atleast_2d(C @ np.linalg.solve(s * np.eye(A.shape[0]) - A, B) + D)
     except np.linalg.LinAlgError:
-        return 0.0
-    return float(np.linalg.svd(np.atleast_2d(G), compute_uv=False)[0])
+        return None
+
+
+def _gain(A, B, C, D, frequency: float, time: str) -> float:
+    """σ_max(G(s)) in floating point (:func:`_response`); 0 where sI − A is singular."""
+    G = _response(A, B, C, D, frequency, time)
+    return 0.0 if G is None else float(np.linalg.svd(G, compute_uv=False)[0])
 
 
 def _refined(A, B, C, D, frequency: float, time: str) -> float:
@@ -156,13 +164,9 @@ def _peak(A, B, C, D, time: str) -> list:
     return found + [0.0, math.inf]
 
 
-def _direction(A, B, C, D, s: complex | None) -> np.ndarray:
-    """The top right singular vector of G(s) (G(∞) = D when s is None), in floating point."""
-    if s is None:
-        G = D
-    else:
-        G = C @ np.linalg.solve(s * np.eye(A.shape[0]) - A, B) + D
-    _, _, vh = np.linalg.svd(np.atleast_2d(G))
+def _direction(G: np.ndarray) -> np.ndarray:
+    """The top right singular vector of G, in floating point."""
+    _, _, vh = np.linalg.svd(G)
     return np.conj(vh[0])
 
 
@@ -211,41 +215,27 @@ def _bound(instance) -> tuple[float | None, str]:
     form = theorem.bounded_real
     ev = NumericEvaluator(instance.dims, dict(instance.data), instance.params)
     A, B, C, D = (np.atleast_2d(np.asarray(ev.visit(e), dtype=float)) for e in form.system)
-    if not (np.all(np.isfinite(A)) and np.all(np.isfinite(B)) and np.all(np.isfinite(C)) and np.all(np.isfinite(D))):
+    if not all(np.all(np.isfinite(M)) for M in (A, B, C, D)):
         return None, "the system's data are not finite"
-    best, how = None, ""
     with ball_precision(PRECISION):
         bev = BallEvaluator(instance.dims, instance.data, instance.params)
         Ab, Bb, Cb, Db = (np.atleast_2d(np.asarray(bev.visit(e), dtype=object)) for e in form.system)
         # the highest floating-point gain first; a ball only until one is finite (each costs a
         # complex ball solve of order n)
         candidates = sorted(set(_peak(A, B, C, D, theorem.time)), reverse=True,
-                            key=lambda f: float(np.linalg.svd(D, compute_uv=False)[0]) if math.isinf(f)
-                            else _gain(A, B, C, D, f, theorem.time))
+                            key=lambda f: _gain(A, B, C, D, f, theorem.time))
         for frequency in candidates:
-            if best is not None:
-                break
-            if math.isinf(frequency):
-                s = None
-            elif theorem.time == "continuous":
-                s = 1j * frequency
-            else:
-                s = complex(math.cos(frequency), math.sin(frequency))
-            try:
-                u = _direction(A, B, C, D, s)
-            except np.linalg.LinAlgError:
+            G = _response(A, B, C, D, frequency, theorem.time)
+            if G is None:
                 continue
-            ball = _ball_gain(Ab, Bb, Cb, Db, u, frequency, theorem.time)
+            ball = _ball_gain(Ab, Bb, Cb, Db, _direction(G), frequency, theorem.time)
             if ball is None or not ball.is_finite():
                 continue
-            low = round_down(float(ball.lower()))
-            if best is None or low > best:
-                where = "ω = ∞" if s is None else (f"ω = {frequency:.8g} rad/s" if theorem.time == "continuous"
-                                                   else f"θ = {frequency:.8g} rad/sample")
-                best, how = max(low, 0.0), f"the frequency response at {where} (KYP: g ≥ |G(s)u|²/|u|²)"
-    if best is None:
-        return None, "no frequency gave a ball bound"
-    return best, how
+            where = "ω = ∞" if math.isinf(frequency) else (
+                f"ω = {frequency:.8g} rad/s" if theorem.time == "continuous" else f"θ = {frequency:.8g} rad/sample")
+            return (max(round_down(float(ball.lower())), 0.0),
+                    f"the frequency response at {where} (KYP: g ≥ |G(s)u|²/|u|²)")
+    return None, "no frequency gave a ball bound"
 
 
 __all__ = ["bounded_real_lmi", "form_rows", "frequency_lower_bound"]
