@@ -12,7 +12,12 @@ outside (wall time, start-up and imports included), interleaved, medians over ``
   forked processes, each compiling the model once in its initializer, ``map`` over the points
   (this file, ``--reference-pool``); ``pool-1`` is its N = 1.
 
-N runs over 1, 2, 4, ... up to the usable cores (``--workers`` caps it).  Printed: per variant
+* ``cluster-N``: ``lmidsl sweep ... --scheduler ADDRESS`` on a cluster of N workers started
+  once, untimed, before the runs (``lmidsl cluster start --workers N``, ``--cluster N``): the
+  fixed cost a user pays who keeps a cluster across commands.
+
+N runs over 1, 2, 4, ... up to the usable cores (``--workers`` caps it; ``--counts 1,4,16`` names
+them; ``--pool-counts`` the pool's, ``--pool-counts ''`` none).  Printed: per variant
 the wall time, the efficiency wall(1) / (N · wall(N)) against its own family's N = 1, overheads
 relative to the solver time, and for Dask what the run measured of itself (points solved in the
 main process, tail idle, the gap between tasks on a worker, the main process's CPU per task);
@@ -43,7 +48,10 @@ def grid_args(n: int) -> list[str]:
     return ["--grid", f"xi1=0.05:0.95:{n}", "--grid", f"xi2=0.05:0.95:{n}"]
 
 
-def command(variant: str, n: int, workers: int) -> list[str]:
+def command(variant: str, n: int, workers: int, scheduler: str | None = None) -> list[str]:
+    if variant == "cluster":
+        return [sys.executable, "-m", "lmidsl", "sweep", THEOREM, "--example", EXAMPLE, *grid_args(n),
+                "--scheduler", scheduler, "--json"]
     if variant == "serial":
         return [sys.executable, "-m", "lmidsl", "sweep", THEOREM, "--example", EXAMPLE, *grid_args(n),
                 "--workers", "1", "--json"]
@@ -86,8 +94,9 @@ def _pool_solve(params):
     return _POOL["solve"](params)
 
 
-def run_once(variant: str, n: int, workers: int, grid: list[str] | None = None) -> dict:
-    argv = command(variant, n, workers) if grid is None else \
+def run_once(variant: str, n: int, workers: int, grid: list[str] | None = None,
+             scheduler: str | None = None) -> dict:
+    argv = command(variant, n, workers, scheduler) if grid is None else \
         [sys.executable, "-m", "lmidsl", "sweep", THEOREM, "--example", EXAMPLE, *grid,
          "--workers", str(workers), "--json"]
     t0 = time.perf_counter()
@@ -100,7 +109,10 @@ def run_once(variant: str, n: int, workers: int, grid: list[str] | None = None) 
     calls = sum(p["solver_call"] or 0.0 for p in points)
     totals = sum(p["total"] for p in points)
     used = 1 if variant == "serial" else workers
-    return {"wall": wall, "points": len(points), "solver_call": calls,
+    stats = result.get("parallel", {})
+    # outside the runner: start-up (imports, binding, compile) before it, the close and exit after
+    outside = wall - stats["wall"] if stats.get("wall") else None
+    return {"wall": wall, "outside": outside, "points": len(points), "solver_call": calls,
             "in_point": (totals - calls) / calls, "end_to_end": (wall * used - calls) / calls,
             "per_point_call": calls / len(points), "prove": sum(p.get("prove_time", 0.0) for p in points),
             "gammas": [p["gamma"] for p in points], "verdicts": [p.get("verdict") for p in points],
@@ -117,6 +129,24 @@ def fit(walls: dict) -> tuple[float, float]:
     design = np.array([[1.0, 1.0 / n] for n in ns])
     (a, b), *_ = np.linalg.lstsq(design, np.array([walls[n] for n in ns]), rcond=None)
     return float(a), float(b)
+
+
+def start_cluster(workers: int, state: Path) -> str:
+    """A cluster of ``workers`` kept across the runs (``lmidsl cluster start``): its address."""
+    proc = subprocess.run([sys.executable, "-m", "lmidsl", "cluster", "start", "--workers", str(workers),
+                           "--state", str(state)], cwd=ROOT, capture_output=True, text=True)
+    if proc.returncode:
+        raise SystemExit(f"cluster start failed ({proc.returncode}): {proc.stderr.strip()[-500:]}")
+    return proc.stdout.strip()
+
+
+def stop_cluster(state: Path) -> None:
+    subprocess.run([sys.executable, "-m", "lmidsl", "cluster", "stop", "--state", str(state)], cwd=ROOT,
+                   capture_output=True, text=True)
+
+
+def counts(text: str | None, default: list[int]) -> list[int]:
+    return default if text is None else [int(x) for x in text.split(",") if x.strip()]
 
 
 def worker_counts(cap: int) -> list[int]:
@@ -141,6 +171,11 @@ def main() -> None:
     parser.add_argument("--grid", type=int, default=19, help="points per axis (19: seed 001's sweep)")
     parser.add_argument("--runs", type=int, default=3, help="interleaved runs per variant (median)")
     parser.add_argument("--workers", type=int, help="the largest N (default: the usable cores)")
+    parser.add_argument("--counts", help="the N of dask-N, comma-separated (default: 1, 2, 4, ... cores)")
+    parser.add_argument("--pool-counts", help="the N of pool-N (default: as --counts; '' for none)")
+    parser.add_argument("--cluster", type=int, metavar="N", help="also cluster-N: sweeps on a cluster of "
+                        "N workers started once before the runs")
+    parser.add_argument("--json-out", metavar="FILE", help="write every run's measurements here")
     parser.add_argument("--small", action="store_true", help="also the 2x2 sweep, serial and 2 workers")
     parser.add_argument("--reference-pool", type=int, metavar="W", help=argparse.SUPPRESS)
     args = parser.parse_args()
@@ -148,33 +183,58 @@ def main() -> None:
         print(json.dumps(reference_pool(args.reference_pool, args.grid)))
         return
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    ns = worker_counts(args.workers or max(2, cores))
-    variants = ["serial"] + [f"dask-{n}" for n in ns if n > 1] + [f"pool-{n}" for n in ns]
+    ns = counts(args.counts, worker_counts(args.workers or max(2, cores)))
+    pool_ns = counts(args.pool_counts, ns)
+    variants = ["serial"] + [f"dask-{n}" for n in ns if n > 1] + [f"pool-{n}" for n in pool_ns] + \
+        ([f"cluster-{args.cluster}"] if args.cluster else [])
     print(f"{THEOREM} [{EXAMPLE}] sweep {args.grid}x{args.grid} = {args.grid ** 2} points, "
           f"{args.runs} interleaved run(s); {machine()}", flush=True)
+    scheduler = state = None
+    if args.cluster:
+        import tempfile
+        state = Path(tempfile.mkdtemp()) / "cluster.json"
+        t0 = time.perf_counter()
+        scheduler = start_cluster(args.cluster, state)
+        print(f"cluster of {args.cluster} workers started in {time.perf_counter() - t0:.1f} s (untimed "
+              f"in cluster-{args.cluster}): {scheduler}", flush=True)
     runs: dict = {v: [] for v in variants}
-    for r in range(args.runs):
-        k = r % len(variants)
-        for v in variants[k:] + variants[:k]:             # rotate: no variant always first
-            n = 1 if v == "serial" else int(v.split("-")[1])
-            runs[v].append(run_once(v.split("-")[0] if v != "serial" else v, args.grid, n))
-            print(f"  run {r + 1} {v:8s} {runs[v][-1]['wall']:8.2f} s", file=sys.stderr, flush=True)
+    try:
+        for r in range(args.runs):
+            k = r % len(variants)
+            for v in variants[k:] + variants[:k]:             # rotate: no variant always first
+                n = 1 if v == "serial" else int(v.split("-")[1])
+                runs[v].append(run_once(v.split("-")[0] if v != "serial" else v, args.grid, n,
+                                        scheduler=scheduler))
+                print(f"  run {r + 1} {v:10s} {runs[v][-1]['wall']:8.2f} s", file=sys.stderr, flush=True)
+    finally:
+        if state is not None:
+            stop_cluster(state)
+    if args.json_out:
+        Path(args.json_out).write_text(json.dumps({"machine": machine(), "grid": args.grid, "runs": runs}))
     med = {v: {k: statistics.median(x[k] for x in runs[v]) for k in
                ("wall", "in_point", "end_to_end", "per_point_call", "prove")} for v in variants}
     families = {"dask": {1: med["serial"]["wall"], **{n: med[f"dask-{n}"]["wall"] for n in ns if n > 1}},
-                "pool": {n: med[f"pool-{n}"]["wall"] for n in ns}}
-    print(f"{'variant':9s} {'wall s':>8s} {'effic.':>7s} {'solver call/pt ms':>18s} "
-          f"{'in-point ovh':>13s} {'end-to-end ovh':>15s} {'proofs s':>9s}")
+                "pool": {n: med[f"pool-{n}"]["wall"] for n in pool_ns}}
+    print(f"{'variant':11s} {'wall s':>8s} {'speed-up':>9s} {'effic.':>7s} {'solver call/pt ms':>18s} "
+          f"{'in-point ovh':>13s} {'end-to-end ovh':>15s} {'proofs s':>9s} {'outside s':>10s}")
     for v in variants:
         m = med[v]
         family, n = ("dask", 1) if v == "serial" else (v.split("-")[0], int(v.split("-")[1]))
-        eff = families[family][1] / (n * m["wall"])
-        print(f"{v:9s} {m['wall']:8.2f} {100 * eff:6.1f}% {1e3 * m['per_point_call']:18.1f} "
-              f"{100 * m['in_point']:12.1f}% {100 * m['end_to_end']:14.1f}% {m['prove']:9.2f}")
+        # against the family's own N = 1 where it has one, else against serial
+        one = families.get(family, {}).get(1, med["serial"]["wall"])
+        outside = [x["outside"] for x in runs[v] if x["outside"] is not None]
+        print(f"{v:11s} {m['wall']:8.2f} {one / m['wall']:8.2f}x {100 * one / (n * m['wall']):6.1f}% "
+              f"{1e3 * m['per_point_call']:18.1f} {100 * m['in_point']:12.1f}% {100 * m['end_to_end']:14.1f}% "
+              f"{m['prove']:9.2f} " + (f"{statistics.median(outside):10.2f}" if outside else f"{'-':>10s}"))
     for family, walls in families.items():
         a, b = fit(walls)
         print(f"fit {family}: wall = a + b/N with a = {a:.2f} s (fixed cost), b = {b:.2f} s "
               f"({1e3 * b / args.grid ** 2:.1f} ms a point), over N = {sorted(walls)}")
+    if args.cluster:
+        v = f"cluster-{args.cluster}"
+        b = families["dask"].get(1, med["serial"]["wall"])
+        print(f"{v}: fixed cost a = wall - wall(1)/N = {med[v]['wall'] - b / args.cluster:.2f} s "
+              f"(b taken as the serial wall)")
     for v in variants:
         for x in runs[v]:
             if x["parallel"]:

@@ -157,10 +157,12 @@ def format_stats(stats: dict) -> str:
     if not stats["cluster_started"]:
         return (f"parallel: all {stats['items_here']} items solved in this process (workers would not "
                 f"have paid for their start-up)")
-    first = stats["first_worker_joined"]
+    first, every, launched = (stats.get(k) for k in ("first_worker_joined", "all_workers_joined", "cluster_launched"))
     gap, per_task = stats["gap_per_task"], stats["main_cpu_per_task"]
-    parts = [f"parallel: {stats['items_here']} items here while workers started"
-             + (f" (first joined after {first:.1f} s)" if first is not None else " (none joined)"),
+    joined = "none joined" if first is None else f"first joined after {first:.1f} s" + \
+        (f", all after {every:.1f} s" if every is not None else "")
+    parts = [f"parallel: {stats['items_here']} items here while workers started ("
+             + (f"launched at {launched:.1f} s, " if launched is not None else "") + joined + ")",
              f"{stats['items_on_workers']} on workers in {stats['tasks']} tasks",
              f"tail idle {stats['tail_idle']:.2f} worker-s of {stats['worker_busy']:.1f} busy"]
     if gap is not None:

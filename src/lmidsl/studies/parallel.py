@@ -512,13 +512,14 @@ class Runner:
         try:
             while queue or indices:
                 if local_lane and not self._launched and self._worth_starting(len(queue), meter.per_item()):
+                    meter.launched = time.monotonic() - self._entered
                     self._start_local()
                 now = time.monotonic()
                 if self._launched and now - checked > (2.0 if threads >= self.workers else 0.05):
                     client, threads = self._live(threads)
                     checked = now
                     if threads:
-                        meter.joined(threads)
+                        meter.joined(threads, self.workers if local_lane else threads)
                 if threads and finished is None:
                     shared = client.scatter(task, broadcast=True, hash=False)
                     finished = as_completed(loop=client.loop)
@@ -564,12 +565,16 @@ class _Meter:
         self.cpu0 = time.process_time()
         self.local_cpu = self.local_wall = 0.0
         self.items_local = self.items_remote = self.tasks = 0
-        self.first_worker = None
+        self.first_worker = self.all_workers = self.launched = None
         self.intervals: dict = collections.defaultdict(list)
 
-    def joined(self, threads: int) -> None:
+    def joined(self, threads: int, wanted: int) -> None:
+        """``threads`` worker threads of the ``wanted`` have joined (the times since the runner
+        was entered: the first, and the last once all have)."""
         if self.first_worker is None:
             self.first_worker = time.monotonic() - self.entered
+        if self.all_workers is None and threads >= wanted:
+            self.all_workers = time.monotonic() - self.entered
 
     def local(self, task: Task, item):
         cpu, wall = time.process_time(), time.perf_counter()
@@ -598,7 +603,8 @@ class _Meter:
         busy = sum(e - s for spans in self.intervals.values() for s, e in spans)
         return {"workers": slots, "cluster_started": started, "items_here": self.items_local, "items_on_workers": self.items_remote,
                 "tasks": self.tasks, "wall": wall,
-                "first_worker_joined": self.first_worker,
+                "cluster_launched": self.launched, "first_worker_joined": self.first_worker,
+                "all_workers_joined": self.all_workers,
                 "worker_busy": busy,
                 "tail_idle": sum(last - e for e in ends.values()),
                 "gap_per_task": sum(max(0.0, g) for g in gaps) / len(gaps) if gaps else None,

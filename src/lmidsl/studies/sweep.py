@@ -32,9 +32,14 @@ from ..solver.backends import choose_backend, get_backend
 from .. import __version__
 from ..errors import InputError, Interrupted, LmidslWarning, NoResultError
 from .defaults import MAX_POINTS
-from .parallel import Runner, Task, check_workers, items_as_finished, worker_state
+from .parallel import Runner, Task, check_workers, items_as_finished, start_local_workers_early, worker_state
 from .store import JsonLinesStore, atomic_path, atomic_write_text, strict_json
 from ..numeric.scaling import apply_scaling
+
+#: a sweep of at least this many points per worker starts its local workers' fork server at once
+#: (:func:`~lmidsl.studies.parallel.start_local_workers_early`), before the theorem is bound; a
+#: smaller one starts it only if its first points, timed here, show the workers would pay off
+EARLY_START_POINTS = 4
 
 
 def grid_size(grids: list) -> int:
@@ -177,6 +182,9 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
     if size > max_points:
         raise InputError(f"--grid: {size} points exceed the maximum of {max_points} "
                          f"(raise it with --max-points)")
+    if workers and size >= EARLY_START_POINTS * workers:
+        # its imports overlap the binding, the compile and the first points solved here
+        start_local_workers_early(workers, scheduler)
     instance = make_instance(theorem, example, data, overrides)
     thm = instance.theorem
     for name, _ in grids:
