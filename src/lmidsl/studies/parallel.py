@@ -340,10 +340,11 @@ class Runner:
     A 4-point sweep is then done before its workers are up and costs no more than a serial one.
     ``stats`` (after a run): what the run measured of itself (:func:`format_stats`)."""
 
-    def __init__(self, workers: int | None = None, scheduler: str | None = None):
+    def __init__(self, workers: int | None = None, scheduler: str | None = None, start_at_once: bool = False):
         check_workers(workers, scheduler)
         self.workers = 1 if workers is None else workers
         self.scheduler = scheduler or None
+        self.start_at_once = start_at_once   # a local cluster launched with the first item, untimed
         self._cluster = self._client = None
         self._streams: list = []      # the open result generators, closed before the client
         self._starter = self._start_error = self._config = None
@@ -395,6 +396,8 @@ class Runner:
         fork server ignores SIGINT, which its workers inherit); with ``spawn`` or ``fork``
         here, all at once, with SIGINT ignored while they start."""
         import dask
+        import distributed   # noqa: F401  its defaults in dask.config before the settings below
+        # (a dask.config.set made first would drop them when it is undone: KeyError 'comm' later)
         self._launched = True
         start_local_workers_early(self.workers, None)
         method = local_start_method()
@@ -489,9 +492,8 @@ class Runner:
 
     def _dask_map(self, task: Task, items: list):
         """The items on the cluster, and in this process while the cluster is short of workers
-        (:class:`Runner`); batches by guided self-scheduling (the module doc)."""
-        from distributed import as_completed
-
+        (:class:`Runner`); batches by guided self-scheduling (the module doc).  Dask is imported
+        only once a cluster is launched (a short run that stays here does not pay for it)."""
         queue = collections.deque(enumerate(items))
         client = shared = finished = None
         batch, threads, checked = 1, 0, 0.0
@@ -511,7 +513,8 @@ class Runner:
 
         try:
             while queue or indices:
-                if local_lane and not self._launched and self._worth_starting(len(queue), meter.per_item()):
+                if local_lane and not self._launched and \
+                        (self.start_at_once or self._worth_starting(len(queue), meter.per_item())):
                     meter.launched = time.monotonic() - self._entered
                     self._start_local()
                 now = time.monotonic()
@@ -521,6 +524,7 @@ class Runner:
                     if threads:
                         meter.joined(threads, self.workers if local_lane else threads)
                 if threads and finished is None:
+                    from distributed import as_completed
                     shared = client.scatter(task, broadcast=True, hash=False)
                     finished = as_completed(loop=client.loop)
                 if finished is not None:

@@ -36,9 +36,11 @@ from .parallel import Runner, Task, check_workers, items_as_finished, start_loca
 from .store import JsonLinesStore, atomic_path, atomic_write_text, strict_json
 from ..numeric.scaling import apply_scaling
 
-#: a sweep of at least this many points per worker starts its local workers' fork server at once
-#: (:func:`~lmidsl.studies.parallel.start_local_workers_early`), before the theorem is bound; a
-#: smaller one starts it only if its first points, timed here, show the workers would pay off
+#: a sweep of at least this many points per worker starts its local workers at once: the fork
+#: server with the command (:func:`~lmidsl.studies.parallel.start_local_workers_early`), before
+#: the theorem is bound, and the cluster as soon as the points are handed out (``Runner``'s
+#: ``start_at_once``); a smaller one starts them only once its first points, timed here, show
+#: that the workers would pay for their start
 EARLY_START_POINTS = 4
 
 
@@ -182,8 +184,8 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
     if size > max_points:
         raise InputError(f"--grid: {size} points exceed the maximum of {max_points} "
                          f"(raise it with --max-points)")
-    if workers and size >= EARLY_START_POINTS * workers:
-        # its imports overlap the binding, the compile and the first points solved here
+    at_once = bool(workers) and size >= EARLY_START_POINTS * workers
+    if at_once:       # its imports overlap the binding, the compile and the first points solved here
         start_local_workers_early(workers, scheduler)
     instance = make_instance(theorem, example, data, overrides)
     thm = instance.theorem
@@ -221,7 +223,7 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
         combos = list(itertools.product(*[v for _, v in grids]))
         todo = [combo for combo in combos if combo not in done]
         try:
-            with Runner(workers, scheduler) as runner:
+            with Runner(workers, scheduler, start_at_once=at_once) as runner:
                 solved = runner.map(task, [dict(zip(names, combo)) for combo in todo])
                 finished: dict = {}
                 combos_done = items_as_finished(solved, todo, finished.__setitem__)
