@@ -153,6 +153,7 @@ class DualBound:
     mapped_upto: float | None = None      # the performance map is proved monotone on [lower, this]
     method: str = "dual"                  # "dual" (a dual point) or "frequency" (frequency_bound)
     how: str = ""                         # the frequency route: where the bound was evaluated
+    tighter_why: str = ""                 # a proved bound kept: why the other route gave none tighter
 
     def as_dict(self) -> dict:
         return {"lower": self.lower, "lower_performance": self.lower_performance,
@@ -160,7 +161,8 @@ class DualBound:
                 "why": self.why, "epsilon": self.epsilon, "theta": self.theta, "extra_solves": self.extra_solves,
                 "min_eigenvalue": self.min_eigenvalue, "residual": self.residual,
                 "correction": self.correction, "attempts": self.attempts, "times": self.times,
-                "route": self.route, "mapped_upto": self.mapped_upto, "method": self.method, "how": self.how}
+                "route": self.route, "mapped_upto": self.mapped_upto, "method": self.method, "how": self.how,
+                "tighter_why": self.tighter_why}
 
     def gap_to(self, level: float | None) -> float | None:
         """How far the optimum's ``level`` is from the proved performance bound, relatively (≥ 0
@@ -692,8 +694,12 @@ def _preferred(best: DualBound | None, bound: DualBound) -> DualBound:
     if best is None:
         return bound
     if bound.proved:
-        return bound if not best.proved or bound.lower > best.lower else best
-    return bound if not best.proved and best.method == "frequency" else best
+        kept, other = (bound, best) if not best.proved or bound.lower > best.lower else (best, bound)
+    else:
+        kept, other = (bound, best) if not best.proved and best.method == "frequency" else (best, bound)
+    if kept.proved and not other.proved and other.why:
+        kept.tighter_why = f"the {other.method} bound was not proved ({other.why})"
+    return kept
 
 
 def cancel_pending(wait: float | None = None) -> bool:

@@ -25,6 +25,25 @@ declared (A, B, C, D, P, g) — sympy must reduce each difference to zero — an
 itself (min g).  A theorem that declares the form but states another LMI gets no bound from here
 (the dual route still runs).  The theorem's other LMIs only shrink the feasible set.
 
+**State feedback.**  For the H∞ state-feedback LMIs in the form
+:meth:`~lmidsl.theorem.theorem.Theorem.state_feedback_form` declares (level γ on both diagonal
+blocks, Y = P⁻¹, W = K Y; module :mod:`textbook.hinf_sf`), every feasible (Y, W, γ) — any
+symmetric Y, any W — has
+
+    γ ≥ |P11(s)ᵀ r| / |r|   for every r ≠ 0 with P12(s)ᵀ r = 0,
+
+P11(s) = C1 (sI − A)⁻¹ B1 + D11 and P12(s) = C1 (sI − A)⁻¹ B2 + D12 at s = jω or |s| = 1: with
+p = (sI − Aᵀ)⁻¹ C1ᵀ r, the vector v = [p; q; r] (discrete: [s p; q; p; r]) makes the W terms
+2 Re((B2ᵀp + D12ᵀr)* W p) vanish (B2ᵀp + D12ᵀr = P12(s)ᵀ r = 0) and the Y terms too
+(2 Re(s̄) p*Yp = 0; discrete: (2|s|² − |s|² − 1) p*Yp = 0), leaving
+2 Re(q*h) − γ(|q|² + |r|²) ≤ 0 with h = P11(s)ᵀ r, whose maximum over q = (|r|/|h|) h gives the
+bound.  That is the part of the disturbance's effect no control input can cancel, frequency by
+frequency: the optimum when it is set by the Hamiltonian's imaginary-axis eigenvalues (on stable
+plants often), far below it when it is set by stabilisation (an unstable plant's optimum, where
+Y grows without bound: there this route gives a weak bound and the dual route runs).  In the
+balls r = r₀ − P̄12 (P12ᵀ P̄12)⁻¹ P12ᵀ r₀ is the exact projection of a floating-point r₀ onto the
+kernel, so the bound is that of an exact dual vector.
+
 **What is proved.**  G(s)u is evaluated in python-flint's complex ball arithmetic from the data as
 written (:class:`~lmidsl.numeric.proof.BallEvaluator`, decimals as the rationals they denote), at
 s = jω with ω a double (exact), or s = ((1 − t²) + 2jt)/(1 + t²) with t = tan(θ/2) a double, a
@@ -89,19 +108,58 @@ def _data_only(expr) -> bool:
     return not any(isinstance(a, DECISION_TYPES + UNCERTAIN_TYPES) for a in atoms)
 
 
+def state_feedback_rows(form, time: str) -> list:
+    """The lower triangle of the H∞ state-feedback LMI N(Y, W, γ) ⪯ 0 (module docstring) from the
+    declared ``form`` (:class:`~lmidsl.theorem.values.StateFeedbackForm`)."""
+    Y, W, g = form.Y, form.W, form.level
+    A, B1, B2, C1, D11, D12 = form.plant
+    if time == "continuous":
+        return [[A * Y + B2 * W + (A * Y + B2 * W).T],
+                [B1.T, -g * I],
+                [C1 * Y + D12 * W, D11, -g * I]]
+    return [[-Y],
+            [0, -g * I],
+            [A * Y + B2 * W, B1, -Y],
+            [C1 * Y + D12 * W, D11, 0, -g * I]]
+
+
 def bounded_real_lmi(theorem):
     """The theorem's LMI that is its declared bounded-real form, block for block, or None (no
     form; a storage that is not a symmetric variable or a level that is not a scalar variable; a
     system with a variable or an uncertain symbol in it; an objective other than the level g; no
     LMI — certain, for every vertex alike, not quantified — that is the form)."""
     form = getattr(theorem, "bounded_real", None)
-    if form is None or theorem.objective is None or not _same(sp.sympify(theorem.objective), form.level):
+    if form is None or not _level_is_objective(theorem, form.level):
         return None
-    if not isinstance(form.storage, SymmetricVariable) or not isinstance(form.level, ScalarVariable) \
-            or not all(_data_only(e) for e in form.system):
+    if not isinstance(form.storage, SymmetricVariable) or not all(_data_only(e) for e in form.system):
         return None
+    return _lmi_in_form(theorem, lambda: form_rows(form, theorem.time), "bounded_real_form")
+
+
+def state_feedback_lmi(theorem):
+    """The theorem's LMI that is its declared H∞ state-feedback form, block for block, or None
+    (as :func:`bounded_real_lmi`: Y a symmetric variable, W a variable, the level γ a scalar
+    variable and the objective, the plant data only)."""
+    form = getattr(theorem, "state_feedback", None)
+    if form is None or not _level_is_objective(theorem, form.level):
+        return None
+    if not isinstance(form.Y, SymmetricVariable) or not isinstance(form.W, DECISION_TYPES) \
+            or not all(_data_only(e) for e in form.plant):
+        return None
+    return _lmi_in_form(theorem, lambda: state_feedback_rows(form, theorem.time), "state_feedback_form")
+
+
+def _level_is_objective(theorem, level) -> bool:
+    """Whether the theorem minimises ``level``, a scalar variable, itself."""
+    return theorem.objective is not None and isinstance(level, ScalarVariable) and \
+        _same(sp.sympify(theorem.objective), level)
+
+
+def _lmi_in_form(theorem, rows, name: str):
+    """The theorem's LMI — certain, for every vertex alike, not quantified — whose blocks sympy
+    proves equal to ``rows()``, or None."""
     try:
-        canonical = block_matrix(form_rows(form, theorem.time), where=f"{theorem.id}: bounded_real_form")
+        canonical = block_matrix(rows(), where=f"{theorem.id}: {name}")
     except Exception:                 # a form whose blocks do not fit: nothing to compare with
         return None
     for lmi in theorem.lmis:
@@ -180,11 +238,7 @@ def _ball_gain(Ab, Bb, Cb, Db, u: np.ndarray, frequency: float, time: str):
     if math.isinf(frequency) or n == 0:
         w = Du
     else:
-        if time == "continuous":
-            s = acb(0, frequency)
-        else:
-            t = arb(math.tan(frequency / 2.0))
-            s = acb((1 - t * t) / (1 + t * t), 2 * t / (1 + t * t))
+        s = _exact_point(frequency, time)
         M = acb_mat([[(s if i == j else acb(0)) - Ab[i, j] for j in range(n)] for i in range(n)])
         try:
             x = M.solve(acb_mat([[b] for b in Bu]))
@@ -197,45 +251,166 @@ def _ball_gain(Ab, Bb, Cb, Db, u: np.ndarray, frequency: float, time: str):
 
 
 def frequency_lower_bound(instance) -> tuple[float | None, str] | None:
-    """(proved lower bound on the theorem's objective g, how it was found) for an instance of a
-    theorem whose LMI is its declared bounded-real form (:func:`bounded_real_lmi`), (None, why
-    none was found), or None when the route does not apply (no such LMI, several vertices)."""
+    """(proved lower bound on the theorem's objective, how it was found) for an instance of a
+    theorem whose LMI is its declared bounded-real form (:func:`bounded_real_lmi`) or H∞
+    state-feedback form (:func:`state_feedback_lmi`), (None, why none was found), or None when
+    the route does not apply (no such LMI, several vertices)."""
     theorem = instance.theorem
-    if getattr(instance, "nvertices", 1) > 1 or bounded_real_lmi(theorem) is None:
+    if getattr(instance, "nvertices", 1) > 1:
+        return None
+    if bounded_real_lmi(theorem) is not None:
+        bound, system = _bound, theorem.bounded_real.system
+    elif state_feedback_lmi(theorem) is not None:
+        bound, system = _state_feedback_bound, theorem.state_feedback.plant
+    else:
         return None
     try:
-        return _bound(instance)
+        ev = NumericEvaluator(instance.dims, dict(instance.data), instance.params)
+        floats = [np.atleast_2d(np.asarray(ev.visit(e), dtype=float)) for e in system]
+        if not all(np.all(np.isfinite(M)) for M in floats):
+            return None, "the system's data are not finite"
+        with ball_precision(PRECISION):
+            bev = BallEvaluator(instance.dims, instance.data, instance.params)
+            balls = [np.atleast_2d(np.asarray(bev.visit(e), dtype=object)) for e in system]
+            return bound(floats, balls, theorem.time)
     except (ArithmeticError, ValueError, KeyError, TypeError, np.linalg.LinAlgError) as exc:
         return None, f"the frequency response could not be evaluated ({type(exc).__name__}: {exc})"
 
 
-def _bound(instance) -> tuple[float | None, str]:
-    """:func:`frequency_lower_bound` once the route applies."""
-    theorem = instance.theorem
-    form = theorem.bounded_real
-    ev = NumericEvaluator(instance.dims, dict(instance.data), instance.params)
-    A, B, C, D = (np.atleast_2d(np.asarray(ev.visit(e), dtype=float)) for e in form.system)
-    if not all(np.all(np.isfinite(M)) for M in (A, B, C, D)):
-        return None, "the system's data are not finite"
-    with ball_precision(PRECISION):
-        bev = BallEvaluator(instance.dims, instance.data, instance.params)
-        Ab, Bb, Cb, Db = (np.atleast_2d(np.asarray(bev.visit(e), dtype=object)) for e in form.system)
-        # the highest floating-point gain first; a ball only until one is finite (each costs a
-        # complex ball solve of order n)
-        candidates = sorted(set(_peak(A, B, C, D, theorem.time)), reverse=True,
-                            key=lambda f: _gain(A, B, C, D, f, theorem.time))
-        for frequency in candidates:
-            G = _response(A, B, C, D, frequency, theorem.time)
-            if G is None:
-                continue
-            ball = _ball_gain(Ab, Bb, Cb, Db, _direction(G), frequency, theorem.time)
-            if ball is None or not ball.is_finite():
-                continue
-            where = "ω = ∞" if math.isinf(frequency) else (
-                f"ω = {frequency:.8g} rad/s" if theorem.time == "continuous" else f"θ = {frequency:.8g} rad/sample")
-            return (max(round_down(float(ball.lower())), 0.0),
-                    f"the frequency response at {where} (KYP: g ≥ |G(s)u|²/|u|²)")
+def _where(frequency: float, time: str) -> str:
+    return "ω = ∞" if math.isinf(frequency) else (
+        f"ω = {frequency:.8g} rad/s" if time == "continuous" else f"θ = {frequency:.8g} rad/sample")
+
+
+def _exact_point(frequency: float, time: str):
+    """The exact s of a frequency as a ball: jω (ω a double) or ((1 − t²) + 2jt)/(1 + t²) with
+    t = tan(θ/2) a double (a rational point on the unit circle)."""
+    if time == "continuous":
+        return acb(0, frequency)
+    t = arb(math.tan(frequency / 2.0))
+    return acb((1 - t * t) / (1 + t * t), 2 * t / (1 + t * t))
+
+
+def _bound(floats: list, balls: list, time: str) -> tuple[float | None, str]:
+    """:func:`frequency_lower_bound` of the bounded real lemma (on g = γ²)."""
+    A, B, C, D = floats
+    Ab, Bb, Cb, Db = balls
+    # the highest floating-point gain first; a ball only until one is finite (each costs a
+    # complex ball solve of order n)
+    candidates = sorted(set(_peak(A, B, C, D, time)), reverse=True,
+                        key=lambda f: _gain(A, B, C, D, f, time))
+    for frequency in candidates:
+        G = _response(A, B, C, D, frequency, time)
+        if G is None:
+            continue
+        ball = _ball_gain(Ab, Bb, Cb, Db, _direction(G), frequency, time)
+        if ball is None or not ball.is_finite():
+            continue
+        return (max(round_down(float(ball.lower())), 0.0),
+                f"the frequency response at {_where(frequency, time)} (KYP: g ≥ |G(s)u|²/|u|²)")
     return None, "no frequency gave a ball bound"
 
 
-__all__ = ["bounded_real_lmi", "form_rows", "frequency_lower_bound"]
+#: frequencies of the state-feedback bound's search: a logarithmic grid over the plant's modal
+#: frequencies, two decades beyond each end (continuous), or over (0, π) (discrete)
+GRID_POINTS = 400
+
+
+def _uncancelled(floats: list, frequency: float, time: str):
+    """(σ, r₀): the largest |P11(s)ᵀ r| / |r| over r in the kernel of P12(s)ᵀ in floating
+    point, and its maximiser r₀ (module docstring); (0, None) where sI − A is singular or the
+    kernel is {0}."""
+    from scipy.linalg import null_space
+    A, B1, B2, C1, D11, D12 = floats
+    if math.isinf(frequency):
+        P11, P12 = D11, D12
+    else:
+        s = frequency_variable(frequency, time)
+        try:
+            X = np.linalg.solve(s * np.eye(A.shape[0]) - A, np.hstack([B1, B2]))
+        except np.linalg.LinAlgError:
+            return 0.0, None
+        P = C1 @ X
+        P11, P12 = P[:, :B1.shape[1]] + D11, P[:, B1.shape[1]:] + D12
+    N = null_space(P12.T)
+    if N.size == 0:
+        return 0.0, None
+    _, sv, vh = np.linalg.svd(P11.T @ N)
+    return float(sv[0]), N @ np.conj(vh[0])
+
+
+def _state_feedback_candidates(floats: list, time: str) -> list:
+    """Frequencies to try, best first: the grid's top three, each refined by Brent's method
+    between its neighbours, and 0 and ∞ (continuous) or 0 and π (discrete)."""
+    from scipy.optimize import minimize_scalar
+    A = floats[0]
+    if time == "continuous":
+        modes = np.abs(np.linalg.eigvals(A)) if A.size else np.array([1.0])
+        modes = modes[modes > 0] if np.any(modes > 0) else np.array([1.0])
+        grid = np.logspace(np.log10(modes.min()) - 2, np.log10(modes.max()) + 2, GRID_POINTS)
+        ends = [0.0, math.inf]
+    else:
+        grid = np.linspace(0.0, math.pi, GRID_POINTS + 1)[1:-1]
+        ends = [0.0, math.pi]
+    values = [_uncancelled(floats, w, time)[0] for w in grid]
+    found = []
+    for k in np.argsort(values)[::-1][:3]:
+        lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
+        best = minimize_scalar(lambda w: -_uncancelled(floats, w, time)[0], bounds=(lo, hi), method="bounded",
+                               options={"xatol": 1e-13 * max(hi, 1e-300), "maxiter": 200})
+        found += [float(best.x), float(grid[k])]
+    return sorted(set(found + ends), reverse=True, key=lambda w: _uncancelled(floats, w, time)[0])
+
+
+def _ball_uncancelled(balls: list, r0: np.ndarray, frequency: float, time: str):
+    """A ball containing |P11(s)ᵀ r|² / |r|² for r the exact projection of ``r0`` onto the kernel
+    of P12(s)ᵀ at the exact s of ``frequency``, or None when sI − A or P12ᵀ P̄12 is not provably
+    invertible."""
+    Ab, B1b, B2b, C1b, D11b, D12b = balls
+    n, m1, m2, p1 = Ab.shape[0], B1b.shape[1], B2b.shape[1], C1b.shape[0]
+
+    def mat(rows):
+        return acb_mat([[acb(z) for z in row] for row in rows])
+
+    if math.isinf(frequency) or n == 0:
+        P11, P12 = mat(D11b.tolist()), mat(D12b.tolist())
+    else:
+        s = _exact_point(frequency, time)
+        M = acb_mat([[(s if i == j else acb(0)) - Ab[i, j] for j in range(n)] for i in range(n)])
+        try:
+            X = M.solve(mat(np.hstack([B1b, B2b]).tolist()))
+        except ZeroDivisionError:
+            return None
+        P = mat(C1b.tolist()) * X
+        P11 = acb_mat([[P[i, j] + D11b[i, j] for j in range(m1)] for i in range(p1)])
+        P12 = acb_mat([[P[i, m1 + j] + D12b[i, j] for j in range(m2)] for i in range(p1)])
+    P12t = P12.transpose()
+    P12c = acb_mat([[P12[i, j].conjugate() for j in range(m2)] for i in range(p1)])
+    r0b = acb_mat([[acb(float(z.real), float(z.imag))] for z in r0])
+    try:
+        r = r0b - P12c * (P12t * P12c).solve(P12t * r0b)
+    except ZeroDivisionError:
+        return None
+    h = P11.transpose() * r
+    num = sum((abs(h[i, 0]) ** 2 for i in range(m1)), arb(0))
+    den = sum((abs(r[i, 0]) ** 2 for i in range(p1)), arb(0))
+    return num / den
+
+
+def _state_feedback_bound(floats: list, balls: list, time: str) -> tuple[float | None, str]:
+    """:func:`frequency_lower_bound` of the H∞ state-feedback LMI (on γ itself)."""
+    for frequency in _state_feedback_candidates(floats, time):
+        sigma, r0 = _uncancelled(floats, frequency, time)
+        if r0 is None or sigma <= 0:
+            continue
+        ball = _ball_uncancelled(balls, r0, frequency, time)
+        if ball is None or not ball.is_finite() or not ball.lower() > 0:
+            continue
+        lower = arb(ball.lower()).sqrt().lower()
+        return (max(round_down(float(lower)), 0.0),
+                f"the frequency response at {_where(frequency, time)} (γ ≥ |P11(s)ᵀr|/|r| on the kernel "
+                f"of P12(s)ᵀ: what no control input cancels)")
+    return None, "no frequency gave a ball bound (no direction that the control input cannot cancel)"
+
+
+__all__ = ["bounded_real_lmi", "form_rows", "frequency_lower_bound", "state_feedback_lmi", "state_feedback_rows"]

@@ -211,7 +211,9 @@ def decide(solution) -> Verdict:
             cost = (f"; the SDP optimum {optimum:.10g} itself is "
                     f"{max(dual_gap(dual_end, optimum, maximised), 0.0):.1e} from the proved dual end")
         end = "below its upper end" if maximised else "above its lower end"
-        return verdict(True, CERTIFIED_BOUND, f"{what}; {where} (proved), {gap:.1e} {end}{cost}")
+        loose = solution.bounds.tighter_why if solution.bounds is not None else ""
+        loose = f"; not tightened: {loose}" if loose else ""
+        return verdict(True, CERTIFIED_BOUND, f"{what}; {where} (proved), {gap:.1e} {end}{cost}{loose}")
     bound_reason = loose_reason(solution)
     if bound_reason:
         return verdict(True, CERTIFIED_BOUND, f"{what}; a bound, not known to be the optimum: {bound_reason}")

@@ -1,0 +1,130 @@
+"""The frequency-response lower bound of an H∞ state-feedback optimum (lmidsl.certify.frequency_bound).
+
+γ ≥ |P11(s)ᵀr|/|r| on the kernel of P12(s)ᵀ, for every feasible point of the state-feedback LMI.
+Independent references: from above, the closed-loop H∞ norm (SLICOT AB13DD) of the gain lmidsl
+designs — any stabilising gain's norm is at least the optimum, which is at least the bound; from
+below, σ_max(Π⊥ P11) by numpy/scipy on a dense frequency grid, Π⊥ the projection onto the
+complement of P12's range.  Plants: random, stable and unstable, both time domains, with D11 ≠ 0
+and C1ᵀD12 ≠ 0.  Adversarial theorems declare the form but state another LMI or objective."""
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from scipy.linalg import null_space
+
+import lmidsl
+from lmidsl import He, I, Theorem
+from lmidsl.certify.frequency_bound import frequency_lower_bound, state_feedback_lmi
+from lmidsl.numeric.instance import bind
+from lmidsl.numeric.systems import hinf_norm
+
+NORM_SLACK = 1e-7     # AB13DD's accuracy and the certified design's rounding
+
+
+def _plant(seed: int, time: str, n: int, stable: bool, m1=2, m2=1, p1=3) -> dict:
+    rng = np.random.default_rng(seed)
+    A = rng.standard_normal((n, n))
+    if time == "continuous" and stable:
+        A -= (max(np.linalg.eigvals(A).real) + 0.3) * np.eye(n)
+    elif time == "discrete":
+        A *= (0.9 if stable else 1.2) / max(abs(np.linalg.eigvals(A)))
+    return {"A": A, "B1": rng.standard_normal((n, m1)), "B2": rng.standard_normal((n, m2)),
+            "C1": rng.standard_normal((p1, n)), "D11": 0.3 * rng.standard_normal((p1, m1)),
+            "D12": rng.standard_normal((p1, m2))}
+
+
+def _lists(d: dict) -> dict:
+    return {k: np.asarray(v, dtype=float).tolist() for k, v in d.items()}
+
+
+def _grid(d: dict, time: str) -> float:
+    """max over a dense grid of σ_max(Π⊥ P11(s)) (independent of lmidsl)."""
+    A, B1, B2, C1, D11, D12 = (d[k] for k in ("A", "B1", "B2", "C1", "D11", "D12"))
+    points = 1j * np.concatenate([[0.0], np.logspace(-3, 3, 3000)]) if time == "continuous" else \
+        np.exp(1j * np.linspace(0.0, np.pi, 3000))
+    best = 0.0
+    for s in points:
+        X = np.linalg.solve(s * np.eye(A.shape[0]) - A, np.hstack([B1, B2]))
+        P11, P12 = C1 @ X[:, :B1.shape[1]] + D11, C1 @ X[:, B1.shape[1]:] + D12
+        U = null_space(P12.conj().T)          # the complement of P12's range
+        if U.size:
+            best = max(best, np.linalg.svd(U.conj().T @ P11, compute_uv=False)[0])
+    return best
+
+
+def _theorem(time: str) -> str:
+    return "textbook.hinf_sf_ct" if time == "continuous" else "textbook.hinf_sf_dt"
+
+
+@pytest.mark.parametrize("time", ["continuous", "discrete"])
+@pytest.mark.parametrize("seed,n,stable", [(1, 4, True), (2, 8, True), (3, 6, False), (4, 12, True), (5, 5, False)])
+def test_the_bound_lies_between_a_grid_and_a_designed_closed_loop(time, seed, n, stable):
+    d = _plant(seed, time, n, stable)
+    lower, how = frequency_lower_bound(bind(lmidsl.get_theorem(_theorem(time)), _lists(d)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sol = lmidsl.solve(_theorem(time), data=_lists(d))
+    K = np.atleast_2d(sol.recovered["K"])
+    A, B1, B2, C1, D11, D12 = (d[k] for k in ("A", "B1", "B2", "C1", "D11", "D12"))
+    achieved = hinf_norm(A + B2 @ K, B1, C1 + D12 @ K, D11, time)
+    assert lower <= achieved * (1 + NORM_SLACK), (lower, achieved, how)
+    assert lower >= _grid(d, time) * (1 - 1e-9), (lower, how)
+
+
+def test_on_a_stable_plant_the_bound_meets_the_optimum():
+    """A stable plant whose optimum is set at a frequency: the bracket closes to 1e-6."""
+    d = _plant(2, "continuous", 8, True)
+    lower, _ = frequency_lower_bound(bind(lmidsl.get_theorem("textbook.hinf_sf_ct"), _lists(d)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sol = lmidsl.solve("textbook.hinf_sf_ct", data=_lists(d))
+    upper = sol.verdict.bracket["upper"]
+    assert lower <= upper and (upper - lower) / upper < 1e-6, (lower, upper)
+
+
+def test_a_plant_whose_control_cancels_everything_gets_no_bound():
+    """p1 = m2 with P12 invertible: the kernel of P12ᵀ is {0}, so no direction is left."""
+    d = _plant(7, "continuous", 4, True, m1=1, m2=2, p1=2)
+    lower, how = frequency_lower_bound(bind(lmidsl.get_theorem("textbook.hinf_sf_ct"), _lists(d)))
+    assert lower is None and "cannot cancel" in how
+
+
+def _declared(name: str, rows, objective=None):
+    """A two-state theorem that declares the state-feedback form but states ``rows``."""
+    thm = Theorem(f"adv.{name}", time="continuous")
+    A, B1, B2, C1, D11, D12 = (thm.data(k, *shape) for k, shape in
+                               (("A", (2, 2)), ("B1", (2, 1)), ("B2", (2, 1)), ("C1", (2, 2)),
+                                ("D11", (2, 1)), ("D12", (2, 1))))
+    Y = thm.var("Y", 2, kind="symmetric")
+    W = thm.var("W", 1, 2)
+    g = thm.scalar("g")
+    thm.lmi("(SF)", rows(A, B1, B2, C1, D11, D12, Y, W, g))
+    thm.positive(Y)
+    thm.minimize(objective(g) if objective else g)
+    thm.state_feedback_form(Y, W, g, (A, B1, B2, C1, D11, D12))
+    return thm
+
+
+def _stated(A, B1, B2, C1, D11, D12, Y, W, g):
+    return [[He(A * Y + B2 * W)], [B1.T, -g * I], [C1 * Y + D12 * W, D11, -g * I]]
+
+
+def test_the_form_as_stated_is_recognised():
+    assert state_feedback_lmi(_declared("same", _stated)) is not None
+
+
+@pytest.mark.parametrize("name,rows,objective", [
+    ("level_doubled", lambda A, B1, B2, C1, D11, D12, Y, W, g:
+        [[He(A * Y + B2 * W)], [B1.T, -2 * g * I], [C1 * Y + D12 * W, D11, -g * I]], None),
+    ("control_halved", lambda A, B1, B2, C1, D11, D12, Y, W, g:
+        [[He(A * Y + B2 * W / 2)], [B1.T, -g * I], [C1 * Y + D12 * W, D11, -g * I]], None),
+    ("output_dropped", lambda A, B1, B2, C1, D11, D12, Y, W, g:
+        [[He(A * Y + B2 * W)], [B1.T, -g * I], [C1 * Y, D11, -g * I]], None),
+    ("objective_quartered", _stated, lambda g: g / 4),
+])
+def test_a_theorem_that_states_another_lmi_or_objective_gets_no_bound(name, rows, objective):
+    """A bound on the declared form would be false for these: each is refused."""
+    assert state_feedback_lmi(_declared(name, rows, objective)) is None
