@@ -8,7 +8,6 @@ complement of P12's range.  Plants: random, stable and unstable, both time domai
 and C1ᵀD12 ≠ 0.  Adversarial theorems declare the form but state another LMI or objective."""
 from __future__ import annotations
 
-import math
 import warnings
 
 import numpy as np
