@@ -99,9 +99,9 @@ def run_once(variant: str, n: int, workers: int, grid: list[str] | None = None,
     argv = command(variant, n, workers, scheduler) if grid is None else \
         [sys.executable, "-m", "lmidsl", "sweep", THEOREM, "--example", EXAMPLE, *grid,
          "--workers", str(workers), "--json"]
-    t0 = time.perf_counter()
+    t0, unix0 = time.perf_counter(), time.time()
     proc = subprocess.run(argv, cwd=ROOT, capture_output=True, text=True)
-    wall = time.perf_counter() - t0
+    wall, unix1 = time.perf_counter() - t0, time.time()
     if proc.returncode not in (0, 1):
         raise SystemExit(f"{variant} failed ({proc.returncode}): {proc.stderr.strip()[-500:]}")
     result = json.loads(proc.stdout)
@@ -112,7 +112,9 @@ def run_once(variant: str, n: int, workers: int, grid: list[str] | None = None,
     stats = result.get("parallel", {})
     # outside the runner: start-up (imports, binding, compile) before it, the close and exit after
     outside = wall - stats["wall"] if stats.get("wall") else None
-    return {"wall": wall, "outside": outside, "points": len(points), "solver_call": calls,
+    phases = {"before": stats["entered_unix"] - unix0, "runner": stats["wall"], "close": stats["close"],
+              "exit": unix1 - stats["closed_unix"]} if "closed_unix" in stats else None
+    return {"wall": wall, "outside": outside, "phases": phases, "points": len(points), "solver_call": calls,
             "in_point": (totals - calls) / calls, "end_to_end": (wall * used - calls) / calls,
             "per_point_call": calls / len(points), "prove": sum(p.get("prove_time", 0.0) for p in points),
             "gammas": [p["gamma"] for p in points], "verdicts": [p.get("verdict") for p in points],
@@ -240,6 +242,8 @@ def main() -> None:
             if x["parallel"]:
                 from lmidsl.render.text import format_stats
                 print(f"{v}: {format_stats(x['parallel'])}")
+            if x.get("phases"):
+                print(f"{v}: phases (s): " + ", ".join(f"{k} {t:.2f}" for k, t in x["phases"].items()))
     reference = runs["serial"][0]
     same = all(x["gammas"] == reference["gammas"] and x["verdicts"] == reference["verdicts"]
                for v in variants if not v.startswith("pool") for x in runs[v])

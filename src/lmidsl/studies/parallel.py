@@ -232,7 +232,7 @@ def start_local_workers_early(workers: int | None, scheduler: str | None) -> Non
     saved = {k: os.environ.get(k) for k in FORKSERVER_ENV}
     os.environ.update(FORKSERVER_ENV)
     try:
-        with _workers_ignore_ctrl_c():
+        with _workers_ignore_ctrl_c(), _workers_write_to_log():
             forkserver.ensure_running()
     finally:
         for key, value in saved.items():
@@ -240,6 +240,43 @@ def start_local_workers_early(workers: int | None, scheduler: str | None) -> Non
                 os.environ.pop(key, None)
             else:
                 os.environ[key] = value
+
+
+def worker_log() -> str:
+    """Where local worker processes write what they print: ``local-workers.log`` in lmidsl's
+    cache folder (os.devnull when it cannot be created)."""
+    from ..theorem.index import cache_dir
+    try:
+        cache_dir().mkdir(parents=True, exist_ok=True)
+        return str(cache_dir() / "local-workers.log")
+    except OSError:
+        return os.devnull
+
+
+@contextlib.contextmanager
+def _workers_write_to_log():
+    """Processes started here write their stdout and stderr to :func:`worker_log` (inherited by
+    the fork server and every worker it forks), not to this command's.  A reader of this
+    command's output through a pipe (``lmidsl sweep ... --json | jq``, a test harness) otherwise
+    waits, after this process has ended, until the last worker has shut down and closed its copy
+    of the pipe.  This process's own descriptors are restored as soon as the child is started."""
+    try:
+        log = os.open(worker_log(), os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+    except OSError:
+        log = os.open(os.devnull, os.O_WRONLY)
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):
+            stream.flush()
+    saved = [os.dup(fd) for fd in (1, 2)]
+    try:
+        for fd in (1, 2):
+            os.dup2(log, fd)
+        yield
+    finally:
+        for fd, copy in zip((1, 2), saved):
+            os.dup2(copy, fd)
+            os.close(copy)
+        os.close(log)
 
 
 @contextlib.contextmanager
@@ -350,6 +387,7 @@ class Runner:
         self._starter = self._start_error = self._config = None
         self._entered = 0.0
         self._launched = False
+        self._entered_unix = 0.0
         self.stats: dict = {}
 
     @property
@@ -363,6 +401,7 @@ class Runner:
 
     def __enter__(self) -> "Runner":
         self._entered = time.monotonic()
+        self._entered_unix = time.time()
         if not self.parallel:
             return self
         if self.scheduler is None:
@@ -458,6 +497,10 @@ class Runner:
         self.close()
 
     def close(self) -> None:
+        """Close the result streams, then the client and a local cluster.  A parallel run's
+        ``stats`` get the wall-clock times (Unix) it was entered and closed, and the close's
+        seconds, so that a caller timing the whole process sees where its time went."""
+        started = time.perf_counter()
         for stream in self._streams:  # runs their `finally` (cancel) while the client still lives
             stream.close()
         self._streams = []
@@ -475,6 +518,9 @@ class Runner:
         if self._config is not None:
             self._config.__exit__(None, None, None)
             self._config = None
+        if self.stats and "close" not in self.stats:
+            self.stats.update(entered_unix=self._entered_unix, close=time.perf_counter() - started,
+                              closed_unix=time.time())
 
     def _threads(self) -> int:
         return max(0, sum(self._client.nthreads().values())) if self._client is not None else 0
