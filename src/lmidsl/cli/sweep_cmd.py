@@ -1,9 +1,12 @@
 """``lmidsl sweep``: solve a theorem over a grid of parameters (compiled once)."""
 from __future__ import annotations
 
+import math
+
 from ..errors import InputError
 from ..render.progress import Progress
 from ..studies.defaults import MAX_POINTS, parse_grid
+from ..studies.local_workers import start_for
 from ..studies.store import ensure_writable_dir
 from ..theorem.registry import get_theorem
 from .common import (add_output_arguments, add_parallel_arguments, add_solve_arguments, instance_spec,
@@ -42,6 +45,8 @@ def run(args):
     if args.resume and not args.out:
         raise InputError("sweep: --resume needs --out DIR (the folder of the interrupted sweep)")
     out = ensure_writable_dir(args.out, "--out") if args.out else None   # before the first solve
+    # local workers' fork server first: its imports run beside this process's
+    start_for(**parallel_spec(args), items=math.prod(len(values) for _, values in grids))
     get_theorem(args.theorem)
     # the study, imported once the theorem id is known good (an unknown id is answered from the
     # index, without the solving stack)

@@ -32,16 +32,10 @@ from ..solver.backends import choose_backend, get_backend
 from .. import __version__
 from ..errors import InputError, Interrupted, LmidslWarning, NoResultError
 from .defaults import MAX_POINTS
-from .parallel import Runner, Task, check_workers, items_as_finished, start_local_workers_early, worker_state
+from .local_workers import start_for
+from .parallel import Runner, Task, check_workers, items_as_finished, worker_state
 from .store import JsonLinesStore, atomic_path, atomic_write_text, strict_json
 from ..numeric.scaling import apply_scaling
-
-#: a sweep of at least this many points per worker starts its local workers at once: the fork
-#: server with the command (:func:`~lmidsl.studies.parallel.start_local_workers_early`), before
-#: the theorem is bound, and the cluster as soon as the points are handed out (``Runner``'s
-#: ``start_at_once``); a smaller one starts them only once its first points, timed here, show
-#: that the workers would pay for their start
-EARLY_START_POINTS = 4
 
 
 def grid_size(grids: list) -> int:
@@ -184,9 +178,8 @@ def sweep(theorem, grids: list, example: str | None = None, data: dict | None = 
     if size > max_points:
         raise InputError(f"--grid: {size} points exceed the maximum of {max_points} "
                          f"(raise it with --max-points)")
-    at_once = bool(workers) and size >= EARLY_START_POINTS * workers
-    if at_once:       # its imports overlap the binding, the compile and the first points solved here
-        start_local_workers_early(workers, scheduler)
+    # the fork server's imports overlap the binding, the compile and the first points solved here
+    at_once = start_for(workers, scheduler, size)
     instance = make_instance(theorem, example, data, overrides)
     thm = instance.theorem
     for name, _ in grids:
