@@ -8,7 +8,9 @@ complement of P12's range.  Plants: random, stable and unstable, both time domai
 and C1ᵀD12 ≠ 0.  Adversarial theorems declare the form but state another LMI or objective."""
 from __future__ import annotations
 
+import sys
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -84,11 +86,74 @@ def test_on_a_stable_plant_the_bound_meets_the_optimum():
     assert lower <= upper and (upper - lower) / upper < 1e-6, (lower, upper)
 
 
-def test_a_plant_whose_control_cancels_everything_gets_no_bound():
-    """p1 = m2 with P12 invertible: the kernel of P12ᵀ is {0}, so no direction is left."""
+def test_a_plant_whose_control_cancels_everything_gets_no_frequency_bound():
+    """p1 = m2 with P12 invertible: the kernel of P12ᵀ is {0}, so no frequency gives a direction;
+    in discrete time that is all (no bound), in continuous time the Hamiltonian's certificate
+    still bounds the optimum, below the designed closed loop's norm."""
+    d = _plant(7, "discrete", 4, True, m1=1, m2=2, p1=2)
+    lower, how = frequency_lower_bound(bind(lmidsl.get_theorem("textbook.hinf_sf_dt"), _lists(d)))
+    assert lower is None and "cannot cancel" in how
     d = _plant(7, "continuous", 4, True, m1=1, m2=2, p1=2)
     lower, how = frequency_lower_bound(bind(lmidsl.get_theorem("textbook.hinf_sf_ct"), _lists(d)))
-    assert lower is None and "cannot cancel" in how
+    assert "Hamiltonian" in how
+    assert lower <= _designed_norm(d, "continuous") * (1 + NORM_SLACK)
+
+
+def _designed_norm(d: dict, time: str) -> float:
+    """The H∞ norm (SLICOT AB13DD) of the closed loop with lmidsl's designed gain: ≥ the optimum."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sol = lmidsl.solve(_theorem(time), data=_lists(d))
+    K = np.atleast_2d(sol.recovered["K"])
+    A, B1, B2, C1, D11, D12 = (d[k] for k in ("A", "B1", "B2", "C1", "D11", "D12"))
+    return hinf_norm(A + B2 @ K, B1, C1 + D12 @ K, D11, time)
+
+
+@pytest.mark.parametrize("n", [4, 8])
+def test_on_unstable_plants_the_hamiltonian_bound_meets_the_riccati_level(n):
+    """benchmarks/bench_scale.py's plants (unstable, D11 = 0, C1ᵀD12 = 0): the optimum is set by
+    stabilisation, the frequency bound is far below it (2.0 against 83.85 at n = 8), and the
+    Hamiltonian's certificate comes within 1e-5 of the least level a full-information Riccati
+    gain achieves (python-control's closed-loop norm; an upper bound on the optimum)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks" / "stress"))
+    from bench_scale import reference
+    from cases import plant
+    data = _lists(plant(n, "continuous", n=n))
+    lower, how = frequency_lower_bound(bind(lmidsl.get_theorem("textbook.hinf_sf_ct"), data))
+    achieved = reference("sf", data)
+    assert "Hamiltonian" in how
+    assert lower <= achieved and (achieved - lower) / achieved < 1e-5, (lower, achieved)
+
+
+def _sf_theorem(name: str, positive: bool):
+    """textbook.hinf_sf_ct's LMI, with or without Y ≻ 0."""
+    thm = Theorem(f"adv.{name}", time="continuous")
+    n, m1, m2, p1 = thm.dim("n m1 m2 p1")
+    A, B1, B2, C1, D11, D12 = (thm.data(k, *shape) for k, shape in
+                               (("A", (n, n)), ("B1", (n, m1)), ("B2", (n, m2)), ("C1", (p1, n)),
+                                ("D11", (p1, m1)), ("D12", (p1, m2))))
+    Y = thm.var("Y", n, kind="symmetric")
+    W = thm.var("W", m2, n)
+    g = thm.scalar("g")
+    thm.lmi("(SF)", _stated(A, B1, B2, C1, D11, D12, Y, W, g))
+    if positive:
+        thm.positive(Y)
+    thm.minimize(g)
+    thm.state_feedback_form(Y, W, g, (A, B1, B2, C1, D11, D12))
+    return thm
+
+
+def test_without_y_positive_the_hamiltonian_certificate_is_not_used():
+    """Its Y terms are ≥ 0 only for Y ⪰ 0: a theorem that does not state Y ≻ 0 gets the frequency
+    bound alone."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks" / "stress"))
+    from cases import plant
+    data = _lists(plant(6, "continuous", n=6))
+    with_y = frequency_lower_bound(bind(_sf_theorem("with_y", True), data))
+    without = frequency_lower_bound(bind(_sf_theorem("without_y", False), data))
+    assert "Hamiltonian" in with_y[1] and "Hamiltonian" not in without[1]
+    assert without[0] < with_y[0]
 
 
 def _declared(name: str, rows, objective=None):

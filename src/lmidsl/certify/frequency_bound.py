@@ -40,7 +40,8 @@ p = (sI − Aᵀ)⁻¹ C1ᵀ r, the vector v = [p; q; r] (discrete: [s p; q; p; 
 bound.  That is the part of the disturbance's effect no control input can cancel, frequency by
 frequency: the optimum when it is set by the Hamiltonian's imaginary-axis eigenvalues (on stable
 plants often), far below it when it is set by stabilisation (an unstable plant's optimum, where
-Y grows without bound: there this route gives a weak bound and the dual route runs).  In the
+Y grows without bound: there :mod:`lmidsl.certify.hamiltonian_bound` gives a dual point from
+the Hamiltonian's stable eigenvectors, continuous time, and the higher bound is kept).  In the
 balls r = r₀ − P̄12 (P12ᵀ P̄12)⁻¹ P12ᵀ r₀ is the exact projection of a floating-point r₀ onto the
 kernel, so the bound is that of an exact dual vector.
 
@@ -60,6 +61,7 @@ import sympy as sp
 from flint import acb, acb_mat, arb
 
 from ..numeric.evaluate import NumericEvaluator
+from .hamiltonian_bound import stabilisation_bound
 from ..numeric.proof import BallEvaluator, ball_precision, round_down
 from ..numeric.riccati import balancing_transform
 from ..numeric.systems import frequency_variable, hinf_peak
@@ -147,6 +149,18 @@ def state_feedback_lmi(theorem):
             or not all(_data_only(e) for e in form.plant):
         return None
     return _lmi_in_form(theorem, lambda: state_feedback_rows(form, theorem.time), "state_feedback_form")
+
+
+def _positive(theorem, Y) -> bool:
+    """Whether one of the theorem's LMIs (certain, for every vertex alike, not quantified) is
+    Y ⪰ 0 itself."""
+    for lmi in theorem.lmis:
+        if getattr(lmi, "quantifier", None) is not None or lmi.per_vertex or uncertain_atoms_of_lmi(lmi):
+            continue
+        N = lmi.negative_form()
+        if N.nblocks == 1 and _same(N.lower[0][0], -Y):
+            return True
+    return False
 
 
 def _level_is_objective(theorem, level) -> bool:
@@ -261,7 +275,10 @@ def frequency_lower_bound(instance) -> tuple[float | None, str] | None:
     if bounded_real_lmi(theorem) is not None:
         bound, system = _bound, theorem.bounded_real.system
     elif state_feedback_lmi(theorem) is not None:
-        bound, system = _state_feedback_bound, theorem.state_feedback.plant
+        form = theorem.state_feedback
+        stabilising = _positive(theorem, form.Y)
+        bound = lambda floats, balls, time: _state_feedback_bound(floats, balls, time, stabilising)  # noqa: E731
+        system = form.plant
     else:
         return None
     try:
@@ -397,8 +414,21 @@ def _ball_uncancelled(balls: list, r0: np.ndarray, frequency: float, time: str):
     return num / den
 
 
-def _state_feedback_bound(floats: list, balls: list, time: str) -> tuple[float | None, str]:
-    """:func:`frequency_lower_bound` of the H∞ state-feedback LMI (on γ itself)."""
+def _state_feedback_bound(floats: list, balls: list, time: str, stabilising: bool) -> tuple[float | None, str]:
+    """:func:`frequency_lower_bound` of the H∞ state-feedback LMI (on γ itself): the frequency
+    response's bound and, in continuous time with Y ⪰ 0 among the LMIs (``stabilising``), the
+    Hamiltonian's (:mod:`lmidsl.certify.hamiltonian_bound`), the higher of the two."""
+    found = _uncancelled_bound(floats, balls, time)
+    if not stabilising or time != "continuous":
+        return found
+    other = stabilisation_bound(floats, balls, found[0] or 0.0)
+    if other[0] is not None and (found[0] is None or other[0] > found[0]):
+        return other
+    return found
+
+
+def _uncancelled_bound(floats: list, balls: list, time: str) -> tuple[float | None, str]:
+    """The frequency response's bound on γ (module docstring, state feedback)."""
     for frequency in _state_feedback_candidates(floats, time):
         sigma, r0 = _uncancelled(floats, frequency, time)
         if r0 is None or sigma <= 0:

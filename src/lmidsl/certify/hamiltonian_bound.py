@@ -1,0 +1,255 @@
+"""A proved lower bound on a continuous-time H∞ state-feedback optimum where stabilisation sets it:
+a dual point of the state-feedback LMI built from the Hamiltonian's stable eigenvectors.
+
+The LMI (:meth:`~lmidsl.theorem.theorem.Theorem.state_feedback_form`, level γ on both diagonal
+blocks, with Y ⪰ 0 among the theorem's LMIs) is N(Y, W, γ) ⪯ 0 with
+
+    N = [[He(AY + B2W), B1, (C1Y + D12W)ᵀ], [B1ᵀ, −γI, D11ᵀ], [C1Y + D12W, D11, −γI]].
+
+With B = [B1 B2], D = [D11 D12] and R = DᵀD − diag(γ₀²I, 0) invertible (the full-information
+problem's; Zhou, Doyle, Glover 1996, ch. 16), Â = A − BR⁻¹DᵀC1 and Q̂ = C1ᵀC1 − C1ᵀDR⁻¹DᵀC1, take
+vectors [x1ᵢ; x2ᵢ] and numbers λᵢ with Re λᵢ < 0 that satisfy, exactly, the second block row of
+the Hamiltonian [[Â, −BR⁻¹Bᵀ], [−Q̂, −Âᵀ]]:
+
+    −Q̂ x1ᵢ − Âᵀ x2ᵢ = λᵢ x2ᵢ,
+
+and set pᵢ = x2ᵢ, rᵢ = C1x1ᵢ + D[wᵢ; uᵢ] with [wᵢ; uᵢ] = −R⁻¹(Bᵀx2ᵢ + DᵀC1x1ᵢ), and
+hᵢ = B1ᵀpᵢ + D11ᵀrᵢ.  Then
+
+* B2ᵀpᵢ + D12ᵀrᵢ = 0: R's second block row is [D12ᵀD11, D12ᵀD12] (no γ₀ in it), so
+  D12ᵀD[wᵢ; uᵢ] = −(B2ᵀx2ᵢ + D12ᵀC1x1ᵢ); the W terms vanish;
+* Aᵀpᵢ + C1ᵀrᵢ = Âᵀx2ᵢ + Q̂x1ᵢ = −λᵢpᵢ: with P = [pᵢ], Λ = diag(λᵢ) and any Hermitian G ⪰ 0, the
+  Y terms of Re tr(G V*NV) are −tr(P*YP (ΛG + GΛ*)), which is ≥ 0 for Y ⪰ 0 when
+  ΛG + GΛ* ⪯ 0.  G = [−cᵢc̄ⱼ/(λᵢ + λ̄ⱼ)] = ∫ e^{Λt}cc*e^{Λ*t}dt is such a G, for any vector c;
+* with V = [P; κH; R] (H = [hᵢ], R = [rᵢ]) the dual point Z = Re(VGV*) ⪰ 0 gives, for every
+  feasible (Y, W, γ), 0 ≥ Re tr(G V*NV) ≥ 2κa − γ(κ²a + b), a = tr(G H*H), b = tr(G R*R);
+  κ = √(b/a) makes it 2√(ab) − 2γb, so
+
+      γ ≥ √(a / b).
+
+Nothing else is assumed: neither the Riccati equation's solution nor a theorem about it.  The
+λᵢ and vectors are python-flint's rigorous enclosures (``acb_mat.eig``: every eigenvalue simple
+and isolated) of the exact eigenpairs of that Hamiltonian built from the data as written, at a
+level γ₀ (a double, exact); only the stable ones (Re λ < 0 proved) are used.  a and b are evaluated in balls from those enclosures, so the ball of a/b holds
+the value of an exact dual point.  γ₀ and c only make the bound tight: γ₀ a little below the least
+level at which the stabilising Riccati solution X = X₂X₁⁻¹ is ⪰ 0 (bisection in floating point),
+where S = X₁*X₂ (Hermitian: the stable subspace is Lagrangian) has a negative eigenvalue; c its
+eigenvector (with D11 = 0 the Hamiltonian's identities give a − γ₀²b = −γ₀² c*Sc > 0: the bound
+exceeds γ₀).
+"""
+from __future__ import annotations
+
+
+import numpy as np
+from flint import acb, acb_mat, arb
+
+from ..numeric.proof import ball_precision, round_down
+
+#: working precision (bits) of the eigen-enclosures (the stable subspace is ill-conditioned close
+#: to the optimum, where X grows without bound)
+PRECISION = 192
+#: the largest state dimension tried (the enclosure of the 2n eigenpairs costs O(n³) ball operations
+#: at PRECISION bits: about 1 s at n = 24)
+MAX_STATES = 40
+
+
+def _hamiltonian(floats, gamma: float) -> np.ndarray:
+    """The Hamiltonian at γ in floating point (module docstring; np.linalg.LinAlgError when R_γ
+    is singular)."""
+    A, B1, B2, C1, D11, D12 = floats
+    m1 = B1.shape[1]
+    B, D = np.hstack([B1, B2]), np.hstack([D11, D12])
+    R = D.T @ D
+    R[:m1, :m1] -= gamma ** 2 * np.eye(m1)
+    Ah = A - B @ np.linalg.solve(R, D.T @ C1)
+    Qh = C1.T @ C1 - C1.T @ D @ np.linalg.solve(R, D.T @ C1)
+    return np.block([[Ah, -B @ np.linalg.solve(R, B.T)], [-Qh, -Ah.T]])
+
+
+def _r_columns(floats, gamma: float, X1, X2) -> np.ndarray:
+    """R = C1X₁ − D R_γ⁻¹(BᵀX₂ + DᵀC1X₁) in floating point."""
+    A, B1, B2, C1, D11, D12 = floats
+    m1 = B1.shape[1]
+    B, D = np.hstack([B1, B2]), np.hstack([D11, D12])
+    Rg = D.T @ D
+    Rg[:m1, :m1] -= gamma ** 2 * np.eye(m1)
+    return C1 @ X1 - D @ np.linalg.solve(Rg, B.T @ X2 + D.T @ C1 @ X1)
+
+
+def _lagrangian(floats, gamma: float):
+    """S = X₁ᵀX₂ of the Hamiltonian's stable invariant subspace [X₁; X₂] at γ (ordered real Schur
+    form, orthonormal basis) in floating point, or None when fewer than n eigenvalues are in the
+    open left half-plane.  X = X₂X₁⁻¹ ⪰ 0 exactly when S ⪰ 0 and X₁ is invertible; S needs no
+    inverse, so it stays finite where X grows without bound (close to the optimum)."""
+    from scipy.linalg import schur
+    n = floats[0].shape[0]
+    try:
+        _, U, k = schur(_hamiltonian(floats, gamma), output="real", sort="lhp")
+    except (np.linalg.LinAlgError, ValueError):
+        return None
+    if k != n:
+        return None
+    S = U[:n, :n].T @ U[n:, :n]
+    return (S + S.T) / 2
+
+
+def _feasible(floats, gamma: float) -> bool:
+    """Whether the stabilising solution at γ is ⪰ 0, as far as floating point tells (S ⪰ 0)."""
+    S = _lagrangian(floats, gamma)
+    if S is None or not np.all(np.isfinite(S)):
+        return False
+    eig = np.linalg.eigvalsh(S)
+    return eig[0] >= -1e-12 * max(abs(eig[-1]), 1e-300)
+
+
+def float_bound(floats, gamma0: float) -> float:
+    """The bound √(a/b) of the certificate at γ₀ in floating point (0 where there is none): the
+    real Schur form's stable block T₁₁ in place of Λ and G from T₁₁G + GT₁₁ᵀ = −ccᵀ (the same
+    certificate in another basis), c the most negative direction of S.  Only to choose γ₀."""
+    from scipy.linalg import schur, solve_continuous_lyapunov
+    B1, D11 = floats[1], floats[4]
+    n = floats[0].shape[0]
+    try:
+        with np.errstate(all="ignore"):
+            T, U, k = schur(_hamiltonian(floats, gamma0), output="real", sort="lhp")
+            if k != n:
+                return 0.0
+            X1, X2, T11 = U[:n, :n], U[n:, :n], T[:n, :n]
+            S = X1.T @ X2
+            c = np.linalg.eigh((S + S.T) / 2)[1][:, :1]
+            G = solve_continuous_lyapunov(T11, -c @ c.T)
+            R = _r_columns(floats, gamma0, X1, X2)
+            Hh = B1.T @ X2 + D11.T @ R
+            a, b = np.trace(Hh @ G @ Hh.T), np.trace(R @ G @ R.T)
+    except (np.linalg.LinAlgError, ValueError):
+        return 0.0
+    return float(np.sqrt(a / b)) if b > 0 and a >= 0 and np.isfinite(a / b) else 0.0
+
+
+def best_level(floats, top: float) -> list:
+    """Levels γ₀ to certify at, best first: the largest floating-point bounds (:func:`float_bound`)
+    on a grid of ±10 % around ``top``, the best refined by golden-section search."""
+    from scipy.optimize import minimize_scalar
+    grid = top * np.exp(np.linspace(-0.1, 0.1, 41))
+    values = [float_bound(floats, g) for g in grid]
+    k = int(np.argmax(values))
+    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
+    found = minimize_scalar(lambda g: -float_bound(floats, g), bounds=(lo, hi), method="bounded",
+                            options={"xatol": 1e-12 * hi, "maxiter": 60})
+    candidates = [(-found.fun, float(found.x))] + sorted(zip(values, grid), reverse=True)[:2]
+    return [g for _, g in sorted(candidates, reverse=True)]
+
+
+def threshold(floats, start: float) -> float | None:
+    """The least γ at which the stabilising solution is ⪰ 0, by bisection in floating point from
+    ``start`` (a level below it, e.g. the frequency bound), or None (none found below 1e12)."""
+    lo, hi = max(start, 1e-12), max(2 * start, 1.0)
+    while not _feasible(floats, hi):
+        lo, hi = hi, 2 * hi
+        if hi > 1e12:
+            return None
+    if _feasible(floats, lo):
+        return lo
+    for _ in range(60):
+        mid = (lo + hi) / 2
+        lo, hi = (lo, mid) if _feasible(floats, mid) else (mid, hi)
+        if hi - lo <= 1e-15 * hi:
+            break
+    return hi
+
+
+def _ball_bound(floats, balls, gamma0: float):
+    """A ball containing a/b (module docstring) for the stable eigenpairs of the Hamiltonian at
+    γ₀ built from ``balls`` (the data as written), or None (an eigenpair not isolated, D12ᵀD12
+    not provably invertible, no stable eigenvalue proved, b not provably positive)."""
+    A, B1, B2, C1, D11, D12 = (acb_mat([[acb(z) for z in row] for row in M.tolist()]) for M in balls)
+    n, m1 = floats[0].shape[0], floats[1].shape[1]
+    B = acb_mat([[B1[i, j] for j in range(m1)] + [B2[i, j] for j in range(B2.ncols())] for i in range(n)])
+    D = acb_mat([[D11[i, j] for j in range(m1)] + [D12[i, j] for j in range(D12.ncols())]
+                 for i in range(C1.nrows())])
+    Rg = D.transpose() * D
+    g2 = arb(gamma0) * arb(gamma0)
+    for i in range(m1):
+        Rg[i, i] -= g2
+    try:
+        Ri = Rg.inv()
+    except ZeroDivisionError:
+        return None
+    Ah = A - B * Ri * D.transpose() * C1
+    Qh = C1.transpose() * C1 - C1.transpose() * D * Ri * D.transpose() * C1
+    G12 = -(B * Ri * B.transpose())
+    Aht = Ah.transpose()
+    H = acb_mat(2 * n, 2 * n)
+    for i in range(n):
+        for j in range(n):
+            H[i, j], H[i, n + j], H[n + i, j], H[n + i, n + j] = Ah[i, j], G12[i, j], -Qh[i, j], -Aht[i, j]
+    try:
+        E, V = H.eig(right=True)         # rigorous: raises unless every eigenpair is isolated
+    except (ValueError, ZeroDivisionError, ArithmeticError):
+        return None
+    stable = [k for k in range(2 * n) if E[k].real < 0]
+    if not stable:
+        return None
+    X1 = acb_mat([[V[i, k] for k in stable] for i in range(n)])
+    X2 = acb_mat([[V[n + i, k] for k in stable] for i in range(n)])
+    # c: the most negative direction of S = X₁*X₂ from the midpoints (any c gives a valid bound;
+    # a − γ₀²b = −γ₀² c*Sc, so this one makes the bound exceed γ₀ wherever S is not ⪰ 0)
+    X1f, X2f = (np.array([[complex(float(M[i, k].real.mid()), float(M[i, k].imag.mid()))
+                           for k in range(len(stable))] for i in range(n)]) for M in (X1, X2))
+    S = X1f.conj().T @ X2f
+    if not np.all(np.isfinite(S)):
+        return None
+    _, vecs = np.linalg.eigh((S + S.conj().T) / 2)
+    cb = [acb(float(z.real), float(z.imag)) for z in vecs[:, 0]]
+    lam = [E[k] for k in stable]
+    Gm = acb_mat([[-cb[i] * cb[j].conjugate() / (lam[i] + lam[j].conjugate()) for j in range(len(stable))]
+                  for i in range(len(stable))])
+    R = C1 * X1 - D * (Ri * (B.transpose() * X2 + D.transpose() * C1 * X1))
+    Hh = B1.transpose() * X2 + D11.transpose() * R
+    a = _weighted_square(Hh, Gm)
+    b = _weighted_square(R, Gm)
+    if not b > 0:
+        return None
+    return a / b
+
+
+def _weighted_square(M: acb_mat, G: acb_mat):
+    """Re tr(G M*M) = Re Σ (M G)ᵣᵢ conj(Mᵣᵢ), a real ball."""
+    MG = M * G
+    total = acb(0)
+    for r in range(M.nrows()):
+        for i in range(M.ncols()):
+            total += MG[r, i] * M[r, i].conjugate()
+    return total.real
+
+
+def stabilisation_bound(floats: list, balls: list, start: float) -> tuple[float | None, str]:
+    """(proved lower bound on γ, how) of the continuous-time state-feedback LMI (module
+    docstring), trying levels γ₀ just below the floating-point threshold (:func:`threshold`, from
+    ``start``); (None, why) when none gave a ball bound."""
+    n = floats[0].shape[0]
+    if n > MAX_STATES:
+        return None, f"more than {MAX_STATES} states (the eigen-enclosures cost O(n³) ball operations)"
+    D12 = floats[5]
+    if D12.shape[1] == 0 or np.linalg.matrix_rank(D12) < D12.shape[1]:
+        return None, "D12 has no full column rank"
+    with np.errstate(all="ignore"):
+        top = threshold(floats, start)
+    if top is None:
+        return None, "no level with a stabilising Riccati solution ⪰ 0 was found"
+    best = None
+    with ball_precision(PRECISION):
+        for gamma0 in best_level(floats, top):    # the best first; done once one reaches its γ₀
+            ball = _ball_bound(floats, balls, gamma0)
+            if ball is None or not ball.is_finite() or not ball.lower() > 0:
+                continue
+            lower = max(round_down(float(arb(ball.lower()).sqrt().lower())), 0.0)
+            if best is None or lower > best[0]:
+                best = (lower, f"the Hamiltonian's stable eigenvectors at γ₀ = {gamma0:.10g} (a dual point: "
+                               f"γ ≥ √(tr(G H*H)/tr(G R*R)))")
+            if lower >= gamma0:
+                break
+    return best or (None, "no level near the Riccati threshold gave a ball bound")
+
+
+__all__ = ["stabilisation_bound", "threshold"]
