@@ -61,7 +61,9 @@ def _theorem(time: str) -> str:
 
 
 @pytest.mark.parametrize("time", ["continuous", "discrete"])
-@pytest.mark.parametrize("seed,n,stable", [(1, 4, True), (2, 8, True), (3, 6, False), (4, 12, True), (5, 5, False)])
+@pytest.mark.parametrize("seed,n,stable", [(1, 4, True), (2, 8, True), (3, 6, False),
+                                            pytest.param(4, 12, True, marks=pytest.mark.slow),
+                                            pytest.param(5, 5, False, marks=pytest.mark.slow)])
 def test_the_bound_lies_between_a_grid_and_a_designed_closed_loop(time, seed, n, stable):
     d = _plant(seed, time, n, stable)
     lower, how = frequency_lower_bound(bind(lmidsl.get_theorem(_theorem(time)), _lists(d)))
