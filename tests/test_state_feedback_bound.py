@@ -128,6 +128,37 @@ def test_on_unstable_plants_the_hamiltonian_bound_meets_the_riccati_level(n):
     assert lower <= achieved and (achieved - lower) / achieved < 1e-5, (lower, achieved)
 
 
+def _full_information_level(data: dict, time: str) -> float:
+    """The least γ with a stabilising full-information Riccati solution ⪰ 0 (scipy's DARE/CARE,
+    bisection): the optimum when the controller may also read w."""
+    from lmidsl.numeric.riccati import full_information_gain
+    d = {k: np.asarray(v, dtype=float) for k, v in data.items()}
+    args = [d[k] for k in ("A", "B1", "B2", "C1", "D11", "D12")]
+    lo, hi = 1e-6, 1.0
+    while full_information_gain(*args, hi, time) is None:
+        lo, hi = hi, 2 * hi
+    for _ in range(60):
+        mid = (lo + hi) / 2
+        lo, hi = (lo, mid) if full_information_gain(*args, mid, time) is not None else (mid, hi)
+    return hi
+
+
+@pytest.mark.parametrize("n", [4, 8])
+def test_in_discrete_time_the_interpolation_bound_is_the_full_information_level(n):
+    """bench_scale-style unstable discrete plants: the interpolation certificate (points 1/μ of the
+    full-information closed loop) proves the full-information level to 1e-8 — below a static
+    state feedback's optimum, which the designed gain's closed-loop norm (AB13DD) bounds from above
+    (9.77 against 7.97 at n = 4: the static gain cannot read w)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks" / "stress"))
+    from cases import plant
+    d = plant(n, "discrete", n=n)
+    lower, how = frequency_lower_bound(bind(lmidsl.get_theorem("textbook.hinf_sf_dt"), _lists(d)))
+    level = _full_information_level(_lists(d), "discrete")
+    assert "interpolation" in how
+    assert abs(lower - level) <= 1e-8 * level, (lower, level)
+    assert lower <= _designed_norm(d, "discrete") * (1 + NORM_SLACK)
+
+
 def _sf_theorem(name: str, positive: bool):
     """textbook.hinf_sf_ct's LMI, with or without Y ≻ 0."""
     thm = Theorem(f"adv.{name}", time="continuous")

@@ -41,7 +41,7 @@ bound.  That is the part of the disturbance's effect no control input can cancel
 frequency: the optimum when it is set by the Hamiltonian's imaginary-axis eigenvalues (on stable
 plants often), far below it when it is set by stabilisation (an unstable plant's optimum, where
 Y grows without bound: there :mod:`lmidsl.certify.hamiltonian_bound` gives a dual point from
-the Hamiltonian's stable eigenvectors, continuous time, and the higher bound is kept).  In the
+the Hamiltonian's stable eigenvectors (continuous time) or an interpolation certificate (discrete time), and the higher bound is kept).  In the
 balls r = r₀ − P̄12 (P12ᵀ P̄12)⁻¹ P12ᵀ r₀ is the exact projection of a floating-point r₀ onto the
 kernel, so the bound is that of an exact dual vector.
 
@@ -61,7 +61,7 @@ import sympy as sp
 from flint import acb, acb_mat, arb
 
 from ..numeric.evaluate import NumericEvaluator
-from .hamiltonian_bound import stabilisation_bound
+from .hamiltonian_bound import ball_transfer, interpolation_bound, kernel_projection, stabilisation_bound
 from ..numeric.proof import BallEvaluator, ball_precision, round_down
 from ..numeric.riccati import balancing_transform
 from ..numeric.systems import frequency_variable, hinf_peak
@@ -383,45 +383,30 @@ def _ball_uncancelled(balls: list, r0: np.ndarray, frequency: float, time: str):
     """A ball containing |P11(s)ᵀ r|² / |r|² for r the exact projection of ``r0`` onto the kernel
     of P12(s)ᵀ at the exact s of ``frequency``, or None when sI − A or P12ᵀ P̄12 is not provably
     invertible."""
-    Ab, B1b, B2b, C1b, D11b, D12b = balls
-    n, m1, m2, p1 = Ab.shape[0], B1b.shape[1], B2b.shape[1], C1b.shape[0]
-
-    def mat(rows):
-        return acb_mat([[acb(z) for z in row] for row in rows])
-
-    if math.isinf(frequency) or n == 0:
-        P11, P12 = mat(D11b.tolist()), mat(D12b.tolist())
-    else:
-        s = _exact_point(frequency, time)
-        M = acb_mat([[(s if i == j else acb(0)) - Ab[i, j] for j in range(n)] for i in range(n)])
-        try:
-            X = M.solve(mat(np.hstack([B1b, B2b]).tolist()))
-        except ZeroDivisionError:
-            return None
-        P = mat(C1b.tolist()) * X
-        P11 = acb_mat([[P[i, j] + D11b[i, j] for j in range(m1)] for i in range(p1)])
-        P12 = acb_mat([[P[i, m1 + j] + D12b[i, j] for j in range(m2)] for i in range(p1)])
-    P12t = P12.transpose()
-    P12c = acb_mat([[P12[i, j].conjugate() for j in range(m2)] for i in range(p1)])
-    r0b = acb_mat([[acb(float(z.real), float(z.imag))] for z in r0])
-    try:
-        r = r0b - P12c * (P12t * P12c).solve(P12t * r0b)
-    except ZeroDivisionError:
+    found = ball_transfer(balls, None if math.isinf(frequency) else _exact_point(frequency, time))
+    if found is None:
+        return None
+    P11, P12 = found
+    r = kernel_projection(P12, r0)
+    if r is None:
         return None
     h = P11.transpose() * r
-    num = sum((abs(h[i, 0]) ** 2 for i in range(m1)), arb(0))
-    den = sum((abs(r[i, 0]) ** 2 for i in range(p1)), arb(0))
+    num = sum((abs(h[i, 0]) ** 2 for i in range(h.nrows())), arb(0))
+    den = sum((abs(r[i, 0]) ** 2 for i in range(r.nrows())), arb(0))
     return num / den
 
 
 def _state_feedback_bound(floats: list, balls: list, time: str, stabilising: bool) -> tuple[float | None, str]:
     """:func:`frequency_lower_bound` of the H∞ state-feedback LMI (on γ itself): the frequency
-    response's bound and, in continuous time with Y ⪰ 0 among the LMIs (``stabilising``), the
-    Hamiltonian's (:mod:`lmidsl.certify.hamiltonian_bound`), the higher of the two."""
+    response's bound and, with Y ⪰ 0 among the LMIs (``stabilising``), the Hamiltonian's
+    (continuous time) or the interpolation certificate's (discrete time;
+    :mod:`lmidsl.certify.hamiltonian_bound`), the higher."""
     found = _uncancelled_bound(floats, balls, time)
-    if not stabilising or time != "continuous":
+    if not stabilising:
         return found
-    other = stabilisation_bound(floats, balls, found[0] or 0.0)
+    start = found[0] or 0.0
+    other = stabilisation_bound(floats, balls, start) if time == "continuous" else \
+        interpolation_bound(floats, balls, time, start)
     if other[0] is not None and (found[0] is None or other[0] > found[0]):
         return other
     return found

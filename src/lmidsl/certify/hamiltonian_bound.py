@@ -27,7 +27,20 @@ hᵢ = B1ᵀpᵢ + D11ᵀrᵢ.  Then
 
       γ ≥ √(a / b).
 
-Nothing else is assumed: neither the Riccati equation's solution nor a theorem about it.  The
+Nothing else is assumed: neither the Riccati equation's solution nor a theorem about it.
+
+**The interpolation certificate** (both time domains; :func:`interpolation_bound`).  The same
+dual needs no eigenpairs: for any points sᵢ with Re sᵢ > 0 (continuous) or |sᵢ| > 1 (discrete)
+and any rᵢ in the kernel of P12(sᵢ)ᵀ, set pᵢ = (sᵢI − Aᵀ)⁻¹C1ᵀrᵢ (discrete: p2ᵢ that, and
+p1ᵢ = sᵢp2ᵢ), so that Aᵀpᵢ + C1ᵀrᵢ = sᵢpᵢ and B2ᵀpᵢ + D12ᵀrᵢ = P12(sᵢ)ᵀrᵢ = 0.  With S = diag(sᵢ)
+and F = P*YP ⪰ 0 the Y terms are tr(F(SG + GS*)) (discrete: tr(F(SGS* − G))), and the Pick
+matrix G = [1/(sᵢ + s̄ⱼ)] (discrete: [1/(sᵢs̄ⱼ − 1)]) is ⪰ 0 and makes SG + GS* (SGS* − G) the
+all-ones matrix ⪰ 0; then γ ≥ √(tr(G H*H)/tr(G R*R)) with hᵢ = P11(sᵢ)ᵀrᵢ as above.  The points
+are doubles taken exactly and rᵢ the exact ball projection of a floating-point vector onto the
+kernel, so every identity holds exactly.  Points that make it tight: the mirror images −μ (1/μ in
+discrete time) of the eigenvalues of the full-information closed loop A + BF just above the
+Riccati threshold, with the rᵢ of the best generalised eigenvector of the two Pick forms (within
+1e-10 of the threshold on bench_scale's plants in both time domains).  The
 λᵢ and vectors are python-flint's rigorous enclosures (``acb_mat.eig``: every eigenvalue simple
 and isolated) of the exact eigenpairs of that Hamiltonian built from the data as written, at a
 level γ₀ (a double, exact); only the stable ones (Re λ < 0 proved) are used.  a and b are evaluated in balls from those enclosures, so the ball of a/b holds
@@ -252,4 +265,167 @@ def stabilisation_bound(floats: list, balls: list, start: float) -> tuple[float 
     return best or (None, "no level near the Riccati threshold gave a ball bound")
 
 
-__all__ = ["stabilisation_bound", "threshold"]
+def ball_transfer(balls: list, s):
+    """(P11(s), P12(s)) in complex balls at the exact point ``s`` (an acb; None: s = ∞, the
+    feedthroughs), or None when sI − A is not provably invertible."""
+    Ab, B1b, B2b, C1b, D11b, D12b = balls
+    n, m1, m2, p1 = Ab.shape[0], B1b.shape[1], B2b.shape[1], C1b.shape[0]
+
+    def mat(rows):
+        return acb_mat([[acb(z) for z in row] for row in rows])
+
+    if s is None or n == 0:
+        return mat(D11b.tolist()), mat(D12b.tolist())
+    M = acb_mat([[(s if i == j else acb(0)) - Ab[i, j] for j in range(n)] for i in range(n)])
+    try:
+        X = M.solve(mat(np.hstack([B1b, B2b]).tolist()))
+    except ZeroDivisionError:
+        return None
+    P = mat(C1b.tolist()) * X
+    return (acb_mat([[P[i, j] + D11b[i, j] for j in range(m1)] for i in range(p1)]),
+            acb_mat([[P[i, m1 + j] + D12b[i, j] for j in range(m2)] for i in range(p1)]))
+
+
+def kernel_projection(P12: acb_mat, u: np.ndarray):
+    """r = u − P̄12 (P12ᵀP̄12)⁻¹ P12ᵀ u in balls: the exact projection of the floating-point
+    vector ``u`` (its doubles taken exactly) onto the kernel of P12ᵀ (P12ᵀ r = 0 exactly for the
+    exact P12), or None when P12ᵀP̄12 is not provably invertible."""
+    p1, m2 = P12.nrows(), P12.ncols()
+    P12t = P12.transpose()
+    P12c = acb_mat([[P12[i, j].conjugate() for j in range(m2)] for i in range(p1)])
+    ub = acb_mat([[acb(float(z.real), float(z.imag))] for z in u])
+    try:
+        return ub - P12c * (P12t * P12c).solve(P12t * ub)
+    except ZeroDivisionError:
+        return None
+
+
+def _transfer(floats, s: complex):
+    """(P11(s), P12(s)) in floating point."""
+    A, B1, B2, C1, D11, D12 = floats
+    X = np.linalg.solve(s * np.eye(A.shape[0]) - A, np.hstack([B1, B2]))
+    P = C1 @ X
+    return P[:, :B1.shape[1]] + D11, P[:, B1.shape[1]:] + D12
+
+
+def _pick(s_i, s_j, time: str):
+    """The Pick kernel: 1/(sᵢ + s̄ⱼ) (continuous, Re s > 0) or 1/(sᵢs̄ⱼ − 1) (discrete, |s| > 1)."""
+    return 1 / (s_i + s_j.conjugate()) if time == "continuous" else 1 / (s_i * s_j.conjugate() - 1)
+
+
+def _interpolation_directions(floats, points: list, time: str):
+    """The vectors uᵢ ∈ ker P12(sᵢ)ᵀ that maximise the certificate's ratio at the given points, in
+    floating point: the top generalised eigenvector of the Hermitian forms tr(G H*H) and
+    tr(G R*R) over the kernels (G the Pick kernel, H = [P11(sᵢ)ᵀuᵢ]); None when there is none."""
+    from scipy.linalg import eigh, null_space
+    bases, images = [], []
+    for s in points:
+        P11, P12 = _transfer(floats, s)
+        N = null_space(P12.T)
+        if N.size == 0:
+            return None
+        bases.append(N)
+        images.append(P11.T @ N)
+    offsets = np.cumsum([0] + [N.shape[1] for N in bases])
+    top = np.zeros((offsets[-1], offsets[-1]), dtype=complex)
+    bottom = np.zeros_like(top)
+    for i, si in enumerate(points):
+        for j, sj in enumerate(points):
+            k = _pick(si, sj, time)
+            rows, cols = slice(offsets[j], offsets[j + 1]), slice(offsets[i], offsets[i + 1])
+            top[rows, cols] = k * (images[j].conj().T @ images[i])
+            bottom[rows, cols] = k * (bases[j].conj().T @ bases[i])
+    try:
+        _, vectors = eigh(top, bottom)
+    except (np.linalg.LinAlgError, ValueError):
+        return None
+    y = vectors[:, -1]
+    return [bases[i] @ y[offsets[i]:offsets[i + 1]] for i in range(len(points))]
+
+
+def _ball_interpolation(balls, points: list, directions: list, time: str):
+    """A ball containing a/b of the interpolation certificate (module docstring) at the exact
+    points (their doubles) with the exact kernel projections of ``directions``, or None."""
+    exact, rs, hs = [], [], []
+    for s, u in zip(points, directions):
+        sb = acb(float(s.real), float(s.imag))
+        if not ((sb.real > 0) if time == "continuous" else (abs(sb) > 1)):
+            return None
+        found = ball_transfer(balls, sb)
+        if found is None:
+            return None
+        P11, P12 = found
+        r = kernel_projection(P12, u)
+        if r is None:
+            return None
+        exact.append(sb)
+        rs.append(r)
+        hs.append(P11.transpose() * r)
+    a, b = acb(0), acb(0)
+    for i, si in enumerate(exact):
+        for j, sj in enumerate(exact):
+            k = _pick(si, sj, time)
+            a += k * _inner(hs[j], hs[i])
+            b += k * _inner(rs[j], rs[i])
+    if not b.real > 0:
+        return None
+    return a.real / b.real
+
+
+def _inner(x: acb_mat, y: acb_mat):
+    """x*y of two ball column vectors."""
+    return sum((x[i, 0].conjugate() * y[i, 0] for i in range(x.nrows())), acb(0))
+
+
+#: how far above the floating-point Riccati threshold the closed loop that gives the points is taken
+LOOP_STEPS = (1e-4, 1e-2, 1e-6)
+
+
+def interpolation_bound(floats: list, balls: list, time: str, start: float) -> tuple[float | None, str]:
+    """(proved lower bound on γ, how) of the state-feedback LMI from points sᵢ (module docstring,
+    the interpolation certificate): the mirror images of the eigenvalues μ of the full-information
+    closed loop A + BF just above the Riccati threshold — −μ (continuous), 1/μ (discrete) — with
+    the best kernel directions; (None, why) when none gave a ball bound."""
+    from ..numeric.riccati import full_information_feedback
+    n = floats[0].shape[0]
+    if n > MAX_STATES:
+        return None, f"more than {MAX_STATES} states"
+    B = np.hstack([floats[1], floats[2]])
+
+    def feedback(g):
+        with np.errstate(all="ignore"):
+            return full_information_feedback(*floats, g, time)
+
+    lo, hi = max(start, 1e-12), max(2 * start, 1.0)
+    while feedback(hi) is None:
+        lo, hi = hi, 2 * hi
+        if hi > 1e12:
+            return None, "no level with a stabilising Riccati solution ⪰ 0 was found"
+    for _ in range(60):
+        mid = (lo + hi) / 2
+        lo, hi = (lo, mid) if feedback(mid) is not None else (mid, hi)
+        if hi - lo <= 1e-15 * hi:
+            break
+    best = None
+    with ball_precision(PRECISION):
+        for step in LOOP_STEPS:
+            F = feedback(hi * (1 + step))
+            if F is None:
+                continue
+            mu = np.linalg.eigvals(floats[0] + B @ F)
+            points = [-m for m in mu] if time == "continuous" else [1 / m for m in mu if abs(m) > 1e-12]
+            directions = _interpolation_directions(floats, points, time) if points else None
+            if directions is None:
+                continue
+            ball = _ball_interpolation(balls, points, directions, time)
+            if ball is None or not ball.is_finite() or not ball.lower() > 0:
+                continue
+            lower = max(round_down(float(arb(ball.lower()).sqrt().lower())), 0.0)
+            if best is None or lower > best[0]:
+                best = (lower, f"an interpolation certificate at the mirror images of the closed loop's "
+                               f"eigenvalues at γ = {hi * (1 + step):.10g} (γ ≥ √(tr(G H*H)/tr(G R*R)), "
+                               f"G the Pick kernel)")
+    return best or (None, "no closed loop near the Riccati threshold gave a ball bound")
+
+
+__all__ = ["ball_transfer", "interpolation_bound", "kernel_projection", "stabilisation_bound", "threshold"]

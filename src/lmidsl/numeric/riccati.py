@@ -255,7 +255,14 @@ def gramian_factor(A, B, time: str) -> np.ndarray:
 
 
 def full_information_gain(A, B1, B2, C1, D11, D12, gamma: float, time: str, eps: float = 0.0):
-    """The state-feedback gain K of the H∞ full-information Riccati equation at level γ, or None.
+    """The state-feedback gain K (the last rows of :func:`full_information_feedback`'s F), or
+    None.  Nothing is claimed for K here: its closed loop is certified like any design."""
+    F = full_information_feedback(A, B1, B2, C1, D11, D12, gamma, time, eps)
+    return None if F is None else F[np.atleast_2d(np.asarray(B1)).shape[1]:, :]
+
+
+def full_information_feedback(A, B1, B2, C1, D11, D12, gamma: float, time: str, eps: float = 0.0):
+    """F = [F_w; F_u] of the H∞ full-information Riccati equation at level γ, or None.
 
     With B = [B1 B2], D = [D11 D12] and R = DᵀD − diag(γ²I, 0), the stabilising solution X ⪰ 0 of
 
@@ -265,7 +272,7 @@ def full_information_gain(A, B1, B2, C1, D11, D12, gamma: float, time: str, eps:
     Q = C1ᵀC1 + εI, exists when γ exceeds the optimal state-feedback level (D12 of full column
     rank; Zhou, Doyle, Glover 1996, ch. 16 and 21), and F = −R⁻¹(BᵀX + DᵀC1) (discrete:
     −(R + BᵀXB)⁻¹(BᵀXA + DᵀC1)) gives the worst disturbance (first rows) and the gain K (last
-    rows).  Nothing is claimed for K here: its closed loop is certified like any design."""
+    rows); None unless the stabilising solution exists and is ⪰ 0."""
     from scipy.linalg import solve_continuous_are, solve_discrete_are
 
     A, B1, B2, C1, D11, D12 = (np.atleast_2d(np.asarray(m, dtype=float)) for m in (A, B1, B2, C1, D11, D12))
@@ -290,8 +297,8 @@ def full_information_gain(A, B1, B2, C1, D11, D12, gamma: float, time: str, eps:
     eig = np.linalg.eigvalsh(X)
     if eig[0] < -1e-9 * max(abs(eig[-1]), 1.0):
         return None
-    return F[m1:, :]
+    return F
 
 
 __all__ = ["BALANCING_REGULARISATION", "FRACTIONS", "PRECISE_DIGITS", "precise_storage", "realisation_norm", "balancing_transform", "bounded_real_storage",
-           "full_information_gain", "gramian_factor", "hinf_norm", "storage_candidates"]
+           "full_information_feedback", "full_information_gain", "gramian_factor", "hinf_norm", "storage_candidates"]
