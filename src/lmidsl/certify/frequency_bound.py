@@ -61,7 +61,7 @@ import sympy as sp
 from flint import acb, acb_mat, arb
 
 from ..numeric.evaluate import NumericEvaluator
-from .hamiltonian_bound import ball_transfer, interpolation_bound, kernel_projection, stabilisation_bound
+from .hamiltonian_bound import interpolation_bound, projected_response, stabilisation_bound
 from ..numeric.proof import BallEvaluator, ball_precision, round_down
 from ..numeric.riccati import balancing_transform
 from ..numeric.systems import frequency_variable, hinf_peak
@@ -383,14 +383,10 @@ def _ball_uncancelled(balls: list, r0: np.ndarray, frequency: float, time: str):
     """A ball containing |P11(s)ᵀ r|² / |r|² for r the exact projection of ``r0`` onto the kernel
     of P12(s)ᵀ at the exact s of ``frequency``, or None when sI − A or P12ᵀ P̄12 is not provably
     invertible."""
-    found = ball_transfer(balls, None if math.isinf(frequency) else _exact_point(frequency, time))
+    found = projected_response(balls, None if math.isinf(frequency) else _exact_point(frequency, time), r0)
     if found is None:
         return None
-    P11, P12 = found
-    r = kernel_projection(P12, r0)
-    if r is None:
-        return None
-    h = P11.transpose() * r
+    r, h = found
     num = sum((abs(h[i, 0]) ** 2 for i in range(h.nrows())), arb(0))
     den = sum((abs(r[i, 0]) ** 2 for i in range(r.nrows())), arb(0))
     return num / den

@@ -57,6 +57,7 @@ import numpy as np
 from flint import acb, acb_mat, arb
 
 from ..numeric.proof import ball_precision, round_down
+from ..numeric.riccati import full_information_feedback
 
 #: working precision (bits) of the eigen-enclosures (the stable subspace is ill-conditioned close
 #: to the optimum, where X grows without bound)
@@ -300,6 +301,17 @@ def kernel_projection(P12: acb_mat, u: np.ndarray):
         return None
 
 
+def projected_response(balls: list, s, u: np.ndarray):
+    """(r, P11(s)ᵀr) in balls: r the exact projection of ``u`` onto the kernel of P12(s)ᵀ
+    (:func:`ball_transfer`, :func:`kernel_projection`), or None."""
+    found = ball_transfer(balls, s)
+    if found is None:
+        return None
+    P11, P12 = found
+    r = kernel_projection(P12, u)
+    return None if r is None else (r, P11.transpose() * r)
+
+
 def _transfer(floats, s: complex):
     """(P11(s), P12(s)) in floating point."""
     A, B1, B2, C1, D11, D12 = floats
@@ -351,16 +363,12 @@ def _ball_interpolation(balls, points: list, directions: list, time: str):
         sb = acb(float(s.real), float(s.imag))
         if not ((sb.real > 0) if time == "continuous" else (abs(sb) > 1)):
             return None
-        found = ball_transfer(balls, sb)
+        found = projected_response(balls, sb, u)
         if found is None:
             return None
-        P11, P12 = found
-        r = kernel_projection(P12, u)
-        if r is None:
-            return None
         exact.append(sb)
-        rs.append(r)
-        hs.append(P11.transpose() * r)
+        rs.append(found[0])
+        hs.append(found[1])
     a, b = acb(0), acb(0)
     for i, si in enumerate(exact):
         for j, sj in enumerate(exact):
@@ -386,7 +394,6 @@ def interpolation_bound(floats: list, balls: list, time: str, start: float) -> t
     the interpolation certificate): the mirror images of the eigenvalues μ of the full-information
     closed loop A + BF just above the Riccati threshold — −μ (continuous), 1/μ (discrete) — with
     the best kernel directions; (None, why) when none gave a ball bound."""
-    from ..numeric.riccati import full_information_feedback
     n = floats[0].shape[0]
     if n > MAX_STATES:
         return None, f"more than {MAX_STATES} states"
@@ -428,4 +435,5 @@ def interpolation_bound(floats: list, balls: list, time: str, start: float) -> t
     return best or (None, "no closed loop near the Riccati threshold gave a ball bound")
 
 
-__all__ = ["ball_transfer", "interpolation_bound", "kernel_projection", "stabilisation_bound", "threshold"]
+__all__ = ["ball_transfer", "interpolation_bound", "kernel_projection", "projected_response", "stabilisation_bound",
+           "threshold"]
