@@ -57,7 +57,7 @@ import numpy as np
 from flint import acb, acb_mat, arb
 
 from ..numeric.proof import ball_precision, round_down
-from ..numeric.riccati import full_information_feedback
+from ..numeric.riccati import full_information_feedback, full_information_weights
 
 #: working precision (bits) of the eigen-enclosures (the stable subspace is ill-conditioned close
 #: to the optimum, where X grows without bound)
@@ -71,10 +71,7 @@ def _hamiltonian(floats, gamma: float) -> np.ndarray:
     """The Hamiltonian at γ in floating point (module docstring; np.linalg.LinAlgError when R_γ
     is singular)."""
     A, B1, B2, C1, D11, D12 = floats
-    m1 = B1.shape[1]
-    B, D = np.hstack([B1, B2]), np.hstack([D11, D12])
-    R = D.T @ D
-    R[:m1, :m1] -= gamma ** 2 * np.eye(m1)
+    B, D, R = full_information_weights(B1, B2, D11, D12, gamma)
     Ah = A - B @ np.linalg.solve(R, D.T @ C1)
     Qh = C1.T @ C1 - C1.T @ D @ np.linalg.solve(R, D.T @ C1)
     return np.block([[Ah, -B @ np.linalg.solve(R, B.T)], [-Qh, -Ah.T]])
@@ -83,11 +80,8 @@ def _hamiltonian(floats, gamma: float) -> np.ndarray:
 def _r_columns(floats, gamma: float, X1, X2) -> np.ndarray:
     """R = C1X₁ − D R_γ⁻¹(BᵀX₂ + DᵀC1X₁) in floating point."""
     A, B1, B2, C1, D11, D12 = floats
-    m1 = B1.shape[1]
-    B, D = np.hstack([B1, B2]), np.hstack([D11, D12])
-    Rg = D.T @ D
-    Rg[:m1, :m1] -= gamma ** 2 * np.eye(m1)
-    return C1 @ X1 - D @ np.linalg.solve(Rg, B.T @ X2 + D.T @ C1 @ X1)
+    B, D, R = full_information_weights(B1, B2, D11, D12, gamma)
+    return C1 @ X1 - D @ np.linalg.solve(R, B.T @ X2 + D.T @ C1 @ X1)
 
 
 def _lagrangian(floats, gamma: float):
@@ -155,18 +149,24 @@ def best_level(floats, top: float) -> list:
 
 
 def threshold(floats, start: float) -> float | None:
-    """The least γ at which the stabilising solution is ⪰ 0, by bisection in floating point from
-    ``start`` (a level below it, e.g. the frequency bound), or None (none found below 1e12)."""
+    """The least γ at which the stabilising solution is ⪰ 0 (:func:`_feasible`), from ``start``
+    (a level below it, e.g. the frequency bound), or None."""
+    return least_level(lambda g: _feasible(floats, g), start)
+
+
+def least_level(feasible, start: float) -> float | None:
+    """The least γ with ``feasible(γ)`` (a property that holds above some level) by doubling from
+    ``start`` and bisection in floating point, or None when none is found below 1e12."""
     lo, hi = max(start, 1e-12), max(2 * start, 1.0)
-    while not _feasible(floats, hi):
+    while not feasible(hi):
         lo, hi = hi, 2 * hi
         if hi > 1e12:
             return None
-    if _feasible(floats, lo):
+    if feasible(lo):
         return lo
     for _ in range(60):
         mid = (lo + hi) / 2
-        lo, hi = (lo, mid) if _feasible(floats, mid) else (mid, hi)
+        lo, hi = (lo, mid) if feasible(mid) else (mid, hi)
         if hi - lo <= 1e-15 * hi:
             break
     return hi
@@ -403,16 +403,9 @@ def interpolation_bound(floats: list, balls: list, time: str, start: float) -> t
         with np.errstate(all="ignore"):
             return full_information_feedback(*floats, g, time)
 
-    lo, hi = max(start, 1e-12), max(2 * start, 1.0)
-    while feedback(hi) is None:
-        lo, hi = hi, 2 * hi
-        if hi > 1e12:
-            return None, "no level with a stabilising Riccati solution ⪰ 0 was found"
-    for _ in range(60):
-        mid = (lo + hi) / 2
-        lo, hi = (lo, mid) if feedback(mid) is not None else (mid, hi)
-        if hi - lo <= 1e-15 * hi:
-            break
+    hi = least_level(lambda g: feedback(g) is not None, start)
+    if hi is None:
+        return None, "no level with a stabilising Riccati solution ⪰ 0 was found"
     best = None
     with ball_precision(PRECISION):
         for step in LOOP_STEPS:

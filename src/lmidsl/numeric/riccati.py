@@ -261,6 +261,15 @@ def full_information_gain(A, B1, B2, C1, D11, D12, gamma: float, time: str, eps:
     return None if F is None else F[np.atleast_2d(np.asarray(B1)).shape[1]:, :]
 
 
+def full_information_weights(B1, B2, D11, D12, gamma: float):
+    """(B, D, R) = ([B1 B2], [D11 D12], DᵀD − diag(γ²I, 0)) of the full-information problem at γ."""
+    m1 = B1.shape[1]
+    B, D = np.hstack([B1, B2]), np.hstack([D11, D12])
+    R = D.T @ D
+    R[:m1, :m1] -= gamma ** 2 * np.eye(m1)
+    return B, D, R
+
+
 def full_information_feedback(A, B1, B2, C1, D11, D12, gamma: float, time: str, eps: float = 0.0):
     """F = [F_w; F_u] of the H∞ full-information Riccati equation at level γ, or None.
 
@@ -276,10 +285,8 @@ def full_information_feedback(A, B1, B2, C1, D11, D12, gamma: float, time: str, 
     from scipy.linalg import solve_continuous_are, solve_discrete_are
 
     A, B1, B2, C1, D11, D12 = (np.atleast_2d(np.asarray(m, dtype=float)) for m in (A, B1, B2, C1, D11, D12))
-    n, m1 = A.shape[0], B1.shape[1]
-    B, D = np.hstack([B1, B2]), np.hstack([D11, D12])
-    R = D.T @ D
-    R[:m1, :m1] -= gamma ** 2 * np.eye(m1)
+    n = A.shape[0]
+    B, D, R = full_information_weights(B1, B2, D11, D12, gamma)
     Q = C1.T @ C1 + eps * np.eye(n)
     try:
         with np.errstate(all="ignore"):
@@ -301,4 +308,4 @@ def full_information_feedback(A, B1, B2, C1, D11, D12, gamma: float, time: str, 
 
 
 __all__ = ["BALANCING_REGULARISATION", "FRACTIONS", "PRECISE_DIGITS", "precise_storage", "realisation_norm", "balancing_transform", "bounded_real_storage",
-           "full_information_feedback", "full_information_gain", "gramian_factor", "hinf_norm", "storage_candidates"]
+           "full_information_feedback", "full_information_gain", "full_information_weights", "gramian_factor", "hinf_norm", "storage_candidates"]
