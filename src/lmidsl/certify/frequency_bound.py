@@ -61,7 +61,8 @@ import sympy as sp
 from flint import acb, acb_mat, arb
 
 from ..numeric.evaluate import NumericEvaluator
-from .hamiltonian_bound import interpolation_bound, projected_response, stabilisation_bound
+from .hamiltonian_bound import (inner, interpolation_bound, projected_response, proved_root, stabilisation_bound,
+                                transfer)
 from ..numeric.proof import BallEvaluator, ball_precision, round_down
 from ..numeric.riccati import balancing_transform
 from ..numeric.systems import frequency_variable, hinf_peak
@@ -338,17 +339,13 @@ def _uncancelled(floats: list, frequency: float, time: str):
     point, and its maximiser r₀ (module docstring); (0, None) where sI − A is singular or the
     kernel is {0}."""
     from scipy.linalg import null_space
-    A, B1, B2, C1, D11, D12 = floats
     if math.isinf(frequency):
-        P11, P12 = D11, D12
+        P11, P12 = floats[4], floats[5]
     else:
-        s = frequency_variable(frequency, time)
         try:
-            X = np.linalg.solve(s * np.eye(A.shape[0]) - A, np.hstack([B1, B2]))
+            P11, P12 = transfer(floats, frequency_variable(frequency, time))
         except np.linalg.LinAlgError:
             return 0.0, None
-        P = C1 @ X
-        P11, P12 = P[:, :B1.shape[1]] + D11, P[:, B1.shape[1]:] + D12
     N = null_space(P12.T)
     if N.size == 0:
         return 0.0, None
@@ -387,9 +384,7 @@ def _ball_uncancelled(balls: list, r0: np.ndarray, frequency: float, time: str):
     if found is None:
         return None
     r, h = found
-    num = sum((abs(h[i, 0]) ** 2 for i in range(h.nrows())), arb(0))
-    den = sum((abs(r[i, 0]) ** 2 for i in range(r.nrows())), arb(0))
-    return num / den
+    return inner(h, h).real / inner(r, r).real
 
 
 def _state_feedback_bound(floats: list, balls: list, time: str, stabilising: bool) -> tuple[float | None, str]:
@@ -402,7 +397,7 @@ def _state_feedback_bound(floats: list, balls: list, time: str, stabilising: boo
         return found
     start = found[0] or 0.0
     other = stabilisation_bound(floats, balls, start) if time == "continuous" else \
-        interpolation_bound(floats, balls, time, start)
+        interpolation_bound(floats, balls, start)
     if other[0] is not None and (found[0] is None or other[0] > found[0]):
         return other
     return found
@@ -414,11 +409,10 @@ def _uncancelled_bound(floats: list, balls: list, time: str) -> tuple[float | No
         sigma, r0 = _uncancelled(floats, frequency, time)
         if r0 is None or sigma <= 0:
             continue
-        ball = _ball_uncancelled(balls, r0, frequency, time)
-        if ball is None or not ball.is_finite() or not ball.lower() > 0:
+        lower = proved_root(_ball_uncancelled(balls, r0, frequency, time))
+        if lower is None:
             continue
-        lower = arb(ball.lower()).sqrt().lower()
-        return (max(round_down(float(lower)), 0.0),
+        return (lower,
                 f"the frequency response at {_where(frequency, time)} (γ ≥ |P11(s)ᵀr|/|r| on the kernel "
                 f"of P12(s)ᵀ: what no control input cancels)")
     return None, "no frequency gave a ball bound (no direction that the control input cannot cancel)"

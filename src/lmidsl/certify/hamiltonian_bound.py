@@ -1,5 +1,6 @@
-"""A proved lower bound on a continuous-time H∞ state-feedback optimum where stabilisation sets it:
-a dual point of the state-feedback LMI built from the Hamiltonian's stable eigenvectors.
+"""A proved lower bound on an H∞ state-feedback optimum where stabilisation sets it: a dual point of
+the state-feedback LMI built from the Hamiltonian's stable eigenvectors (continuous time) or from
+interpolation points (discrete time).
 
 The LMI (:meth:`~lmidsl.theorem.theorem.Theorem.state_feedback_form`, level γ on both diagonal
 blocks, with Y ⪰ 0 among the theorem's LMIs) is N(Y, W, γ) ⪯ 0 with
@@ -27,31 +28,31 @@ hᵢ = B1ᵀpᵢ + D11ᵀrᵢ.  Then
 
       γ ≥ √(a / b).
 
-Nothing else is assumed: neither the Riccati equation's solution nor a theorem about it.
-
-**The interpolation certificate** (both time domains; :func:`interpolation_bound`).  The same
-dual needs no eigenpairs: for any points sᵢ with Re sᵢ > 0 (continuous) or |sᵢ| > 1 (discrete)
-and any rᵢ in the kernel of P12(sᵢ)ᵀ, set pᵢ = (sᵢI − Aᵀ)⁻¹C1ᵀrᵢ (discrete: p2ᵢ that, and
-p1ᵢ = sᵢp2ᵢ), so that Aᵀpᵢ + C1ᵀrᵢ = sᵢpᵢ and B2ᵀpᵢ + D12ᵀrᵢ = P12(sᵢ)ᵀrᵢ = 0.  With S = diag(sᵢ)
-and F = P*YP ⪰ 0 the Y terms are tr(F(SG + GS*)) (discrete: tr(F(SGS* − G))), and the Pick
-matrix G = [1/(sᵢ + s̄ⱼ)] (discrete: [1/(sᵢs̄ⱼ − 1)]) is ⪰ 0 and makes SG + GS* (SGS* − G) the
-all-ones matrix ⪰ 0; then γ ≥ √(tr(G H*H)/tr(G R*R)) with hᵢ = P11(sᵢ)ᵀrᵢ as above.  The points
-are doubles taken exactly and rᵢ the exact ball projection of a floating-point vector onto the
-kernel, so every identity holds exactly.  Points that make it tight: the mirror images −μ (1/μ in
-discrete time) of the eigenvalues of the full-information closed loop A + BF just above the
-Riccati threshold, with the rᵢ of the best generalised eigenvector of the two Pick forms (within
-1e-10 of the threshold on bench_scale's plants in both time domains).  The
+Nothing else is assumed: neither the Riccati equation's solution nor a theorem about it.  The
 λᵢ and vectors are python-flint's rigorous enclosures (``acb_mat.eig``: every eigenvalue simple
 and isolated) of the exact eigenpairs of that Hamiltonian built from the data as written, at a
-level γ₀ (a double, exact); only the stable ones (Re λ < 0 proved) are used.  a and b are evaluated in balls from those enclosures, so the ball of a/b holds
-the value of an exact dual point.  γ₀ and c only make the bound tight: γ₀ a little below the least
-level at which the stabilising Riccati solution X = X₂X₁⁻¹ is ⪰ 0 (bisection in floating point),
+level γ₀ (a double, exact); only the stable ones (Re λ < 0 proved) are used.  a and b are
+evaluated in balls from those enclosures, so the ball of a/b holds the value of an exact dual
+point.  γ₀ and c only make the bound tight: γ₀ a little below the least level at which the stabilising Riccati solution X = X₂X₁⁻¹ is ⪰ 0 (bisection in floating point),
 where S = X₁*X₂ (Hermitian: the stable subspace is Lagrangian) has a negative eigenvalue; c its
 eigenvector (with D11 = 0 the Hamiltonian's identities give a − γ₀²b = −γ₀² c*Sc > 0: the bound
 exceeds γ₀).
+
+**The interpolation certificate** (discrete time; :func:`interpolation_bound`).  The same dual
+needs no eigenpairs: for any points sᵢ with |sᵢ| > 1 and any rᵢ in the kernel of P12(sᵢ)ᵀ, set
+p2ᵢ = (sᵢI − Aᵀ)⁻¹C1ᵀrᵢ and p1ᵢ = sᵢp2ᵢ, so that Aᵀp2ᵢ + C1ᵀrᵢ = sᵢp2ᵢ and
+B2ᵀp2ᵢ + D12ᵀrᵢ = P12(sᵢ)ᵀrᵢ = 0.  With S = diag(sᵢ) and F = P2*YP2 ⪰ 0 the Y terms of the
+discrete LMI are tr(F(SGS* − G)), and the Pick matrix G = [1/(sᵢs̄ⱼ − 1)] is ⪰ 0 and makes
+SGS* − G the all-ones matrix ⪰ 0; then γ ≥ √(tr(G H*H)/tr(G R*R)) with hᵢ = P11(sᵢ)ᵀrᵢ.  The
+points are doubles taken exactly and rᵢ the exact ball projection of a floating-point vector onto
+the kernel, so every identity holds exactly.  Points that make it tight: the mirror images 1/μ of
+the eigenvalues of the full-information closed loop A + BF just above its Riccati threshold, with
+the rᵢ of the best generalised eigenvector of the two Pick forms: it then proves the
+full-information level, which in discrete time can be below a static state feedback's optimum.
+(In continuous time the points −μ, Re sᵢ > 0 and G = [1/(sᵢ + s̄ⱼ)] give the same certificate as
+the eigenvectors above, to 1e-11 in floating point on bench_scale's plants; not used there.)
 """
 from __future__ import annotations
-
 
 import numpy as np
 from flint import acb, acb_mat, arb
@@ -65,6 +66,14 @@ PRECISION = 192
 #: the largest state dimension tried (the enclosure of the 2n eigenpairs costs O(n³) ball operations
 #: at PRECISION bits: about 1 s at n = 24)
 MAX_STATES = 40
+
+
+def proved_root(ball) -> float | None:
+    """A double ≤ √x for every x in ``ball`` (a real ball of γ²), or None unless the ball is
+    finite with a positive lower end."""
+    if ball is None or not ball.is_finite() or not ball.lower() > 0:
+        return None
+    return max(round_down(float(arb(ball.lower()).sqrt().lower())), 0.0)
 
 
 def _hamiltonian(floats, gamma: float) -> np.ndarray:
@@ -254,10 +263,9 @@ def stabilisation_bound(floats: list, balls: list, start: float) -> tuple[float 
     best = None
     with ball_precision(PRECISION):
         for gamma0 in best_level(floats, top):    # the best first; done once one reaches its γ₀
-            ball = _ball_bound(floats, balls, gamma0)
-            if ball is None or not ball.is_finite() or not ball.lower() > 0:
+            lower = proved_root(_ball_bound(floats, balls, gamma0))
+            if lower is None:
                 continue
-            lower = max(round_down(float(arb(ball.lower()).sqrt().lower())), 0.0)
             if best is None or lower > best[0]:
                 best = (lower, f"the Hamiltonian's stable eigenvectors at γ₀ = {gamma0:.10g} (a dual point: "
                                f"γ ≥ √(tr(G H*H)/tr(G R*R)))")
@@ -312,7 +320,7 @@ def projected_response(balls: list, s, u: np.ndarray):
     return None if r is None else (r, P11.transpose() * r)
 
 
-def _transfer(floats, s: complex):
+def transfer(floats, s: complex):
     """(P11(s), P12(s)) in floating point."""
     A, B1, B2, C1, D11, D12 = floats
     X = np.linalg.solve(s * np.eye(A.shape[0]) - A, np.hstack([B1, B2]))
@@ -320,19 +328,19 @@ def _transfer(floats, s: complex):
     return P[:, :B1.shape[1]] + D11, P[:, B1.shape[1]:] + D12
 
 
-def _pick(s_i, s_j, time: str):
-    """The Pick kernel: 1/(sᵢ + s̄ⱼ) (continuous, Re s > 0) or 1/(sᵢs̄ⱼ − 1) (discrete, |s| > 1)."""
-    return 1 / (s_i + s_j.conjugate()) if time == "continuous" else 1 / (s_i * s_j.conjugate() - 1)
+def _pick(s_i, s_j):
+    """The Pick kernel 1/(sᵢs̄ⱼ − 1) (|s| > 1)."""
+    return 1 / (s_i * s_j.conjugate() - 1)
 
 
-def _interpolation_directions(floats, points: list, time: str):
+def _interpolation_directions(floats, points: list):
     """The vectors uᵢ ∈ ker P12(sᵢ)ᵀ that maximise the certificate's ratio at the given points, in
     floating point: the top generalised eigenvector of the Hermitian forms tr(G H*H) and
     tr(G R*R) over the kernels (G the Pick kernel, H = [P11(sᵢ)ᵀuᵢ]); None when there is none."""
     from scipy.linalg import eigh, null_space
     bases, images = [], []
     for s in points:
-        P11, P12 = _transfer(floats, s)
+        P11, P12 = transfer(floats, s)
         N = null_space(P12.T)
         if N.size == 0:
             return None
@@ -343,7 +351,7 @@ def _interpolation_directions(floats, points: list, time: str):
     bottom = np.zeros_like(top)
     for i, si in enumerate(points):
         for j, sj in enumerate(points):
-            k = _pick(si, sj, time)
+            k = _pick(si, sj)
             rows, cols = slice(offsets[j], offsets[j + 1]), slice(offsets[i], offsets[i + 1])
             top[rows, cols] = k * (images[j].conj().T @ images[i])
             bottom[rows, cols] = k * (bases[j].conj().T @ bases[i])
@@ -355,13 +363,13 @@ def _interpolation_directions(floats, points: list, time: str):
     return [bases[i] @ y[offsets[i]:offsets[i + 1]] for i in range(len(points))]
 
 
-def _ball_interpolation(balls, points: list, directions: list, time: str):
+def _ball_interpolation(balls, points: list, directions: list):
     """A ball containing a/b of the interpolation certificate (module docstring) at the exact
     points (their doubles) with the exact kernel projections of ``directions``, or None."""
     exact, rs, hs = [], [], []
     for s, u in zip(points, directions):
         sb = acb(float(s.real), float(s.imag))
-        if not ((sb.real > 0) if time == "continuous" else (abs(sb) > 1)):
+        if not abs(sb) > 1:
             return None
         found = projected_response(balls, sb, u)
         if found is None:
@@ -372,15 +380,15 @@ def _ball_interpolation(balls, points: list, directions: list, time: str):
     a, b = acb(0), acb(0)
     for i, si in enumerate(exact):
         for j, sj in enumerate(exact):
-            k = _pick(si, sj, time)
-            a += k * _inner(hs[j], hs[i])
-            b += k * _inner(rs[j], rs[i])
+            k = _pick(si, sj)
+            a += k * inner(hs[j], hs[i])
+            b += k * inner(rs[j], rs[i])
     if not b.real > 0:
         return None
     return a.real / b.real
 
 
-def _inner(x: acb_mat, y: acb_mat):
+def inner(x: acb_mat, y: acb_mat):
     """x*y of two ball column vectors."""
     return sum((x[i, 0].conjugate() * y[i, 0] for i in range(x.nrows())), acb(0))
 
@@ -389,11 +397,11 @@ def _inner(x: acb_mat, y: acb_mat):
 LOOP_STEPS = (1e-4, 1e-2, 1e-6)
 
 
-def interpolation_bound(floats: list, balls: list, time: str, start: float) -> tuple[float | None, str]:
-    """(proved lower bound on γ, how) of the state-feedback LMI from points sᵢ (module docstring,
-    the interpolation certificate): the mirror images of the eigenvalues μ of the full-information
-    closed loop A + BF just above the Riccati threshold — −μ (continuous), 1/μ (discrete) — with
-    the best kernel directions; (None, why) when none gave a ball bound."""
+def interpolation_bound(floats: list, balls: list, start: float) -> tuple[float | None, str]:
+    """(proved lower bound on γ, how) of the discrete-time state-feedback LMI from points sᵢ
+    (module docstring, the interpolation certificate): the mirror images 1/μ of the eigenvalues μ
+    of the full-information closed loop A + BF just above the Riccati threshold, with the best
+    kernel directions; (None, why) when none gave a ball bound."""
     n = floats[0].shape[0]
     if n > MAX_STATES:
         return None, f"more than {MAX_STATES} states"
@@ -401,7 +409,7 @@ def interpolation_bound(floats: list, balls: list, time: str, start: float) -> t
 
     def feedback(g):
         with np.errstate(all="ignore"):
-            return full_information_feedback(*floats, g, time)
+            return full_information_feedback(*floats, g, "discrete")
 
     hi = least_level(lambda g: feedback(g) is not None, start)
     if hi is None:
@@ -413,14 +421,13 @@ def interpolation_bound(floats: list, balls: list, time: str, start: float) -> t
             if F is None:
                 continue
             mu = np.linalg.eigvals(floats[0] + B @ F)
-            points = [-m for m in mu] if time == "continuous" else [1 / m for m in mu if abs(m) > 1e-12]
-            directions = _interpolation_directions(floats, points, time) if points else None
+            points = [1 / m for m in mu if abs(m) > 1e-12]
+            directions = _interpolation_directions(floats, points) if points else None
             if directions is None:
                 continue
-            ball = _ball_interpolation(balls, points, directions, time)
-            if ball is None or not ball.is_finite() or not ball.lower() > 0:
+            lower = proved_root(_ball_interpolation(balls, points, directions))
+            if lower is None:
                 continue
-            lower = max(round_down(float(arb(ball.lower()).sqrt().lower())), 0.0)
             if best is None or lower > best[0]:
                 best = (lower, f"an interpolation certificate at the mirror images of the closed loop's "
                                f"eigenvalues at γ = {hi * (1 + step):.10g} (γ ≥ √(tr(G H*H)/tr(G R*R)), "
@@ -428,5 +435,6 @@ def interpolation_bound(floats: list, balls: list, time: str, start: float) -> t
     return best or (None, "no closed loop near the Riccati threshold gave a ball bound")
 
 
-__all__ = ["ball_transfer", "interpolation_bound", "kernel_projection", "projected_response", "stabilisation_bound",
+__all__ = ["ball_transfer", "inner", "proved_root", "interpolation_bound", "kernel_projection", "projected_response",
+           "stabilisation_bound", "transfer",
            "threshold"]
