@@ -284,17 +284,17 @@ def _exact_factor(x: float) -> fmpq:
 
 
 class _ExactWalk(ExactEvaluator):
-    """One LMI walk in rational arithmetic: data and parameters as written, every decision
-    variable 0 except the free entry ``unit`` (an index of x), which is 1 — times the
+    """One LMI walk in rational arithmetic: data and parameters as written, the decision vector
+    x = Σ_c w_c e_c for ``point`` = {c: w_c} (entries of x; None: x = 0), each entry times its
     variable's conditioning factor, as compiled.  ``free``: values given to the derived
     parameters whose definitions are irrational (evaluated as free symbols)."""
 
-    def __init__(self, snap, vertex, unit: int | None, free: dict | None = None, memo: dict | None = None,
-                 active: str | None = None):
+    def __init__(self, snap, vertex, point: dict | None, free: dict | None = None, memo: dict | None = None,
+                 active: frozenset | None = None):
         super().__init__(snap.instance.dims, self._value, free_irrational=free is not None)
-        self.snap, self.vertex, self.unit, self.free = snap, vertex, unit, free or {}
+        self.snap, self.vertex, self.point, self.free = snap, vertex, point or {}, free or {}
         self.memo = {} if memo is None else memo    # (id, vertex) -> value at x = 0, every sub-tree
-        self.active = active                        # the variable of ``unit`` (None: x = 0)
+        self.active = active                        # the variables of ``point`` (None: x = 0)
 
     def visit(self, expr):
         """A block with no rational value is :data:`IRRATIONAL` (its LMI has no exact
@@ -314,7 +314,8 @@ class _ExactWalk(ExactEvaluator):
         its value at x = 0."""
         key = (id(expr), self.vertex)
         hit = self.memo.get(key)
-        if hit is not None and hit[0] is expr and (self.active is None or not _involves(expr, self.active)):
+        if hit is not None and hit[0] is expr and (self.active is None or
+                                                   not any(_involves(expr, name) for name in self.active)):
             return hit[1]
         value = super()._dispatch(expr)
         if self.active is None:
@@ -348,14 +349,14 @@ class _ExactWalk(ExactEvaluator):
     def variable(self, symbol):
         v = self.snap.variable_for(symbol, self.vertex).variable
         shape = v.shape
-        hit = self.unit is not None and v.offset <= self.unit < v.offset + v.size
+        hits = [(c - v.offset, w) for c, w in self.point.items() if v.offset <= c < v.offset + v.size]
         factor = _exact_factor(self.snap.equilibration.variable(symbol.name))
         if not shape:
-            return factor if hit else fmpq(0)
+            return sum((w for _, w in hits), fmpq(0)) * factor
         X = fmpq_mat(*shape)
-        if hit:
-            for r in v.basis_rows[v.basis_cols == self.unit - v.offset]:
-                X[int(r) // shape[1], int(r) % shape[1]] = factor
+        for c, w in hits:
+            for r in v.basis_rows[v.basis_cols == c]:
+                X[int(r) // shape[1], int(r) % shape[1]] += factor * w
         return X
 
     scalar_variable = variable
@@ -396,11 +397,12 @@ def _involves(expr, name: str) -> bool:
 
 class ExactCoefficients:
     """The compiled LMIs and objective as written, in rational arithmetic (module docstring):
-    N(0) and the coefficient N^c of every variable asked for, per LMI instance in the compile's
-    order (None for an LMI with an irrational block).  ``why`` says why there are none at all
-    (an irrational objective, too many variables)."""
+    N(0) and, for each combination Σ_c w_c e_c of entries of x asked for, its coefficient
+    Σ_c w_c N^c = N(Σ_c w_c e_c) − N(0) (N is affine in x), per LMI instance in the compile's order
+    (None for an LMI with an irrational block).  ``why`` says why there are none at all (an
+    irrational objective, too many walks)."""
 
-    #: at most this many variables' coefficients (each costs one walk of every LMI)
+    #: at most this many combinations (each costs one walk of every LMI)
     MAX_COLUMNS = 600
 
     def __init__(self, snap, free: dict | None = None):
@@ -410,22 +412,24 @@ class ExactCoefficients:
         self._memo: dict = {}           # every sub-tree's value at x = 0
         self._zero = self._walk(None)
 
-    def _variable_of(self, unit: int) -> str | None:
+    def _variables_of(self, point: dict) -> frozenset:
+        names = set()
         for (name, _), affine in self.snap._variables.items():
             v = affine.variable
-            if v is not None and v.offset <= unit < v.offset + v.size:
-                return name
-        return None
+            if v is not None and any(v.offset <= c < v.offset + v.size for c in point):
+                names.add(name)
+        return frozenset(names)
 
-    def _walk(self, unit):
-        """(per LMI instance its cells [(row offset, column offset, value)], the objective)."""
+    def _walk(self, point: dict | None):
+        """(per LMI instance its cells [(row offset, column offset, value)], the objective) at
+        x = Σ_c point[c] e_c (None: x = 0)."""
         if self.why:
             return None
         snap, free, memo = self.snap, self.free, self._memo
-        active = None if unit is None else self._variable_of(unit)
+        active = None if point is None else self._variables_of(point)
         try:
             lmis = []
-            for _, _, _, _, rows, _ in snap.walk_lmis(lambda v: _ExactWalk(snap, v, unit, free, memo, active)):
+            for _, _, _, _, rows, _ in snap.walk_lmis(lambda v: _ExactWalk(snap, v, point, free, memo, active)):
                 if any(value is IRRATIONAL for row in rows for value in row):
                     lmis.append(None)
                     continue
@@ -438,7 +442,7 @@ class ExactCoefficients:
                     r0 += to_matrix(row[0]).nrows()
                 lmis.append(cells)
             objective = snap.instance.theorem.objective
-            q = None if objective is None else _ExactWalk(snap, None, unit, free, memo, active).visit(objective)
+            q = None if objective is None else _ExactWalk(snap, None, point, free, memo, active).visit(objective)
             if q is IRRATIONAL:
                 raise NotRational("the objective")
         except (NotRational, ZeroDivisionError, ValueError, TypeError, KeyError) as exc:
@@ -455,32 +459,39 @@ class ExactCoefficients:
         constant term), or None."""
         return self._zero
 
-    def column(self, c: int):
-        """(N^c per LMI instance as its non-zero cells, the objective's coefficient q_c) of the free
-        entry c of x, or None.  A cell without c's variable is the same object as at x = 0."""
-        if c not in self._columns:
+    def combination(self, weights: dict):
+        """(Σ_c w_c N^c per LMI instance as its non-zero cells, Σ_c w_c q_c) for ``weights`` =
+        {entry c of x: w_c (fmpq)}, or None.  A cell without the entries' variables is the same
+        object as at x = 0 (and left out)."""
+        key = tuple(sorted((int(c), str(w)) for c, w in weights.items() if w != 0))
+        if key not in self._columns:
             if self._zero is None or len(self._columns) >= self.MAX_COLUMNS:
                 self.why = self.why or f"more than {self.MAX_COLUMNS} variables need rational coefficients"
                 return None
-            at = self._walk(c)
+            at = self._walk({c: w for c, w in weights.items() if w != 0})
             if at is None:
                 return None
             zero_lmis, zero_q = self._zero
             lmis = [None if cells is None or zeros is None else
                     [(r0, c0, to_matrix(v) - to_matrix(z)) for (r0, c0, v), (_, _, z) in zip(cells, zeros) if v is not z]
                     for cells, zeros in zip(at[0], zero_lmis)]
-            self._columns[c] = (lmis, None if at[1] is None else at[1] - zero_q)
-        return self._columns[c]
+            self._columns[key] = (lmis, None if at[1] is None else at[1] - zero_q)
+        return self._columns[key]
+
+    def column(self, c: int):
+        """(N^c per LMI instance, q_c): :meth:`combination` of the single entry c."""
+        return self.combination({c: fmpq(1)})
 
 
-def _degree(expr, symbol) -> int | None:
-    """An upper bound on the degree of ``expr`` (a scalar or matrix expression) as a polynomial in
-    ``symbol``; None when it is not a polynomial in it (an inverse or a function of it)."""
-    if expr == symbol:
+def _degree(expr, symbols) -> int | None:
+    """An upper bound on the total degree of ``expr`` (a scalar or matrix expression) as a
+    polynomial in ``symbols`` (a set); None when it is not a polynomial in them (an inverse or a
+    function of one)."""
+    if expr in symbols:
         return 1
-    if not expr.has(symbol):
+    if not any(expr.has(s) for s in symbols):
         return 0
-    args = [_degree(a, symbol) for a in expr.args]
+    args = [_degree(a, symbols) for a in expr.args]
     if any(a is None for a in args):
         return None
     if isinstance(expr, (sp.Mul, sp.MatMul)):
@@ -492,13 +503,27 @@ def _degree(expr, symbol) -> int | None:
     return None
 
 
+def _principal_lattice(k: int, total: int) -> list[tuple]:
+    """{a ∈ ℕᵏ : a₁ + … + a_k ≤ total}, shifted by 1 in every coordinate."""
+    return [tuple(x + 1 for x in a) for a in itertools.product(range(total + 1), repeat=k) if sum(a) <= total]
+
+
 def irrational_grid(snap, limit: int = 64) -> list[dict] | None:
     """Points at which the derived parameters with irrational definitions (σ = √(ξ(1 − ξ))), taken
-    as free symbols, decide a polynomial identity: d_σ + 1 distinct integers for each, d_σ the
-    degree of the LMIs and the objective in σ.  A polynomial of degree ≤ d_σ in each σ that
-    vanishes on such a grid is zero (induction on the symbols), so an identity between the
-    coefficients checked at every grid point holds at the parameters' true values.  [] when no
-    parameter is irrational; None when one is not polynomial or the grid exceeds ``limit``."""
+    as free symbols σ₁ … σ_k, decide a polynomial identity, whichever set is smaller:
+
+    * the tensor grid of d_i + 1 distinct integers for each σ_i, d_i the degree of the LMIs and the
+      objective in σ_i: a polynomial of degree ≤ d_i in each σ_i that vanishes on it is zero
+      (induction on the symbols);
+    * the principal lattice {a ∈ ℕᵏ : Σ a_i ≤ D} (shifted by 1), D the total degree in σ: a
+      polynomial p of total degree ≤ D that vanishes on it is zero (induction on k and D: on
+      a₁ = 0 it is the lattice of k − 1 symbols, so p = σ₁ q with deg q ≤ D − 1, and q(σ₁ + 1, …)
+      vanishes on the lattice of total degree D − 1).  Four σ's of degree 1 in each and in all:
+      5 points instead of 16.
+
+    An identity between the coefficients checked at every point holds at the parameters' true
+    values.  [] when no parameter is irrational; None when one is not polynomial or both sets
+    exceed ``limit``."""
     theorem = snap.instance.theorem
     exprs = [b for lmi in theorem.lmis for row in lmi.negative_form().lower for b in row]
     if theorem.objective is not None:
@@ -517,14 +542,17 @@ def irrational_grid(snap, limit: int = 64) -> list[dict] | None:
         return []
     degrees = []
     for d in irrational:
-        found = [_degree(e, d) for e in exprs]
+        found = [_degree(e, {d}) for e in exprs]
         if any(x is None for x in found):
             return None
         degrees.append(max(found))
-    if math.prod(k + 1 for k in degrees) > limit:
+    total = max(_degree(e, set(irrational)) for e in exprs)     # polynomial in each: in all
+    tensor, lattice = math.prod(k + 1 for k in degrees), math.comb(total + len(irrational), total)
+    if min(tensor, lattice) > limit:
         return None
-    return [{d.name: fmpq(v) for d, v in zip(irrational, point)}
-            for point in itertools.product(*(range(1, k + 2) for k in degrees))]
+    points = (list(itertools.product(*(range(1, k + 2) for k in degrees))) if tensor <= lattice
+              else _principal_lattice(len(irrational), total))
+    return [{d.name: fmpq(v) for d, v in zip(irrational, point)} for point in points]
 
 
 def snapshot(model) -> _Snapshot:

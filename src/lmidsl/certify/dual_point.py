@@ -272,10 +272,17 @@ class DualData:
         """(row c of M as written — {unknown: fmpq}, q_c as written), or None (no rational
         coefficients: ``exact_coefficients().why``); ``free`` as in :meth:`exact_coefficients`.
         S = −N: the unknown of entry (a, b), a ≤ b, pairs with S_ab + S_ba (a < b) or S_aa."""
-        key = (c, None if free is None else tuple(sorted((k, str(v)) for k, v in free.items())))
+        return self.exact_combination({c: fmpq(1)}, free)
+
+    def exact_combination(self, weights: dict, free: dict | None = None):
+        """(Σ_c w_c · row c of M as written, Σ_c w_c q_c) for ``weights`` = {column c: fmpq w_c},
+        from one walk of the LMIs at x = Σ_c w_c e_c (:meth:`ExactCoefficients.combination`), or
+        None as :meth:`exact_row`."""
+        key = (tuple(sorted((int(c), str(w)) for c, w in weights.items())),
+               None if free is None else tuple(sorted((k, str(v)) for k, v in free.items())))
         if key in self._exact_rows:
             return self._exact_rows[key]
-        found = self.exact_coefficients(free).column(c)
+        found = self.exact_coefficients(free).combination(weights)
         if found is None:
             return None
         lmis, q = found
@@ -287,9 +294,10 @@ class DualData:
                     row[b.offset] = row.get(b.offset, fmpq(0)) - q
                 continue
             if b.kind != "psd":
-                hit = b.cols == c                     # x_c ≥ 0: coefficient 1, exactly
-                for e, v in zip(b.rows[hit], b.vals[hit]):
-                    row[b.offset + int(e)] = row.get(b.offset + int(e), fmpq(0)) + _fmpq(v)
+                for c, w in weights.items():           # x_c ≥ 0: coefficient 1, exactly
+                    hit = b.cols == c
+                    for e, v in zip(b.rows[hit], b.vals[hit]):
+                        row[b.offset + int(e)] = row.get(b.offset + int(e), fmpq(0)) + w * _fmpq(v)
                 continue
             cells = next(psd)
             if cells is not None:                     # an irrational LMI: see irrational_unknowns
@@ -569,33 +577,36 @@ def _independent_equations(data: DualData, M, target_is_q: bool, rows: np.ndarra
                 f = Fraction(float(c)).limit_denominator(1 << 20)
                 terms.append((j, fmpq(f.numerator, f.denominator)))
         combination[i] = terms
-    needed = sorted(set(combination) | {j for terms in combination.values() for j, _ in terms})
+    # row_i − Σ c_j row_j as written, from one walk at x = e_i − Σ c_j e_j per dependency and point
     for free in points:                  # the identities at every point: then as written
-        found = _exact_rows(data, rows[needed], keep, free)
-        if found is None:
+        if free is None and _irrational_kept(data, keep):
             return None
-        exact = dict(zip(needed, found))
-        t = {i: data.exact_row(int(data.columns[rows[i]]), free)[1] if target_is_q else fmpq(0) for i in needed}
         for i, terms in combination.items():
-            combo, rhs = {}, t[i]
+            weights = {int(data.columns[rows[i]]): fmpq(1)}
             for j, cq in terms:
-                for u, v in exact[j].items():
-                    combo[u] = combo.get(u, fmpq(0)) + cq * v
-                rhs -= cq * t[j]
-            if rhs != 0 or any(combo.get(u, fmpq(0)) != v for u, v in exact[i].items()) or \
-                    any(v != 0 and u not in exact[i] for u, v in combo.items()):
+                c = int(data.columns[rows[j]])
+                weights[c] = weights.get(c, fmpq(0)) - cq
+            found = data.exact_combination(weights, free)
+            if found is None:
+                return None
+            difference, rhs = found
+            if (target_is_q and rhs != 0) or any(v != 0 and (keep is None or keep[u]) for u, v in difference.items()):
                 return None
     return chosen
+
+
+def _irrational_kept(data: DualData, keep) -> bool:
+    """Whether an unknown of an LMI with no rational coefficients is on the support ``keep``."""
+    irrational = data.irrational_unknowns()
+    return bool(irrational.any() and (keep is None or np.any(keep & irrational)))
 
 
 def _exact_rows(data: DualData, rows: np.ndarray, keep, free: dict | None = None) -> list[dict] | None:
     """The given rows of M (positions in ``data.columns``) as written, exactly: {unknown: fmpq},
     restricted to the support ``keep``; None when there are no rational coefficients
     (:class:`~lmidsl.certify.as_written.ExactCoefficients`) on the kept unknowns."""
-    if free is None:
-        irrational = data.irrational_unknowns()
-        if irrational.any() and (keep is None or np.any(keep & irrational)):
-            return None
+    if free is None and _irrational_kept(data, keep):
+        return None
     out = []
     for row in rows:
         found = data.exact_row(int(data.columns[row]), free)
