@@ -167,7 +167,7 @@ STAGE_TIMES = ("feasp", "point_proof", "recover", "analysis", "checks", "evidenc
 #: the ``times`` entries that partition a solve's wall time after start-up (``total``): the plan's
 #: road (:meth:`lmidsl.solver.plan.Plan.solve`), the point's stages, the optimum's road and stages
 #: behind a back-off point (``optimum_*``), the back-off's own solves, the wait for the lower bound
-ROAD_TIMES = ("road_as_written", "road_conditioned", "road_other_routes")
+ROAD_TIMES = ("road_closed_form", "road_as_written", "road_conditioned", "road_other_routes")
 TIME_PARTS = ("bind", *ROAD_TIMES, *STAGE_TIMES, *(f"optimum_{k}" for k in ROAD_TIMES + STAGE_TIMES),
               "backoff", "lower_bound_wait", "infeasibility_proof")
 

@@ -66,6 +66,8 @@ PRECISION = 192
 #: the largest state dimension tried (the enclosure of the 2n eigenpairs costs O(n³) ball operations
 #: at PRECISION bits: about 1 s at n = 24)
 MAX_STATES = 40
+#: the first level tried, relative distance below the floating-point threshold
+JUST_BELOW = 1e-6
 
 
 def proved_root(ball) -> float | None:
@@ -155,6 +157,14 @@ def best_level(floats, top: float) -> list:
                             options={"xatol": 1e-12 * hi, "maxiter": 60})
     candidates = [(-found.fun, float(found.x))] + sorted(zip(values, grid), reverse=True)[:2]
     return [g for _, g in sorted(candidates, reverse=True)]
+
+
+def _levels(floats, top: float):
+    """γ₀ to try: just below the threshold first (where the stabilising solution is not ⪰ 0,
+    a − γ₀²b = −γ₀² c*Sc > 0 makes the bound exceed γ₀: within 1e-6 of the threshold in one
+    eigen-enclosure when stabilisation sets the optimum), then :func:`best_level`'s."""
+    yield top * (1 - JUST_BELOW)
+    yield from best_level(floats, top)
 
 
 def threshold(floats, start: float) -> float | None:
@@ -262,7 +272,7 @@ def stabilisation_bound(floats: list, balls: list, start: float) -> tuple[float 
         return None, "no level with a stabilising Riccati solution ⪰ 0 was found"
     best = None
     with ball_precision(PRECISION):
-        for gamma0 in best_level(floats, top):    # the best first; done once one reaches its γ₀
+        for gamma0 in _levels(floats, top):       # done once one reaches its γ₀
             lower = proved_root(_ball_bound(floats, balls, gamma0))
             if lower is None:
                 continue

@@ -46,7 +46,7 @@ def margin_influence(model, solution: Solution) -> float | None:
 
 
 def solve_model(model, solver: str | None = None, escalate: bool = True,
-                restore_margin: bool = False, **options) -> Solution:
+                restore_margin: bool = False, enough=None, **options) -> Solution:
     """Solve a compiled model; if the point does not satisfy the strict LMIs, re-solve with a
     larger margin.
 
@@ -55,7 +55,8 @@ def solve_model(model, solver: str | None = None, escalate: bool = True,
     margin is then multiplied by 10, 100, 1000 (re-solving each time) until the certificate
     holds; the margins tried are reported in ``Solution.notes``, and ``times["solver_calls"]``
     adds up the solver time of every attempt.  ``restore_margin`` puts the model's margin back
-    afterwards (a sweep re-solves the same model at the next point).
+    afterwards (a sweep re-solves the same model at the next point).  ``enough``: callable(solution)
+    → whether an uncertified point needs no escalation (a certified point from elsewhere is as good).
     """
     solution = model.solve(solver, **options)
     base = model.margin
@@ -64,7 +65,7 @@ def solve_model(model, solver: str | None = None, escalate: bool = True,
     before = model.tightened
     solution, calls = _tighten_active_nonstrict(model, solver, solution, calls, **options)
     for factor in (MARGIN_ESCALATION if escalate else ()):
-        if not solution.ok or solution.lmis_hold:
+        if not solution.ok or solution.lmis_hold or (enough is not None and enough(solution)):
             break
         model.set_margin(base * factor)
         tried.append(model.margin)
