@@ -5,12 +5,14 @@ theorem that declares its system states a claim that can be tested without its L
 
 * **bounded-real form** (:meth:`~lmidsl.theorem.theorem.Theorem.bounded_real_form`): the system
   (A, B, C, D) has H∞ norm at most the level γ.  For one system, SLICOT AB13DD's norm (python-control's
-  routine, called directly: python-control itself is imported only to form a loop); for a
+  routine, called directly: python-control itself is not imported); for a
   polytope (data per vertex, A(α) = Σ αᵢ Aᵢ, …), the norm on a grid of the simplex refined around
   its maximum (:func:`lmidsl.certify.simplex_grid.grid_evidence`): the claim is "for every α".
 * **a design with a loop** (its kind in :data:`~lmidsl.numeric.interconnection.DESIGN_KIND_TABLE`)
   whose analysis counterpart declares a bounded-real form (so the level is an H∞ level): the closed
-  loop (or filtering-error system) formed by python-control's LFT has H∞ norm at most the headline
+  loop (or filtering-error system) formed by the generic lower LFT
+  (:func:`lmidsl.numeric.interconnection.lower_lft`, checked against python-control's in the
+  tests) has H∞ norm at most the headline
   level — for a polytopic plant on the grid of the simplex (the loop's matrices are affine in the
   plant's, so the vertex loops span it).
 
@@ -127,7 +129,7 @@ def claim_evidence(solution, level: float | None) -> list[Evidence]:
     for test in (lambda: bounded_real_evidence(solution), lambda: design_evidence(solution, level)):
         try:
             found = test()
-        except Exception as exc:    # python-control refusing a system is no evidence either way
+        except Exception as exc:    # an ill-posed loop or SLICOT refusing a system is no evidence either way
             found = Evidence("independent norm", level, None, False,
                              f"evidence unavailable: {type(exc).__name__}: {exc}")
         if found is not None:

@@ -181,8 +181,13 @@ class Solution:
     def closed_loop(self):
         """The loop the design closes with the plant of the data, as a python-control
         ``StateSpace`` (w → z for a controller or gain, w → e for a filter, formed by
-        python-control's LFT, :func:`lmidsl.numeric.interconnection.design_loop`); None when
-        there is no design or the data are not a plant in the gallery's names."""
+        the lower LFT, :func:`lmidsl.numeric.interconnection.design_loop`); None when there is no
+        design or the data are not a plant in the gallery's names."""
+        loop = self._loop()
+        return None if loop is None else loop.as_statespace()
+
+    def _loop(self):
+        """The closed loop as a :class:`~lmidsl.numeric.interconnection.Realisation`, or None."""
         if self.design is None or self.instance is None:
             return None
         return design_loop(self.original_instance.data, self.design)
@@ -192,12 +197,12 @@ class Solution:
         return max((r.max_eig for r in self.lmis), default=None)
 
     def _loop_dict(self) -> dict | None:
-        """The closed loop's summary; a loop python-control cannot form or measure is reported as
+        """The closed loop's summary; a loop that cannot be formed (ill posed) or measured is reported as
         such (writing a result never fails on it)."""
         try:
-            system = self.closed_loop()
+            system = self._loop()
             return None if system is None else loop_summary(system, design_kind(self.design.kind).signal)
-        except Exception as exc:     # python-control/SLICOT refusing an ill-posed loop is a finding
+        except Exception as exc:     # an ill-posed loop or SLICOT refusing it is a finding
             return {"error": f"the closed loop could not be formed or measured: {type(exc).__name__}: {exc}"}
 
     def __repr__(self) -> str:
