@@ -13,7 +13,9 @@ options and the strictness margin, and tries, in this stated order:
    layers; :func:`~lmidsl.solver.backends.fallback_routes`) until one gives a *good* answer
    (certified, solved to full accuracy, the margin not setting the objective) — skipped, with
    the margin's escalation, when the first route's optimum is inaccurate and the closed form of
-   step 3 (computed first) is certified within :data:`CLOSED_FORM_GAP` of its objective;
+   step 3 (computed first) is certified within :data:`CLOSED_FORM_GAP` of its objective; the
+   fallback routes also when that point is certified and the model has more than
+   :data:`CLOSED_FORM_MAX_UNKNOWNS` unknowns, whatever the first answer;
 3. the theorem's declared **closed forms** (a Riccati point, :mod:`lmidsl.solver.fallback`),
    always — also when the user named a solver, and also after a *good* SDP answer: a solver's
    "optimal" is no proof of optimality, and on the closed loop of a helicopter model with its
@@ -55,16 +57,29 @@ from .status import INFEASIBLE, INFEASIBLE_INACCURATE, OPTIMAL_INACCURATE, SOLVE
 #: above the proved lower end).  An accurate answer that misses the strict LMIs by a hair is
 #: escalated as before (its certified point is usually closer than the closed form's).
 CLOSED_FORM_GAP = 1e-4
+#: with a certified closed-form point in hand, a model with more scalar unknowns than this gets no
+#: fallback routes, whatever the first route's answer: the dense interior-point fallback (CVXOPT)
+#: costs ~m³ + m²Σn_k² per iteration (state feedback at 48 states, m = 1273, Clarabel's solver
+#: error: no answer in 600 s, where the Riccati point took 28 s and the hand script 18 s)
+CLOSED_FORM_MAX_UNKNOWNS = 600
 
 
 def _close_enough(first: Solution, closed: Solution | None) -> bool:
     """Whether ``first`` is an inaccurate optimum and ``closed`` is certified at most
     :data:`CLOSED_FORM_GAP` above its objective."""
-    if closed is None or not (closed.ok and closed.lmis_hold) or closed.objective is None:
-        return False
-    if first.status != OPTIMAL_INACCURATE or first.objective is None:
+    if not _certified(closed) or first.status != OPTIMAL_INACCURATE or first.objective is None:
         return False
     return first.objective >= closed.objective - CLOSED_FORM_GAP * abs(closed.objective)
+
+
+def _certified(solution: Solution | None) -> bool:
+    return solution is not None and solution.ok and solution.lmis_hold and solution.objective is not None
+
+
+def _too_large(model) -> bool:
+    """More scalar unknowns than :data:`CLOSED_FORM_MAX_UNKNOWNS` (None: the backend does not say)."""
+    unknowns = getattr(getattr(model, "problem", None), "n", None)
+    return unknowns is not None and unknowns > CLOSED_FORM_MAX_UNKNOWNS
 
 
 @dataclass
@@ -187,7 +202,8 @@ class Plan:
         if closed is not None:
             tried.append(said(closed))
         points = first.ok           # some route returned a point (certified or not)
-        for route in (self.routes()[1:] if self.fallbacks and not good(first) and not _close_enough(first, closed)
+        enough = _close_enough(first, closed) or (_certified(closed) and _too_large(model))
+        for route in (self.routes()[1:] if self.fallbacks and not good(first) and not enough
                       else []):
             if route.backend == first.backend and route.solver.lower() == (first.solver or "").lower():
                 continue
