@@ -67,13 +67,19 @@ def start_for(workers: int | None, scheduler: str | None, items: int) -> bool:
     return at_once
 
 
+_STARTED = False
+"""Whether this process has started its fork server (:func:`start_local_workers_early`)."""
+
+
 def start_local_workers_early(workers: int | None, scheduler: str | None) -> None:
     """Start the fork server of a local parallel run now (a no-op otherwise): its imports then
     run while this process binds and compiles the theorem, and the cluster's workers fork from
     it as soon as the cluster starts.  It starts with SIGINT ignored, which its workers inherit
     (:func:`workers_ignore_ctrl_c`), and with :data:`FORKSERVER_ENV`."""
-    if scheduler or workers is None or workers < 2 or local_start_method() != "forkserver":
-        return
+    global _STARTED
+    if scheduler or workers is None or workers < 2 or local_start_method() != "forkserver" or _STARTED:
+        return                 # (started already: a second call would only truncate the log again)
+    _STARTED = True
     forkserver.set_forkserver_preload(FORKSERVER_PRELOAD)
     saved = {k: os.environ.get(k) for k in FORKSERVER_ENV}
     os.environ.update(FORKSERVER_ENV)
