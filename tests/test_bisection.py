@@ -129,7 +129,7 @@ def test_a_bisection_step_ends_at_the_first_route_that_says_infeasible(monkeypat
         monkeypatch.setattr(Plan, "_solve_model", solve_route)
         monkeypatch.setattr(Plan, "routes", lambda self: [SimpleNamespace(backend=b, solver=s) for b, s in (
             ("direct", "CLARABEL"), ("picos", "cvxopt"), ("cvxpy", "CLARABEL"), ("cvxpy", "CVXOPT"))])
-        kept = Plan(None, None, infeasible_ends=infeasible_ends)._other_routes(model, first, None)
+        kept = Plan(None, None, infeasible_ends=infeasible_ends)._other_routes(model, first, plan_module._ClosedForm(None, False))
         assert [(r.backend, r.solver) for r in tried] == [("picos", "cvxopt"), ("cvxpy", "CLARABEL"),
                                                           ("cvxpy", "CVXOPT")][:expected]
         assert kept.status == "solver_error" and not kept.ok        # no point: the step is "no"

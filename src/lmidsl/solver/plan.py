@@ -13,7 +13,7 @@ options and the strictness margin, and tries, in this stated order:
    layers; :func:`~lmidsl.solver.backends.fallback_routes`) until one gives a *good* answer
    (certified, solved to full accuracy, the margin not setting the objective) — skipped, with
    the margin's escalation, when the first route's optimum is inaccurate and the closed form of
-   step 3 (computed first) is certified within :data:`CLOSED_FORM_GAP` of its objective; the
+   step 3 (then computed, once) is certified within :data:`CLOSED_FORM_GAP` of its objective; the
    fallback routes also when that point is certified and the model has more than
    :data:`CLOSED_FORM_MAX_UNKNOWNS` unknowns, whatever the first answer;
 3. the theorem's declared **closed forms** (a Riccati point, :mod:`lmidsl.solver.fallback`),
@@ -64,12 +64,30 @@ CLOSED_FORM_GAP = 1e-4
 CLOSED_FORM_MAX_UNKNOWNS = 600
 
 
-def _close_enough(first: Solution, closed: Solution | None) -> bool:
-    """Whether ``first`` is an inaccurate optimum and ``closed`` is certified at most
-    :data:`CLOSED_FORM_GAP` above its objective."""
-    if not _certified(closed) or first.status != OPTIMAL_INACCURATE or first.objective is None:
+class _ClosedForm:
+    """The theorem's closed-form point (:func:`riccati_point`), computed once, when first asked
+    (a road that ends earlier — a proved infeasibility, a bisection's "infeasible" — never pays
+    for it); ``seconds``: the time it took."""
+
+    def __init__(self, instance, declared: bool):
+        self.instance, self.declared = instance, declared
+        self.seconds, self._done, self._point = 0.0, False, None
+
+    def point(self) -> Solution | None:
+        if self.declared and not self._done:
+            t0 = time.perf_counter()
+            self._point = riccati_point(self.instance, None, 0.0)
+            self.seconds, self._done = time.perf_counter() - t0, True
+        return self._point
+
+
+def _close_enough(first: Solution, closed: _ClosedForm) -> bool:
+    """Whether ``first`` is an inaccurate optimum and the closed form's point is certified at most
+    :data:`CLOSED_FORM_GAP` above its objective (the point is computed only for such a ``first``)."""
+    if first.status != OPTIMAL_INACCURATE or first.objective is None or not closed.declared:
         return False
-    return first.objective >= closed.objective - CLOSED_FORM_GAP * abs(closed.objective)
+    point = closed.point()
+    return _certified(point) and first.objective >= point.objective - CLOSED_FORM_GAP * abs(point.objective)
 
 
 def _certified(solution: Solution | None) -> bool:
@@ -135,12 +153,9 @@ class Plan:
         second proved lower bound when the kept model's is loose).  The kept solution's ``times``
         gain the road's own: ``road_closed_form``, ``road_as_written``, ``road_conditioned``,
         ``road_other_routes`` (compiles included), so that its record accounts for the wall time of every route tried."""
-        road, closed = {}, None
-        if self.closed_forms and declares_closed_form(instance.theorem):
-            t0 = time.perf_counter()
-            closed = riccati_point(instance, None, 0.0)
-            road["road_closed_form"] = time.perf_counter() - t0
-        enough = None if closed is None else (lambda sol: _close_enough(sol, closed))
+        road = {}
+        closed = _ClosedForm(instance, self.closed_forms and declares_closed_form(instance.theorem))
+        enough = None if not closed.declared else (lambda sol: _close_enough(sol, closed))
         t0 = time.perf_counter()
         model_class = get_backend(self.backend)
         if model is not None:
@@ -154,23 +169,25 @@ class Plan:
         solved = [] if solved is None else solved
         solved.append(plain)
         proposal = equilibrate(instance, plain)
-        road["road_as_written"] = time.perf_counter() - t0
+        road["road_as_written"] = time.perf_counter() - t0 - closed.seconds
         if not proposal.trivial:
-            t1 = time.perf_counter()
+            t1, before = time.perf_counter(), closed.seconds
             conditioned = model_class(instance, margin=self.margin, conditioning=proposal)
             other = self._solve_model(conditioned, self.solver, restore_margin=restore_margin, enough=enough)
             solved.append(conditioned)
-            road["road_conditioned"] = time.perf_counter() - t1
+            road["road_conditioned"] = time.perf_counter() - t1 - (closed.seconds - before)
             kept = better(solution, other)
             before, after = proposal.spread
             kept.notes.append(f"conditioning (coefficient spread 2^{before:.0f} -> 2^{after:.0f}): as written "
                               f"{said(solution)}; conditioned {said(other)}; kept "
                               + ("the conditioned" if kept is other else "as written"))
             solution, model = kept, (conditioned if kept is other else plain)
-        t2 = time.perf_counter()
+        t2, before = time.perf_counter(), closed.seconds
         kept = self._other_routes(model, solution, closed)
         proving = solution.times.get("infeasibility_proof", 0.0)       # a part of its own
-        road["road_other_routes"] = time.perf_counter() - t2 - proving
+        road["road_other_routes"] = time.perf_counter() - t2 - proving - (closed.seconds - before)
+        if closed.seconds:
+            road["road_closed_form"] = closed.seconds
         if proving:
             road["infeasibility_proof"] = proving
         kept.times.update(road)
@@ -185,11 +202,10 @@ class Plan:
         model.update(instance)
         return self._solve_model(model, self.solver, restore_margin=True)
 
-    def _other_routes(self, model, first: Solution, closed: Solution | None) -> Solution:
+    def _other_routes(self, model, first: Solution, closed: _ClosedForm) -> Solution:
         """The fallback routes (step 2) while the answer is not good, and ``closed``, the closed
-        form's point (step 3; None: the theorem declares none, or it gave no point)."""
-        closed_form = self.closed_forms and declares_closed_form(model.instance.theorem)
-        if (good(first) and not closed_form) or (self.infeasible_ends and first.status == INFEASIBLE):
+        form (step 3)."""
+        if (good(first) and not closed.declared) or (self.infeasible_ends and first.status == INFEASIBLE):
             return first
         if first.status == INFEASIBLE and self.infeasibility_proof is not None:
             t0 = time.perf_counter()
@@ -199,10 +215,11 @@ class Plan:
                 first.notes.append("no other route tried: the infeasibility is proved on the first route's model")
                 return first
         kept, tried = first, [said(first)]
-        if closed is not None:
-            tried.append(said(closed))
+        point = closed.point()
+        if point is not None:
+            tried.append(said(point))
         points = first.ok           # some route returned a point (certified or not)
-        enough = _close_enough(first, closed) or (_certified(closed) and _too_large(model))
+        enough = _close_enough(first, closed) or (_certified(point) and _too_large(model))
         for route in (self.routes()[1:] if self.fallbacks and not good(first) and not enough
                       else []):
             if route.backend == first.backend and route.solver.lower() == (first.solver or "").lower():
@@ -218,8 +235,8 @@ class Plan:
             kept = better(kept, other)
             if good(other) or (self.infeasible_ends and other.status == INFEASIBLE):
                 break          # a bisection step after a solver error: the first "infeasible" ends it
-        if closed is not None:
-            kept = better(kept, closed)
+        if point is not None:
+            kept = better(kept, point)
         if len(tried) == 1:
             return first
         if kept is first and not good(first):
