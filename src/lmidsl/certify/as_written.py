@@ -478,10 +478,6 @@ class ExactCoefficients:
             self._columns[key] = (lmis, None if at[1] is None else at[1] - zero_q)
         return self._columns[key]
 
-    def column(self, c: int):
-        """(N^c per LMI instance, q_c): :meth:`combination` of the single entry c."""
-        return self.combination({c: fmpq(1)})
-
 
 def _degree(expr, symbols) -> int | None:
     """An upper bound on the total degree of ``expr`` (a scalar or matrix expression) as a

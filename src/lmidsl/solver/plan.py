@@ -171,21 +171,21 @@ class Plan:
         proposal = equilibrate(instance, plain)
         road["road_as_written"] = time.perf_counter() - t0 - closed.seconds
         if not proposal.trivial:
-            t1, before = time.perf_counter(), closed.seconds
+            t1, spent = time.perf_counter(), closed.seconds
             conditioned = model_class(instance, margin=self.margin, conditioning=proposal)
             other = self._solve_model(conditioned, self.solver, restore_margin=restore_margin, enough=enough)
             solved.append(conditioned)
-            road["road_conditioned"] = time.perf_counter() - t1 - (closed.seconds - before)
+            road["road_conditioned"] = time.perf_counter() - t1 - (closed.seconds - spent)
             kept = better(solution, other)
             before, after = proposal.spread
             kept.notes.append(f"conditioning (coefficient spread 2^{before:.0f} -> 2^{after:.0f}): as written "
                               f"{said(solution)}; conditioned {said(other)}; kept "
                               + ("the conditioned" if kept is other else "as written"))
             solution, model = kept, (conditioned if kept is other else plain)
-        t2, before = time.perf_counter(), closed.seconds
+        t2, spent = time.perf_counter(), closed.seconds
         kept = self._other_routes(model, solution, closed)
         proving = solution.times.get("infeasibility_proof", 0.0)       # a part of its own
-        road["road_other_routes"] = time.perf_counter() - t2 - proving - (closed.seconds - before)
+        road["road_other_routes"] = time.perf_counter() - t2 - proving - (closed.seconds - spent)
         if closed.seconds:
             road["road_closed_form"] = closed.seconds
         if proving:
@@ -219,8 +219,8 @@ class Plan:
         if point is not None:
             tried.append(said(point))
         points = first.ok           # some route returned a point (certified or not)
-        enough = _close_enough(first, closed) or (_certified(point) and _too_large(model))
-        for route in (self.routes()[1:] if self.fallbacks and not good(first) and not enough
+        suffices = _close_enough(first, closed) or (_certified(point) and _too_large(model))
+        for route in (self.routes()[1:] if self.fallbacks and not good(first) and not suffices
                       else []):
             if route.backend == first.backend and route.solver.lower() == (first.solver or "").lower():
                 continue
