@@ -14,6 +14,7 @@ import numpy as np
 from .design import Design
 from .instance import Instance
 from .evaluate import NumericEvaluator
+from .proof import PRECISION, BallEvaluator, ball_precision
 from ..theorem.values import FactorStep
 
 
@@ -25,6 +26,7 @@ def recover(instance: Instance, values: dict) -> tuple[dict, list]:
     evaluator = NumericEvaluator(instance.dims, point, instance.params)
     reports: list = []
     recovered = {}
+    precise = any(getattr(v, "exact", None) is not None for v in values.values())
     steps = theorem.recovery_steps or [("formula", name) for name in theorem.recovery]
     for step in steps:
         if isinstance(step, FactorStep):
@@ -35,8 +37,21 @@ def recover(instance: Instance, values: dict) -> tuple[dict, list]:
         else:
             name = step[1]
             recovered[name] = np.atleast_2d(evaluator.visit(theorem.recovery[name]))
+            if precise:
+                recovered[name] = _precise_formula(instance, point, theorem.recovery[name])
             point[name] = recovered[name]        # a later formula may use it
     return recovered, reports + evaluator.inverted
+
+
+def _precise_formula(instance: Instance, point: dict, formula) -> np.ndarray:
+    """A recovery formula at a point holding exact values (:class:`~lmidsl.numeric.proof.PreciseMatrix`:
+    the Riccati route's storage of a stiff loop), evaluated in :data:`PRECISION`-bit ball
+    arithmetic and rounded to doubles.  In doubles, K = W Y⁻¹ at a Y of condition number 1e18
+    (H∞ state feedback, 24 states) is noise; exactly, it is the gain the point was built from."""
+    with ball_precision(PRECISION):
+        balls = np.atleast_2d(np.asarray(BallEvaluator(instance.dims, point, instance.params).visit(formula),
+                                         dtype=object))
+        return np.array([[float(x.mid()) for x in row] for row in balls], dtype=float)
 
 
 def recover_design(instance: Instance, values: dict, undo=None, **obtained) -> Design:

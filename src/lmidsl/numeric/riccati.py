@@ -110,12 +110,13 @@ def realisation_norm(A, B, C, D, time: str) -> tuple[float | None, str]:
     return hinf_norm(A, B, C, D, time), "SLICOT's norm"
 
 
-def storage_candidates(A, B, C, D, g: float, time: str, norm: float):
+def storage_candidates(A, B, C, D, g: float, time: str, norm: float, written=None):
     """(how, P) for the storages P of the bounded-real Riccati equation at the level g = γ² > ‖G‖∞²
     (``norm``): in the coordinates as written with ε = each of :data:`FRACTIONS` of the room
     (g − ‖G‖∞²) / ‖(sI − A)⁻¹B‖∞², then for the balanced realisation with ε I and ε W
     (module docstring), mapped back; only those for which a stabilising solution exists.  ``how``
-    says which (for the notes); the candidates are not proved here."""
+    says which (for the notes); the candidates are not proved here.  ``written``: the realisation
+    the proof reads, for :func:`precise_storage`."""
     A = np.atleast_2d(np.asarray(A, dtype=float))
     B = np.atleast_2d(np.asarray(B, dtype=float))
     C = np.atleast_2d(np.asarray(C, dtype=float))
@@ -144,22 +145,27 @@ def storage_candidates(A, B, C, D, g: float, time: str, norm: float):
         if how == "balanced" and time == "continuous" and n <= PRECISE_MAX_STATES:   # the last resort
             name, w = weightings[-1]
             eps = FRACTIONS[0] * (g - norm ** 2) / max(gains[name] ** 2, 1e-300)
-            P = precise_storage(A, B, C, D, g, eps, w, Ti)
-            if P is not None:
-                yield f"{how}, {PRECISE_DIGITS}-digit Hamiltonian, CᵀC + ε{name} with ε = {eps:.3g}", P
+            for digits in PRECISE_LADDER:
+                P = precise_storage(A, B, C, D, g, eps, w, Ti, written, digits)
+                if P is not None:
+                    yield f"{how}, {digits}-digit Hamiltonian, CᵀC + ε{name} with ε = {eps:.3g}", P
 
 
 PRECISE_DIGITS = 60
 """Decimal digits of the Hamiltonian route (:func:`precise_storage`)."""
+PRECISE_LADDER = (PRECISE_DIGITS, 2 * PRECISE_DIGITS)
+"""The digits of the Hamiltonian route's tries, the second only when the first storage fails its
+proof: the loop of a 60-digit state-feedback gain with entries 1e10 (24 states) has C_clᵀC_cl ~ 1e20
+beside a margin ε ~ 1e-9: its 60-digit storage violated the LMI, its 120-digit one was proved."""
 PRECISE_MAX_STATES = 32
 """The largest state dimension given the Hamiltonian route: its 2n eigenpairs at 60 digits cost
 ~0.3 s at n = 16 and 8–10 s at n = 48, where no such storage was ever proved (H∞ state feedback
 at 48 states: three tries, 27 s, none certified; the floating-point storage at the next level was)."""
 
 
-def precise_storage(A, B, C, D, g: float, eps: float, weights, Ti):
+def precise_storage(A, B, C, D, g: float, eps: float, weights, Ti, written=None, digits: int = PRECISE_DIGITS):
     """The stabilising storage of the continuous bounded-real Riccati equation (CᵀC + ε diag(w))
-    computed at :data:`PRECISE_DIGITS` digits and kept exactly (a
+    computed at ``digits`` digits and kept exactly (a
     :class:`~lmidsl.numeric.proof.PreciseMatrix`), or None.
 
     The realisation is (Ti A Ti⁻¹, Ti B, C Ti⁻¹) with the data the decimals as written (what the
@@ -168,57 +174,137 @@ def precise_storage(A, B, C, D, g: float, eps: float, weights, Ti):
     subspace [X₁; X₂] of the Hamiltonian [[Ā, BR⁻¹Bᵀ], [−Q̄, −Āᵀ]] (python-flint's ``acb_mat.eig``,
     arb's QR iteration in C: 0.3 s for n = 16 where mpmath took 35 s) gives
     Pb = X₂X₁⁻¹ (Zhou, Doyle, Glover 1996, ch. 13), mapped back P = Tiᵀ Pb Ti and its midpoints
-    taken as exact rationals.  For a stiff closed loop (eigenvalues 1e9 next to 1) the LMI's margin
+    taken as exact rationals.  ``written(balls)``, when given, returns the realisation (A, B, C, D)
+    as the proof reads it, from ``balls(M, written)`` (a matrix's decimals as written, or with
+    ``written=False`` its binary value): a closed loop A + B₂K whose storage is proved through
+    W = K Y must be A + B₂K in exact arithmetic, not the rounded sum (on the H∞ state-feedback
+    plants of 24 states the difference, ~1e-16 ‖B₂‖‖K‖, exceeded the margin: every such
+    storage failed its proof).  For a stiff closed loop (eigenvalues 1e9 next to 1) the LMI's margin
     at the exact storage is ~1e-18 of entries ~1e9: double precision cannot hold P, its exact value
     can; the proof decides (:class:`~lmidsl.numeric.proof.PreciseMatrix` is what it reads).  Nothing
     here is rigorous: the enclosures are only used for their midpoints."""
     n, m = A.shape[0], B.shape[1]
-    with ball_precision(int(PRECISE_DIGITS * 3.33) + 8):
+    with ball_precision(int(digits * 3.33) + 8):
         def balls(M, written=True):       # data: the decimals as written (repr); Ti: its floats
             M = np.atleast_2d(np.asarray(M, dtype=float))
             return arb_mat([[arb(repr(float(x))) if written else arb(float(x)) for x in row] for row in M])
 
-        Am, Bm, Cm, Dm, Tm = balls(A), balls(B), balls(C), balls(D), balls(Ti, written=False)
+        Am, Bm, Cm, Dm = (balls(A), balls(B), balls(C), balls(D)) if written is None else written(balls)
+        Tm = balls(Ti, written=False)
         try:
             Tinv = Tm.inv()
             Ab, Bb, Cb = Tm * Am * Tinv, Tm * Bm, Cm * Tinv
-            S = Cb.transpose() * Dm
-            Ri = (arb(g) * arb_mat(m, m, [1 if i == j else 0 for i in range(m) for j in range(m)])
-                  - Dm.transpose() * Dm).inv()
-            Abar = Ab + Bb * Ri * S.transpose()
+            Ri = (arb(g) * _identity(m) - Dm.transpose() * Dm).inv()
             W = arb_mat(n, n, [arb(eps) * arb(float(weights[i])) if i == j else 0 for i in range(n) for j in range(n)])
-            Qbar = Cb.transpose() * Cb + W + S * Ri * S.transpose()
-            G = Bb * Ri * Bb.transpose()
-            H = acb_mat(2 * n, 2 * n)
-            for i in range(n):
-                for j in range(n):
-                    H[i, j], H[i, n + j], H[n + i, j], H[n + i, n + j] = Abar[i, j], G[i, j], -Qbar[i, j], -Abar[j, i]
-            E, V = H.eig(right=True, nonstop=True)
-            stable = [k for k in range(2 * n) if E[k].real.mid() < 0]
-            if len(stable) != n:
+            Pb = _stabilising_solution(Ab, Bb, Cb.transpose() * Cb + W, Cb.transpose() * Dm, Ri)
+            if Pb is None:
                 return None
-            X1, X2 = acb_mat(n, n), acb_mat(n, n)
-            for c, k in enumerate(stable):
-                for i in range(n):
-                    X1[i, c], X2[i, c] = V[i, k], V[n + i, k]
-            Pb = X2 * X1.inv()
             Tc = acb_mat(Tm)
-            P = Tc.transpose() * Pb * Tc
+            exact = _exact_midpoints(Tc.transpose() * Pb * Tc)
         except (ZeroDivisionError, ValueError, ArithmeticError):
             return None
-
-        def rational(x):                  # the midpoint of the real part, exactly
-            man, exp = x.real.mid().man_exp()
-            return fmpq(int(man) * 2 ** int(exp)) if exp >= 0 else fmpq(int(man), 2 ** int(-exp))
-
-        try:
-            exact = np.array([[rational(P[i, j]) for j in range(n)] for i in range(n)], dtype=object)
-        except (ValueError, OverflowError):       # a non-finite midpoint (eig did not converge)
-            return None
-    exact = (exact + exact.T) / 2                  # symmetric exactly
-    if not np.all(np.isfinite([[float(x) for x in row] for row in exact])):
+    if exact is None:
         return None
+    exact = (exact + exact.T) / 2                  # symmetric exactly
     return PreciseMatrix.of(exact)
+
+
+def _identity(m: int) -> arb_mat:
+    return arb_mat(m, m, [1 if i == j else 0 for i in range(m) for j in range(m)])
+
+
+def _stabilising_solution(A: arb_mat, B: arb_mat, Q: arb_mat, S: arb_mat, Ri: arb_mat):
+    """The stabilising solution X (an ``acb_mat``) of AᵀX + XA + Q + (XB + S) Ri (BᵀX + Sᵀ) = 0
+    at the current precision, or None: with Ā = A + B Ri Sᵀ, the stable invariant subspace
+    [X₁; X₂] of the Hamiltonian [[Ā, B Ri Bᵀ], [−(Q + S Ri Sᵀ), −Āᵀ]] (python-flint's
+    ``acb_mat.eig``, arb's QR iteration in C), X = X₂X₁⁻¹ (Zhou, Doyle, Glover 1996, ch. 13).
+    Ri = (γ²I − DᵀD)⁻¹ is the bounded-real equation; Ri = −R⁻¹ with the full-information
+    R = DᵀD − diag(γ²I, 0) the H∞ full-information one.  Midpoints only: nothing is claimed."""
+    n = A.nrows()
+    Abar = A + B * Ri * S.transpose()
+    Qbar = Q + S * Ri * S.transpose()
+    G = B * Ri * B.transpose()
+    H = acb_mat(2 * n, 2 * n)
+    for i in range(n):
+        for j in range(n):
+            H[i, j], H[i, n + j], H[n + i, j], H[n + i, n + j] = Abar[i, j], G[i, j], -Qbar[i, j], -Abar[j, i]
+    E, V = H.eig(right=True, nonstop=True)
+    stable = [k for k in range(2 * n) if E[k].real.mid() < 0]
+    if len(stable) != n:
+        return None
+    X1, X2 = acb_mat(n, n), acb_mat(n, n)
+    for c, k in enumerate(stable):
+        for i in range(n):
+            X1[i, c], X2[i, c] = V[i, k], V[n + i, k]
+    return X2 * X1.inv()
+
+
+def _exact_midpoints(M) -> np.ndarray | None:
+    """The midpoints of the real parts of an ``acb_mat`` as exact rationals (an object array of
+    ``fmpq``), or None when one is not finite (eig did not converge)."""
+    def rational(x):
+        man, exp = x.real.mid().man_exp()
+        return fmpq(int(man) * 2 ** int(exp)) if exp >= 0 else fmpq(int(man), 2 ** int(-exp))
+
+    try:
+        out = np.array([[rational(M[i, j]) for j in range(M.ncols())] for i in range(M.nrows())], dtype=object)
+    except (ValueError, OverflowError):
+        return None
+    return out if np.all(np.isfinite([[float(x) for x in row] for row in out])) else None
+
+
+def precise_full_information_gain(A, B1, B2, C1, D11, D12, gamma: float, eps: float, written=None):
+    """(K, X): the state-feedback gain K of :func:`full_information_feedback` (continuous time,
+    Q = C₁ᵀC₁ + εI) and the Riccati solution X ⪰ 0, computed at :data:`PRECISE_DIGITS` digits and
+    kept exactly (object arrays of ``fmpq``, the balls' midpoints); None when there is no
+    stabilising solution X ⪰ 0.  ``written(balls)``: the plant (A, B₁, B₂, C₁, D₁₁, D₁₂) as the
+    proof reads it.
+
+    X is the bounded-real storage of the loop closed by K at γ²: with u = Kx fixed, the
+    Hamiltonian 2xᵀX(Ax + B₁w + B₂u) + |z|² − γ²|w|² is concave in w (γ²I ≻ D₁₁ᵀD₁₁) and its
+    saddle point in (w, u) is (F_w x, Kx), so it is at most its value there, −ε|x|², less a
+    negative-definite quadratic in w − F_w x: the closed loop's dissipation inequality holds
+    strictly.  Near the optimal level the equation is ill-conditioned: SciPy's X has a relative
+    error ~1e-5 and its gain's closed loop, summed in doubles, scatters ~1 % above the level (H∞
+    state feedback, 24 states, one actuator: 75,593 … 80,196 for levels 75,383 … 75,700, the
+    optimum ≥ 75,374.5 proved); at 60 digits, summed exactly, the loop's norm is below the level
+    (75,389.998 at 75,390)."""
+    m1 = np.atleast_2d(B1).shape[1]
+    n = np.atleast_2d(A).shape[0]
+    with ball_precision(int(PRECISE_DIGITS * 3.33) + 8):
+        def balls(M, written=True):
+            M = np.atleast_2d(np.asarray(M, dtype=float))
+            return arb_mat([[arb(repr(float(x))) if written else arb(float(x)) for x in row] for row in M])
+
+        Am, B1m, B2m, C1m, D11m, D12m = (tuple(balls(M) for M in (A, B1, B2, C1, D11, D12))
+                                         if written is None else written(balls))
+        try:
+            B = _side_by_side(B1m, B2m)
+            D = _side_by_side(D11m, D12m)
+            m = B.ncols()
+            R = D.transpose() * D - arb(gamma) ** 2 * arb_mat(m, m, [1 if i == j < m1 else 0
+                                                                  for i in range(m) for j in range(m)])
+            Rinv = R.inv()
+            X = _stabilising_solution(Am, B, C1m.transpose() * C1m + arb(eps) * _identity(n),
+                                      C1m.transpose() * D, -Rinv)
+            if X is None:
+                return None
+            F = -(acb_mat(Rinv) * (acb_mat(B).transpose() * X + acb_mat(D.transpose() * C1m)))
+            Xq, Fq = _exact_midpoints(X), _exact_midpoints(F)
+        except (ZeroDivisionError, ValueError, ArithmeticError):
+            return None
+    if Xq is None or Fq is None:
+        return None
+    Xq = (Xq + Xq.T) / 2
+    eig = np.linalg.eigvalsh(np.array([[float(x) for x in row] for row in Xq]))
+    if eig[0] < -1e-9 * max(abs(eig[-1]), 1.0):
+        return None
+    return Fq[m1:], Xq
+
+
+def _side_by_side(L: arb_mat, R: arb_mat) -> arb_mat:
+    return arb_mat([[L[i, j] for j in range(L.ncols())] + [R[i, j] for j in range(R.ncols())]
+                    for i in range(L.nrows())])
 
 
 BALANCING_REGULARISATION = 1e-12
@@ -311,5 +397,5 @@ def full_information_feedback(A, B1, B2, C1, D11, D12, gamma: float, time: str, 
     return F
 
 
-__all__ = ["BALANCING_REGULARISATION", "FRACTIONS", "PRECISE_DIGITS", "precise_storage", "realisation_norm", "balancing_transform", "bounded_real_storage",
+__all__ = ["BALANCING_REGULARISATION", "FRACTIONS", "PRECISE_DIGITS", "PRECISE_LADDER", "precise_full_information_gain", "precise_storage", "realisation_norm", "balancing_transform", "bounded_real_storage",
            "full_information_feedback", "full_information_gain", "full_information_weights", "gramian_factor", "hinf_norm", "storage_candidates"]

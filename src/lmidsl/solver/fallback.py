@@ -27,12 +27,14 @@ solver fails: proved within 1e-5 of the norm in ~10 ms.
 from __future__ import annotations
 
 import numpy as np
-from flint import fmpq, fmpq_mat
+from flint import arb_mat, fmpq, fmpq_mat
 
 from ..numeric.evaluate import NumericEvaluator
 from ..numeric.instance import Instance
-from ..numeric.proof import PROVED, PreciseMatrix
-from ..numeric.riccati import full_information_gain, hinf_norm, realisation_norm, storage_candidates
+from ..numeric.proof import PROVED, BallEvaluator, PreciseMatrix
+from ..numeric.systems import is_stable
+from ..numeric.riccati import (PRECISE_DIGITS, full_information_gain, hinf_norm,
+                               precise_full_information_gain, realisation_norm, storage_candidates)
 from .backends import Route, get_backend
 from .solution import Solution, evaluate_performance, lmi_certificate
 from .status import OPTIMAL
@@ -98,7 +100,11 @@ def riccati_point(instance: Instance, synthesis_gamma, tolerance):
     (:meth:`Theorem.bounded_real_form`): P from the bounded-real Riccati equation
     (:mod:`lmidsl.numeric.riccati`) at the levels python-control's norm × (1 + r), r in
     :data:`RICCATI_LEVELS` (γ then states the design's own norm, as the analysis minimum
-    would), then the synthesis γ and γ (1 + tolerance)."""
+    would), and the synthesis γ × (1 + r) (r below the tolerance), γ and γ (1 + tolerance), in
+    increasing order.  A level above the synthesis γ but below SLICOT's norm is tried with the
+    synthesis γ as the norm that sets the Riccati margin ε: on the stiff loop of a 60-digit
+    state-feedback gain SLICOT's norm, from the loop summed in doubles, was 1 % above the norm
+    (76,143 where the exact loop's is below 75,390)."""
     if instance.theorem.state_feedback is not None:
         return state_feedback_point(instance)
     form = instance.theorem.bounded_real
@@ -113,9 +119,14 @@ def riccati_point(instance: Instance, synthesis_gamma, tolerance):
         return None
     levels = [norm * (1 + r) for r in RICCATI_LEVELS]
     if synthesis_gamma is not None:
+        levels += [synthesis_gamma * (1 + r) for r in RICCATI_LEVELS if r < tolerance]
         levels += [synthesis_gamma, synthesis_gamma * (1 + tolerance)]
-    for gamma in sorted({g for g in levels if g > norm}):
-        for how, P in storage_candidates(A, B, C, D, gamma ** 2, time, norm):
+    written = _as_written(instance, form.system)
+    for gamma in sorted(set(levels)):
+        seed = norm if norm < gamma else synthesis_gamma
+        if seed is None or not seed < gamma:
+            continue
+        for how, P in storage_candidates(A, B, C, D, gamma ** 2, time, seed, lambda balls: written()):
             values = {form.storage.name: P, form.level.name: gamma ** 2}
             sol = _certified_point(instance, values, gamma ** 2)
             if sol is not None:
@@ -126,6 +137,16 @@ def riccati_point(instance: Instance, synthesis_gamma, tolerance):
                                     else ""))
                 return sol
     return None
+
+
+def _as_written(instance: Instance, expressions):
+    """A function returning ``expressions`` (the declared form's system) as python-flint ball
+    matrices at the current precision, the data read as the proof reads them (decimals as written):
+    the realisation whose exact storage :func:`~lmidsl.numeric.riccati.precise_storage` computes."""
+    def balls():
+        ev = BallEvaluator(instance.dims, dict(instance.data), instance.params)
+        return tuple(arb_mat(np.atleast_2d(np.asarray(ev.visit(e), dtype=object)).tolist()) for e in expressions)
+    return balls
 
 
 ROUNDING = 1e-9
@@ -162,19 +183,21 @@ def gain_point(P2, K, gamma: float):
     """(Y, W) = (γ P₂⁻¹, K Y): the state-feedback variables of a closed loop's storage P₂.  When
     P₂ is exact (:class:`~lmidsl.numeric.proof.PreciseMatrix`: the 60-digit Hamiltonian route of a
     stiff loop) Y and W are computed exactly in rationals (python-flint ``fmpq_mat``), so that the
-    congruence that makes them satisfy the LMIs is exact too; otherwise in floating point."""
+    congruence that makes them satisfy the LMIs is exact too; otherwise in floating point.  K may
+    be exact itself (an object array of ``fmpq``)."""
     exact = getattr(P2, "exact", None)
     if exact is None:
         Y = gamma * np.linalg.inv(P2)
         Y = (Y + Y.T) / 2
-        return Y, K @ Y
+        return Y, np.asarray(K, dtype=float) @ Y
     n = exact.shape[0]
-    K = np.atleast_2d(np.asarray(K, dtype=float))
+    K = np.atleast_2d(np.asarray(K, dtype=object if K.dtype == object else float))
     try:
         Yq = fmpq_mat(n, n, [x for row in exact for x in row]).inv() * fmpq(*float(gamma).as_integer_ratio())
     except ZeroDivisionError:
         return gain_point(np.asarray(P2, dtype=float), K, gamma)
-    Kq = fmpq_mat(K.shape[0], K.shape[1], [fmpq(*float(x).as_integer_ratio()) for x in K.ravel()])
+    Kq = fmpq_mat(K.shape[0], K.shape[1], [x if isinstance(x, fmpq) else fmpq(*float(x).as_integer_ratio())
+                                           for x in K.ravel()])
     Wq = Kq * Yq
     as_array = lambda M: np.array([[M[i, j] for j in range(M.ncols())] for i in range(M.nrows())], dtype=object)  # noqa: E731
     return PreciseMatrix.of(as_array(Yq)), PreciseMatrix.of(as_array(Wq))
@@ -192,11 +215,15 @@ def state_feedback_point(instance: Instance) -> Solution | None:
     congruence-transformed by diag(P⁻¹, I, I)).  Tried, for r in :data:`SF_MARGINS`: the gain of
     least ν the bisection met at γ = ν (1 + r) (its ν can be below γ_R: random 8-state plant,
     83.8504 against 83.8677), then the gain at γ_R (1 + r) at that level.  The first point that
-    satisfies every LMI is returned."""
+    satisfies every LMI is returned.  Before them, when the least ν is more than
+    :data:`PRECISE_SF_TRIGGER` above γ_e, the least level at which the equation has its solution
+    (however large the gain's ν, which doubles compute wrongly there): the 60-digit route,
+    :func:`_precise_state_feedback_point`."""
     form = instance.theorem.state_feedback
     ev = NumericEvaluator(instance.dims, dict(instance.data), instance.params)
     A, B1, B2, C1, D11, D12 = (np.atleast_2d(np.asarray(ev.visit(e), dtype=float)) for e in form.plant)
     time = instance.theorem.time
+    plant = _as_written(instance, form.plant)
 
     least = []                               # (ν, K): the stabilising gain of least closed-loop norm met
 
@@ -229,6 +256,13 @@ def state_feedback_point(instance: Instance) -> Solution | None:
             lo = mid
         if hi / lo - 1 < 1e-9:
             break
+    exists = _existence_level(lambda g: full_information_gain(A, B1, B2, C1, D11, D12, g, time) is not None,
+                              lo, hi)
+    if time == "continuous" and A.shape[0] <= PRECISE_SF_MAX_STATES and least \
+            and least[0][0] > exists * (1 + PRECISE_SF_TRIGGER):
+        sol = _precise_state_feedback_point(instance, plant, exists)
+        if sol is not None:
+            return sol
     for r in SF_MARGINS:
         tries = [(least[0][0] * (1 + r), least[0])] if least else []
         closed = loop(hi * (1 + r))
@@ -236,7 +270,13 @@ def state_feedback_point(instance: Instance) -> Solution | None:
             tries.append((hi * (1 + r), (closed[1], closed[0])))
         for gamma, (norm, K) in tries:
             Acl, Ccl = A + B2 @ K, C1 + D12 @ K
-            for _, P2 in storage_candidates(Acl, B1, Ccl, D11, gamma ** 2, time, norm):
+
+            def written(balls, K=K):          # the closed loop the proof reads: A + B2 K exactly
+                Ab, B1b, B2b, C1b, D11b, D12b = plant()
+                Kb = balls(K, written=False)
+                return Ab + B2b * Kb, B1b, C1b + D12b * Kb, D11b
+
+            for _, P2 in storage_candidates(Acl, B1, Ccl, D11, gamma ** 2, time, norm, written):
                 Y, W = gain_point(P2, K, gamma)
                 values = {form.Y.name: Y, form.W.name: W, form.level.name: gamma}
                 sol = _certified_point(instance, values, gamma)
@@ -248,6 +288,65 @@ def state_feedback_point(instance: Instance) -> Solution | None:
 
 
 
+
+PRECISE_SF_TRIGGER = 1e-4
+"""The float route's least closed-loop norm ν, relative to the level γ_e where the full-information
+equation first has its solution, above which the 60-digit route is tried first."""
+PRECISE_SF_MARGINS = (1e-5, 1e-4, 1e-3, 1e-2)
+PRECISE_SF_MAX_STATES = 24
+"""The largest state dimension given the 60-digit route.  Its gain is delivered in doubles, and the
+analysis of that design must find the loop's storage from the loop alone: at 24 states (one
+actuator, gains ~1e10) it did so by the 120-digit Hamiltonian; at 32 states the loop summed in
+doubles is unstable (the exact loop is stable), SLICOT's norms of it are 5 × off, the Riccati
+margin set from them is wrong, and no storage was proved (the design then went uncertified, where
+the double-precision route's gain, 4 % above the optimum, was certified)."""
+PRECISE_SF_EPS = 1e-7
+"""ε of Q = C₁ᵀC₁ + εI relative to max(‖C₁ᵀC₁‖, 1) in the 60-digit route: the point is exact, so
+any ε > 0 makes the LMI strict; a small one moves the level at which a solution exists least."""
+
+
+def _existence_level(exists, lo: float, hi: float, steps: int = 40) -> float:
+    """The least level (to 1e-9 relative) at which ``exists(γ)`` holds, ``exists(hi)`` being true:
+    halving below ``lo`` until it fails, then bisection on log γ."""
+    while lo > 1e-12 * hi and exists(lo):
+        hi, lo = lo, lo / 2
+    for _ in range(steps):
+        mid = np.sqrt(lo * hi)
+        lo, hi = (lo, mid) if exists(mid) else (mid, hi)
+        if hi / lo - 1 < 1e-9:
+            break
+    return hi
+
+
+def _precise_state_feedback_point(instance: Instance, plant, level: float) -> Solution | None:
+    """The point (Y, W, γ) = (γ X⁻¹, K Y, γ) of the full-information Riccati solution X and gain K
+    computed at 60 digits and kept exactly (:func:`~lmidsl.numeric.riccati.precise_full_information_gain`:
+    X is the loop's bounded-real storage at γ², so no second Riccati equation is solved for the
+    stiff loop), at γ = ``level`` (1 + r), r in :data:`PRECISE_SF_MARGINS`, skipping a level whose
+    gain, rounded to the doubles it is delivered in, closes a loop that is unstable when summed in
+    doubles (the exact loop is stable, but no double-precision check of the design — SLICOT's norm,
+    the balancing — could then see it: 32 states, r = 1e-5 and 1e-4); None when none is proved."""
+    form = instance.theorem.state_feedback
+    ev = NumericEvaluator(instance.dims, dict(instance.data), instance.params)
+    A, B1, B2, C1, D11, D12 = (np.atleast_2d(np.asarray(ev.visit(e), dtype=float)) for e in form.plant)
+    eps = PRECISE_SF_EPS * max(np.linalg.norm(C1.T @ C1, 2), 1.0)
+    for r in PRECISE_SF_MARGINS:
+        gamma = level * (1 + r)
+        found = precise_full_information_gain(A, B1, B2, C1, D11, D12, gamma, eps, lambda balls: plant())
+        if found is None:
+            continue
+        K, X = found
+        rounded = np.array([[float(x) for x in row] for row in K])
+        if not is_stable(A + B2 @ rounded, "continuous"):
+            continue    # the delivered gain's loop, summed in doubles, must be one numerics can check
+        Y, W = gain_point(PreciseMatrix.of(X), K, gamma)
+        sol = _certified_point(instance, {form.Y.name: Y, form.W.name: W, form.level.name: gamma}, gamma)
+        if sol is not None:
+            sol.notes.append(f"Y, W from the full-information Riccati equation at the level γ = {gamma:.10g}, "
+                             f"solved at {PRECISE_DIGITS} digits (its solution exists from ≈ {level:.10g}; in "
+                             "double precision the gains' closed loops scatter above their levels)")
+            return sol
+    return None
 
 
 __all__ = ["CLOSED_FORM", "better", "declares_closed_form", "good", "riccati_point", "route_model", "said", "state_feedback_point"]

@@ -60,8 +60,10 @@ CLOSED_FORM_GAP = 1e-4
 #: with a certified closed-form point in hand, a model with more scalar unknowns than this gets no
 #: fallback routes, whatever the first route's answer: the dense interior-point fallback (CVXOPT)
 #: costs ~m³ + m²Σn_k² per iteration (state feedback at 48 states, m = 1273, Clarabel's solver
-#: error: no answer in 600 s, where the Riccati point took 28 s and the hand script 18 s)
-CLOSED_FORM_MAX_UNKNOWNS = 600
+#: error: no answer in 600 s, where the Riccati point took 28 s and the hand script 18 s; at 24
+#: states, m = 325, Clarabel's solver error: three fallbacks 13.4 s, the best 79546 against the
+#: Riccati point's certified 76316.5)
+CLOSED_FORM_MAX_UNKNOWNS = 300
 
 
 class _ClosedForm:
