@@ -100,7 +100,7 @@ def riccati_point(instance: Instance, synthesis_gamma, tolerance):
     (:meth:`Theorem.bounded_real_form`): P from the bounded-real Riccati equation
     (:mod:`lmidsl.numeric.riccati`) at the levels python-control's norm × (1 + r), r in
     :data:`RICCATI_LEVELS` (γ then states the design's own norm, as the analysis minimum
-    would), and the synthesis γ × (1 + r) (r below the tolerance), γ and γ (1 + tolerance), in
+    would), and the synthesis γ × (1 + r₀) (r₀ the first of them), γ and γ (1 + tolerance), in
     increasing order.  A level above the synthesis γ but below SLICOT's norm is tried with the
     synthesis γ as the norm that sets the Riccati margin ε: on the stiff loop of a 60-digit
     state-feedback gain SLICOT's norm, from the loop summed in doubles, was 1 % above the norm
@@ -119,8 +119,7 @@ def riccati_point(instance: Instance, synthesis_gamma, tolerance):
         return None
     levels = [norm * (1 + r) for r in RICCATI_LEVELS]
     if synthesis_gamma is not None:
-        levels += [synthesis_gamma * (1 + r) for r in RICCATI_LEVELS if r < tolerance]
-        levels += [synthesis_gamma, synthesis_gamma * (1 + tolerance)]
+        levels += [synthesis_gamma * (1 + RICCATI_LEVELS[0]), synthesis_gamma, synthesis_gamma * (1 + tolerance)]
     written = _as_written(instance, form.system)
     for gamma in sorted(set(levels)):
         seed = norm if norm < gamma else synthesis_gamma
