@@ -82,6 +82,10 @@ def _peak_frequencies(s: dict, time: str) -> list[float]:
     return out
 
 
+def _complex_balls(M: np.ndarray) -> acb_mat:
+    return acb_mat([[acb(x) for x in row] for row in np.atleast_2d(M).tolist()])
+
+
 def exact_gain(system: dict, frequencies, time: str) -> float | None:
     """max over ``frequencies`` of σ_max(G), G = C (sI − A)⁻¹ B + D at s = jω (continuous) or
     e^{jω} (discrete), for a system of python-flint balls (the data as written), the resolvent
@@ -89,7 +93,7 @@ def exact_gain(system: dict, frequencies, time: str) -> float | None:
     exact system's gain at that frequency (to ~1e-60), so their maximum is a lower bound on its H∞
     norm that no rounding of the realisation can spoil; None when a solve is not possible."""
     with ball_precision(PRECISION):
-        A, B, C, D = (acb_mat([[acb(x) for x in row] for row in np.atleast_2d(system[k]).tolist()]) for k in "ABCD")
+        A, B, C, D = (_complex_balls(system[k]) for k in "ABCD")
         n = A.nrows()
         best = 0.0
         for w in frequencies:
@@ -108,9 +112,8 @@ def proved_unstable(A: np.ndarray, time: str) -> bool:
     """Whether an eigenvalue of the ball matrix A (the data as written) is proved outside the
     stability region (python-flint's ``acb_mat.eig``, enclosures at :data:`PRECISION` bits)."""
     with ball_precision(PRECISION):
-        M = acb_mat([[acb(x) for x in row] for row in np.atleast_2d(A).tolist()])
         try:
-            eigenvalues = M.eig(nonstop=True)
+            eigenvalues = _complex_balls(A).eig(nonstop=True)
         except (ValueError, ZeroDivisionError):
             return False
         if time == "continuous":

@@ -48,7 +48,7 @@ from __future__ import annotations
 import numpy as np
 from flint import acb_mat, arb, arb_mat, fmpq
 
-from .proof import PreciseMatrix, ball_precision
+from .proof import PreciseMatrix, ball_precision, decimal_ball, object_array
 from .systems import hinf_norm as systems_hinf_norm, is_stable
 
 FRACTIONS = (0.5, 0.05)
@@ -185,12 +185,8 @@ def precise_storage(A, B, C, D, g: float, eps: float, weights, Ti, written=None,
     here is rigorous: the enclosures are only used for their midpoints."""
     n, m = A.shape[0], B.shape[1]
     with ball_precision(int(digits * 3.33) + 8):
-        def balls(M, written=True):       # data: the decimals as written (repr); Ti: its floats
-            M = np.atleast_2d(np.asarray(M, dtype=float))
-            return arb_mat([[arb(repr(float(x))) if written else arb(float(x)) for x in row] for row in M])
-
-        Am, Bm, Cm, Dm = (balls(A), balls(B), balls(C), balls(D)) if written is None else written(balls)
-        Tm = balls(Ti, written=False)
+        Am, Bm, Cm, Dm = (_balls(A), _balls(B), _balls(C), _balls(D)) if written is None else written(_balls)
+        Tm = _balls(Ti, written=False)
         try:
             Tinv = Tm.inv()
             Ab, Bb, Cb = Tm * Am * Tinv, Tm * Bm, Cm * Tinv
@@ -207,6 +203,13 @@ def precise_storage(A, B, C, D, g: float, eps: float, weights, Ti, written=None,
         return None
     exact = (exact + exact.T) / 2                  # symmetric exactly
     return PreciseMatrix.of(exact)
+
+
+def _balls(M, written: bool = True) -> arb_mat:
+    """A float matrix as balls at the current precision: the decimals as written (what the proofs
+    read: a float's binary value differs by ~1e-17, more than a stiff margin), or with
+    ``written=False`` its binary value exactly (a balancing transform, a gain)."""
+    return arb_mat(object_array(M, decimal_ball if written else (lambda x: arb(float(x)))).tolist())
 
 
 def _identity(m: int) -> arb_mat:
@@ -272,12 +275,8 @@ def precise_full_information_gain(A, B1, B2, C1, D11, D12, gamma: float, eps: fl
     m1 = np.atleast_2d(B1).shape[1]
     n = np.atleast_2d(A).shape[0]
     with ball_precision(int(PRECISE_DIGITS * 3.33) + 8):
-        def balls(M, written=True):
-            M = np.atleast_2d(np.asarray(M, dtype=float))
-            return arb_mat([[arb(repr(float(x))) if written else arb(float(x)) for x in row] for row in M])
-
-        Am, B1m, B2m, C1m, D11m, D12m = (tuple(balls(M) for M in (A, B1, B2, C1, D11, D12))
-                                         if written is None else written(balls))
+        Am, B1m, B2m, C1m, D11m, D12m = (tuple(_balls(M) for M in (A, B1, B2, C1, D11, D12))
+                                         if written is None else written(_balls))
         try:
             B = _side_by_side(B1m, B2m)
             D = _side_by_side(D11m, D12m)

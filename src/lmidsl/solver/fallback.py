@@ -255,13 +255,13 @@ def state_feedback_point(instance: Instance) -> Solution | None:
             lo = mid
         if hi / lo - 1 < 1e-9:
             break
-    exists = _existence_level(lambda g: full_information_gain(A, B1, B2, C1, D11, D12, g, time) is not None,
-                              lo, hi)
-    if time == "continuous" and A.shape[0] <= PRECISE_SF_MAX_STATES and least \
-            and least[0][0] > exists * (1 + PRECISE_SF_TRIGGER):
-        sol = _precise_state_feedback_point(instance, plant, exists)
-        if sol is not None:
-            return sol
+    if time == "continuous" and A.shape[0] <= PRECISE_SF_MAX_STATES and least:
+        exists = _existence_level(lambda g: full_information_gain(A, B1, B2, C1, D11, D12, g, time) is not None,
+                                  lo, hi)
+        if least[0][0] > exists * (1 + PRECISE_SF_TRIGGER):
+            sol = _precise_state_feedback_point(instance, (A, B1, B2, C1, D11, D12), plant, exists)
+            if sol is not None:
+                return sol
     for r in SF_MARGINS:
         tries = [(least[0][0] * (1 + r), least[0])] if least else []
         closed = loop(hi * (1 + r))
@@ -317,17 +317,17 @@ def _existence_level(exists, lo: float, hi: float, steps: int = 40) -> float:
     return hi
 
 
-def _precise_state_feedback_point(instance: Instance, plant, level: float) -> Solution | None:
+def _precise_state_feedback_point(instance: Instance, arrays: tuple, plant, level: float) -> Solution | None:
     """The point (Y, W, γ) = (γ X⁻¹, K Y, γ) of the full-information Riccati solution X and gain K
     computed at 60 digits and kept exactly (:func:`~lmidsl.numeric.riccati.precise_full_information_gain`:
     X is the loop's bounded-real storage at γ², so no second Riccati equation is solved for the
     stiff loop), at γ = ``level`` (1 + r), r in :data:`PRECISE_SF_MARGINS`, skipping a level whose
     gain, rounded to the doubles it is delivered in, closes a loop that is unstable when summed in
     doubles (the exact loop is stable, but no double-precision check of the design — SLICOT's norm,
-    the balancing — could then see it: 32 states, r = 1e-5 and 1e-4); None when none is proved."""
+    the balancing — could then see it: 32 states, r = 1e-5 and 1e-4); None when none is proved.
+    ``arrays``: the plant (A, B₁, B₂, C₁, D₁₁, D₁₂) in doubles; ``plant()``: in balls as written."""
     form = instance.theorem.state_feedback
-    ev = NumericEvaluator(instance.dims, dict(instance.data), instance.params)
-    A, B1, B2, C1, D11, D12 = (np.atleast_2d(np.asarray(ev.visit(e), dtype=float)) for e in form.plant)
+    A, B1, B2, C1, D11, D12 = arrays
     eps = PRECISE_SF_EPS * max(np.linalg.norm(C1.T @ C1, 2), 1.0)
     for r in PRECISE_SF_MARGINS:
         gamma = level * (1 + r)
