@@ -126,6 +126,7 @@ def _synthesis(name: str, time: str, analysis: Theorem) -> Theorem:
                                d["D11"], d["D12"], d["D21"])
     full_order_hinf_lmis(thm, "(OF)", b, g, X, Y)
     thm.minimize(g, performance=("gamma", g))
+    thm.output_feedback_form(X, Y, Ah, Bh, Ch, Dh, g, tuple(d[k] for k in PLANT[:-1]))
     thm.recover(**output_feedback(thm, X, Y, Ah, Bh, Ch, Dh, d["A"], d["B2"], d["C2"], d["D22"]))
     thm.certified_by(analysis, design=CONTROLLER)
     scale_state(thm, ("A", "B1", "B2"), ("A", "C1", "C2"))

@@ -45,6 +45,37 @@ the Hamiltonian's stable eigenvectors (continuous time) or an interpolation cert
 balls r = r₀ − P̄12 (P12ᵀ P̄12)⁻¹ P12ᵀ r₀ is the exact projection of a floating-point r₀ onto the
 kernel, so the bound is that of an exact dual vector.
 
+**Output feedback.**  The full-order H∞ LMI in the linearising variables
+(:meth:`~lmidsl.theorem.theorem.Theorem.output_feedback_form`; Scherer, Gahinet, Chilali 1997:
+A11 = AX + B2Ĉ, A12 = A + B2D̂C2, A22 = YA + B̂C2, B1' = B1 + B2D̂D21, B2' = YB1 + B̂D21,
+C1' = C1X + D12Ĉ, C2' = C1 + D12D̂C2, D' = D11 + D12D̂D21) contains two state-feedback LMIs:
+
+* *full information*: its rows and columns of X, w and z (continuous: 1, 3, 4; discrete: 1, 3,
+  4, 6) are the state-feedback form of (A, B1, B2, C1, D11, D12) with Y = X, W = Ĉ, and B1, D11
+  replaced by B1 + B2W₂, D11 + D12W₂ with W₂ = D̂D21;
+* *full control*: its rows and columns of Y, z and w (continuous: 2, 4, 3) are the same form for
+  the dual plant (Aᵀ, C1ᵀ, C2ᵀ, B1ᵀ, D11ᵀ, D21ᵀ) with W = B̂ᵀ and W₂ = D̂ᵀD12ᵀ.
+
+A dual vector of the state-feedback bounds above (frequency response, Hamiltonian, interpolation),
+padded with zeros in the other rows, is a dual vector of the output-feedback LMI: the W₂ terms are
+2 Re((B2ᵀp + D12ᵀr)* W₂ q), zero by the same identity B2ᵀp + D12ᵀr = 0 that removes the W
+terms, and no other variable (Â, and Y or X) meets those rows.  The sign of the Y terms needs
+X ⪰ 0 (Y ⪰ 0 for full control), which holds when −X is a diagonal block of one of the theorem's
+LMIs ((XY) ≻ 0 in continuous time, the LMI itself in discrete time): a principal block of a
+negative semidefinite matrix is negative semidefinite, and the dual point [[M, 0], [0, 0]] on
+that LMI takes up the X terms.  So γ ≥ max(full-information bound, full-control bound): tight
+where the optimum is set by one of the two Riccati equations, not where it is set by the
+coupling ρ(XY) < γ².
+
+In discrete time the full-control rows (2, 3, 5, 6), [[−Y], [0, −γI], [YA + B̂C2, YB1 + B̂D21, −Y],
+[C2', D', 0, −γI]], carry YA, not AY, and are checked directly: for points |sᵢ| > 1 (|s| = 1 for
+the frequency bound) and qᵢ in the kernel of P21(sᵢ) = C2(sᵢI − A)⁻¹B1 + D21, the vectors
+vᵢ = [aᵢ; qᵢ; sᵢaᵢ; rᵢ] with aᵢ = (sᵢI − A)⁻¹B1qᵢ remove B̂ and D̂ (C2aᵢ + D21qᵢ = 0), the Y terms
+of Σ Gᵢⱼ vⱼ*Nvᵢ are tr(M A*YA) with A = [aᵢ] and Mᵢⱼ = Gᵢⱼ(sᵢs̄ⱼ − 1), the all-ones matrix for the
+Pick kernel G, and rᵢ = κP11(sᵢ)qᵢ gives γ ≥ √(tr(G H*H)/tr(G Q*Q)), H = [P11(sᵢ)qᵢ]: the numbers
+of the state-feedback certificates of the dual plant, whose P12(s)ᵀ is P21(s) and P11(s)ᵀ is
+P11(s).
+
 **What is proved.**  G(s)u is evaluated in python-flint's complex ball arithmetic from the data as
 written (:class:`~lmidsl.numeric.proof.BallEvaluator`, decimals as the rationals they denote), at
 s = jω with ω a double (exact), or s = ((1 − t²) + 2jt)/(1 + t²) with t = tan(θ/2) a double, a
@@ -126,6 +157,28 @@ def state_feedback_rows(form, time: str) -> list:
             [C1 * Y + D12 * W, D11, 0, -g * I]]
 
 
+def output_feedback_rows(form, time: str) -> list:
+    """The lower triangle of the full-order H∞ output-feedback LMI (module docstring) from the
+    declared ``form`` (:class:`~lmidsl.theorem.values.OutputFeedbackForm`), written out here from
+    the change of variables, not taken from the theorem."""
+    X, Y, Ah, Bh, Ch, Dh, g = form.X, form.Y, form.Ah, form.Bh, form.Ch, form.Dh, form.level
+    A, B1, B2, C1, C2, D11, D12, D21 = form.plant
+    A11, A12, A22 = A * X + B2 * Ch, A + B2 * Dh * C2, Y * A + Bh * C2
+    Bw1, Bw2 = B1 + B2 * Dh * D21, Y * B1 + Bh * D21
+    Cz1, Cz2, Dzw = C1 * X + D12 * Ch, C1 + D12 * Dh * C2, D11 + D12 * Dh * D21
+    if time == "continuous":
+        return [[A11 + A11.T],
+                [Ah + A12.T, A22 + A22.T],
+                [Bw1.T, Bw2.T, -g * I],
+                [Cz1, Cz2, Dzw, -g * I]]
+    return [[-X],
+            [-I, -Y],
+            [0, 0, -g * I],
+            [A11, A12, Bw1, -X],
+            [Ah, A22, Bw2, -I, -Y],
+            [Cz1, Cz2, Dzw, 0, 0, -g * I]]
+
+
 def bounded_real_lmi(theorem):
     """The theorem's LMI that is its declared bounded-real form, block for block, or None (no
     form; a storage that is not a symmetric variable or a level that is not a scalar variable; a
@@ -152,14 +205,29 @@ def state_feedback_lmi(theorem):
     return _lmi_in_form(theorem, lambda: state_feedback_rows(form, theorem.time), "state_feedback_form")
 
 
+def output_feedback_lmi(theorem):
+    """The theorem's LMI that is its declared output-feedback form, block for block, or None (as
+    :func:`bounded_real_lmi`: X and Y symmetric variables, Â, B̂, Ĉ, D̂ variables, the level γ a
+    scalar variable and the objective, the plant data only)."""
+    form = getattr(theorem, "output_feedback", None)
+    if form is None or not _level_is_objective(theorem, form.level):
+        return None
+    if not all(isinstance(v, SymmetricVariable) for v in (form.X, form.Y)) or \
+            not all(isinstance(v, DECISION_TYPES) for v in (form.Ah, form.Bh, form.Ch, form.Dh)) or \
+            not all(_data_only(e) for e in form.plant):
+        return None
+    return _lmi_in_form(theorem, lambda: output_feedback_rows(form, theorem.time), "output_feedback_form")
+
+
 def _positive(theorem, Y) -> bool:
-    """Whether one of the theorem's LMIs (certain, for every vertex alike, not quantified) is
-    Y ⪰ 0 itself."""
+    """Whether one of the theorem's LMIs (certain, for every vertex alike, not quantified) has −Y
+    as a diagonal block of its negative form, so that Y ⪰ 0 on its feasible set (Y ≻ 0 itself,
+    or [[X, I], [I, Y]] ≻ 0)."""
     for lmi in theorem.lmis:
         if getattr(lmi, "quantifier", None) is not None or lmi.per_vertex or uncertain_atoms_of_lmi(lmi):
             continue
         N = lmi.negative_form()
-        if N.nblocks == 1 and _same(N.lower[0][0], -Y):
+        if any(_same(N.lower[k][k], -Y) for k in range(N.nblocks)):
             return True
     return False
 
@@ -267,8 +335,9 @@ def _ball_gain(Ab, Bb, Cb, Db, u: np.ndarray, frequency: float, time: str):
 
 def frequency_lower_bound(instance) -> tuple[float | None, str] | None:
     """(proved lower bound on the theorem's objective, how it was found) for an instance of a
-    theorem whose LMI is its declared bounded-real form (:func:`bounded_real_lmi`) or H∞
-    state-feedback form (:func:`state_feedback_lmi`), (None, why none was found), or None when
+    theorem whose LMI is its declared bounded-real form (:func:`bounded_real_lmi`), H∞
+    state-feedback form (:func:`state_feedback_lmi`) or H∞ output-feedback form
+    (:func:`output_feedback_lmi`), (None, why none was found), or None when
     the route does not apply (no such LMI, several vertices)."""
     theorem = instance.theorem
     if getattr(instance, "nvertices", 1) > 1:
@@ -279,6 +348,11 @@ def frequency_lower_bound(instance) -> tuple[float | None, str] | None:
         form = theorem.state_feedback
         stabilising = _positive(theorem, form.Y)
         bound = lambda floats, balls, time: _state_feedback_bound(floats, balls, time, stabilising)  # noqa: E731
+        system = form.plant
+    elif output_feedback_lmi(theorem) is not None:
+        form = theorem.output_feedback
+        positive = _positive(theorem, form.X), _positive(theorem, form.Y)
+        bound = lambda floats, balls, time: _output_feedback_bound(floats, balls, time, *positive)  # noqa: E731
         system = form.plant
     else:
         return None
@@ -403,6 +477,24 @@ def _state_feedback_bound(floats: list, balls: list, time: str, stabilising: boo
     return found
 
 
+def _output_feedback_bound(floats: list, balls: list, time: str, x_positive: bool,
+                           y_positive: bool) -> tuple[float | None, str]:
+    """:func:`frequency_lower_bound` of the output-feedback LMI (module docstring): the higher of
+    the full-information bound on (A, B1, B2, C1, D11, D12) and the full-control bound on the dual
+    plant (Aᵀ, C1ᵀ, C2ᵀ, B1ᵀ, D11ᵀ, D21ᵀ)."""
+    def parts(M):
+        A, B1, B2, C1, C2, D11, D12, D21 = M
+        return [A, B1, B2, C1, D11, D12], [A.T, C1.T, C2.T, B1.T, D11.T, D21.T]
+
+    (fi, fc), (fi_balls, fc_balls) = parts(floats), parts(balls)
+    found = [("full information", _state_feedback_bound(fi, fi_balls, time, x_positive)),
+             ("full control", _state_feedback_bound(fc, fc_balls, time, y_positive))]
+    proved = [(lower, f"{name}: {how}") for name, (lower, how) in found if lower is not None]
+    if proved:
+        return max(proved, key=lambda item: item[0])
+    return None, "; ".join(f"{name}: {how}" for name, (_, how) in found)
+
+
 def _uncancelled_bound(floats: list, balls: list, time: str) -> tuple[float | None, str]:
     """The frequency response's bound on γ (module docstring, state feedback)."""
     for frequency in _state_feedback_candidates(floats, time):
@@ -418,4 +510,5 @@ def _uncancelled_bound(floats: list, balls: list, time: str) -> tuple[float | No
     return None, "no frequency gave a ball bound (no direction that the control input cannot cancel)"
 
 
-__all__ = ["bounded_real_lmi", "form_rows", "frequency_lower_bound", "state_feedback_lmi", "state_feedback_rows"]
+__all__ = ["bounded_real_lmi", "form_rows", "frequency_lower_bound", "output_feedback_lmi", "output_feedback_rows",
+           "state_feedback_lmi", "state_feedback_rows"]

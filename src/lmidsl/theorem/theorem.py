@@ -27,8 +27,8 @@ from ..symbolic.symbols import (ConstantMatrix, DataMatrix, DerivedParam, as_sym
                       Variable, metadata_snapshot, restore_metadata)
 from . import index_set as _ix
 from .members import specialise
-from .values import (DESIGN_KINDS, FIGURES, LATEX_RENDERER, LMI, TIME_DOMAINS, AnalysisLink, Bisection, BoundedRealForm, StateFeedbackForm,
-                     Declaration, Derivation, ErrorSystemLink, Example, FactorStep, SignalScaling, Source,
+from .values import (DESIGN_KINDS, FIGURES, LATEX_RENDERER, LMI, TIME_DOMAINS, AnalysisLink, Bisection, BoundedRealForm,
+                     OutputFeedbackForm, StateFeedbackForm, Declaration, Derivation, ErrorSystemLink, Example, FactorStep, SignalScaling, Source,
                      check_provenance)
 
 
@@ -72,6 +72,7 @@ class Theorem:
         self.analysis: AnalysisLink | None = None
         self.bounded_real: BoundedRealForm | None = None   # Theorem.bounded_real_form
         self.state_feedback: StateFeedbackForm | None = None  # Theorem.state_feedback_form
+        self.output_feedback: OutputFeedbackForm | None = None  # Theorem.output_feedback_form
         self.certification: ErrorSystemLink | None = None
         self.simulator = None                  # Theorem.simulated_by
         self.linearisation: dict[str, sp.MatrixExpr] = {}
@@ -603,6 +604,22 @@ class Theorem:
         for expr in plant:
             check_conformance(expr, where=at)
         self.state_feedback = StateFeedbackForm(Y, W, level, tuple(plant))
+
+    def output_feedback_form(self, X, Y, Ah, Bh, Ch, Dh, level, plant: tuple):
+        """Declare that the LMIs are the full-order H∞ output-feedback LMIs of ``plant`` = (A, B1,
+        B2, C1, C2, D11, D12, D21) in the linearising variables of Scherer, Gahinet and Chilali
+        (:func:`lmidsl.output_feedback_blocks`; −γI on both diagonal blocks, ``level`` = γ).  The
+        library may then prove a lower bound on γ from the full-information and full-control
+        problems the LMI contains (:mod:`lmidsl.certify.frequency_bound`)."""
+        at = f"{self.id}: output_feedback_form"
+        if any(v.name not in self.var_decl for v in (X, Y, Ah, Bh, Ch, Dh, level)):
+            raise TheoremDefinitionError(f"{at}: {X}, {Y}, {Ah}, {Bh}, {Ch}, {Dh} and {level} must be "
+                                         f"declared variables")
+        if len(plant) != 8:
+            raise TheoremDefinitionError(f"{at}: plant must be (A, B1, B2, C1, C2, D11, D12, D21)")
+        for expr in plant:
+            check_conformance(expr, where=at)
+        self.output_feedback = OutputFeedbackForm(X, Y, Ah, Bh, Ch, Dh, level, tuple(plant))
 
     def linearise(self, **updates):
         """Data that are a linearisation point, with their update from a solved point.

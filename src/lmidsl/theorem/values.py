@@ -180,6 +180,22 @@ class StateFeedbackForm:
     plant: tuple
 
 
+@dataclass(frozen=True)
+class OutputFeedbackForm:
+    """The theorem's LMIs are the full-order H∞ output-feedback LMIs of ``plant`` = (A, B1, B2, C1,
+    C2, D11, D12, D21) in the linearising variables (X, Y, Â, B̂, Ĉ, D̂) of Scherer, Gahinet and
+    Chilali, with −γI on both diagonal blocks; see :meth:`Theorem.output_feedback_form`."""
+
+    X: Any
+    Y: Any
+    Ah: Any
+    Bh: Any
+    Ch: Any
+    Dh: Any
+    level: Any
+    plant: tuple
+
+
 @dataclass
 class AnalysisLink:
     """The analysis theorem that certifies a recovered design.

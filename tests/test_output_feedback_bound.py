@@ -1,0 +1,193 @@
+"""The proved lower end of H∞ output-feedback designs (lmidsl.certify.frequency_bound, "Output
+feedback"): the full-information and full-control state-feedback certificates inside the
+output-feedback LMI, checked against SLICOT's output-feedback syntheses (SB10FD / SB10DD, each
+level's closed loop measured by python-control) on a published plant, its transpose and its
+discretisation, and refused on theorems that state another LMI.
+
+The plant is COMPleib's AC4 (missile autopilot; B. Fares, P. Apkarian, D. Noll, "An augmented
+Lagrangian method for a class of LMI-constrained problems in robust control theory", Int. J.
+Control 74(4), 348–360, 2001; F. Leibfritz, COMPleib, 2004).  Before this bound its bracket was
+[0.0378, 0.5589]: the dual route's lower end, 93 % wide.
+"""
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from scipy.signal import cont2discrete
+
+import lmidsl
+from lmidsl import He, I, Theorem
+from lmidsl.certify.frequency_bound import frequency_lower_bound, output_feedback_lmi
+from lmidsl.numeric.instance import bind
+from lmidsl.numeric.systems import hinf_norm
+
+AC4 = dict(A=[[-0.876, 1, -0.1209, 0], [8.9117, 0, -130.75, 0], [0, 0, -150, 0], [-1, 0, 0, -0.05]],
+           B1=[[0, 0], [0, 0], [0, 0], [0, 1]], B2=[[0], [0], [150], [0]],
+           C1=[[-0.25, 0, 0, 3.487], [0, 0, -3, 0]], C2=[[-1, 0, 0, 0], [0, -1, 0, 0]],
+           D11=[[0, 0.25], [0, 0]], D12=[[0], [3]], D21=[[0, 1], [0.01, 0]])
+PLANT = ("A", "B1", "B2", "C1", "C2", "D11", "D12", "D21")
+
+
+def _arrays(d: dict) -> dict:
+    return {k: np.array(v, dtype=float) for k, v in d.items()}
+
+
+def _with_d22(d: dict) -> dict:
+    out = {k: np.asarray(v, dtype=float).tolist() for k, v in d.items()}
+    out["D22"] = np.zeros((len(d["C2"]), np.asarray(d["B2"]).shape[1])).tolist()
+    return out
+
+
+def _plain(d: dict) -> dict:
+    """The plant's matrices as lists, without D22 (a user theorem's data)."""
+    return {k: np.asarray(v, dtype=float).tolist() for k, v in d.items()}
+
+
+def _transposed(d: dict) -> dict:
+    """The dual plant (Aᵀ, C1ᵀ, C2ᵀ, B1ᵀ, B2ᵀ, D11ᵀ, D21ᵀ, D12ᵀ): the same output-feedback optimum."""
+    P = _arrays(d)
+    return dict(A=P["A"].T, B1=P["C1"].T, B2=P["C2"].T, C1=P["B1"].T, C2=P["B2"].T, D11=P["D11"].T,
+                D12=P["D21"].T, D21=P["D12"].T)
+
+
+def _discretised(d: dict, h: float = 0.05) -> dict:
+    """Zero-order hold of (A, [B1 B2]) at step h; C and D unchanged."""
+    P = _arrays(d)
+    n, m1 = P["A"].shape[0], P["B1"].shape[1]
+    B = np.hstack([P["B1"], P["B2"]])
+    Ad, Bd, *_ = cont2discrete((P["A"], B, np.eye(n), np.zeros((n, B.shape[1]))), h)
+    return dict(P, A=Ad, B1=Bd[:, :m1], B2=Bd[:, m1:])
+
+
+def _closed_loop(P: dict, K) -> tuple:
+    AK, BK, CK, DK = (np.atleast_2d(k) for k in K)
+    A = np.block([[P["A"] + P["B2"] @ DK @ P["C2"], P["B2"] @ CK], [BK @ P["C2"], AK]])
+    B = np.vstack([P["B1"] + P["B2"] @ DK @ P["D21"], BK @ P["D21"]])
+    C = np.hstack([P["C1"] + P["D12"] @ DK @ P["C2"], P["D12"] @ CK])
+    D = P["D11"] + P["D12"] @ DK @ P["D21"]
+    return A, B, C, D
+
+
+def _slicot_level(d: dict, time: str) -> float:
+    """The least level (bisection to 1e-6) at which SLICOT's H∞ synthesis (SB10FD, SB10DD) returns a
+    controller whose closed loop, measured by python-control, meets it: an achieved level, so ≥ the
+    output-feedback optimum, and independent of lmidsl."""
+    from slycot import sb10dd, sb10fd
+    P = _arrays(d)
+    n, m2, p2 = P["A"].shape[0], P["B2"].shape[1], P["C2"].shape[0]
+    B = np.hstack([P["B1"], P["B2"]])
+    C = np.vstack([P["C1"], P["C2"]])
+    D = np.block([[P["D11"], P["D12"]], [P["D21"], np.zeros((p2, m2))]])
+
+    def meets(gamma: float) -> bool:
+        try:
+            if time == "continuous":
+                K = sb10fd(n, B.shape[1], C.shape[0], m2, p2, gamma, P["A"], B, C, D)[:4]
+            else:
+                K = sb10dd(n, B.shape[1], C.shape[0], m2, p2, gamma, P["A"], B, C, D)[1:5]
+        except Exception:        # noqa: BLE001 — SLICOT's "no controller at this level"
+            return False
+        return hinf_norm(*_closed_loop(P, K), time) < gamma * (1 + 1e-9)
+
+    lo, hi = 0.0, 100.0
+    assert meets(hi)
+    while hi - lo > 1e-6 * hi:
+        mid = (lo + hi) / 2
+        lo, hi = (lo, mid) if meets(mid) else (mid, hi)
+    return hi
+
+
+def _lower_end(d: dict, time: str) -> tuple[float, str]:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sol = lmidsl.solve(f"textbook.hinf_of_{time[0]}t", data=_with_d22(d))
+    box = sol.verdict.bracket
+    assert box["lower_proved"] and box["upper_proved"], box
+    assert box["lower"] <= box["upper"]
+    return box["lower"], sol.bounds.how
+
+
+@pytest.mark.parametrize("time", ["continuous", "discrete"])
+def test_a_published_plant_and_its_transpose_get_the_slicot_level(time):
+    """AC4 (and its zero-order-hold discretisation at h = 0.05): the proved lower end lies below
+    SLICOT's achieved level and within 1e-4 of it (the optimum is set by the full-information
+    Riccati equation); the transposed plant, whose optimum is the same, gets the same end from
+    the full-control rows.  The reference is the lower of SLICOT's achieved levels on the plant
+    and on its transpose (both are ≥ the optimum; they differ by up to 6e-4: SLICOT's bisection
+    is not monotone so close to the optimum)."""
+    plant = AC4 if time == "continuous" else _discretised(AC4)
+    transposed = _transposed(plant)
+    reference = min(_slicot_level(plant, time), _slicot_level(transposed, time))
+    lower, how = _lower_end(plant, time)
+    assert how.startswith("full information")
+    assert reference * (1 - 1e-4) <= lower <= reference
+    lower_t, how_t = _lower_end(transposed, time)
+    assert how_t.startswith("full control")
+    assert abs(lower_t - lower) <= 1e-9 * lower
+
+
+def _of_theorem(name: str, time: str, rows=None, xy: bool = True):
+    """textbook.hinf_of_ct's (continuous) LMI as a user states it, or ``rows`` instead; with or
+    without [[X, I], [I, Y]] ≻ 0."""
+    thm = Theorem(f"adv.{name}", time=time)
+    n, m1, m2, p1, p2 = thm.dim("n m1 m2 p1 p2")
+    shapes = dict(A=(n, n), B1=(n, m1), B2=(n, m2), C1=(p1, n), C2=(p2, n), D11=(p1, m1), D12=(p1, m2),
+                  D21=(p2, m1))
+    A, B1, B2, C1, C2, D11, D12, D21 = (thm.data(k, *shapes[k]) for k in PLANT)
+    X, Y = thm.var("X", n, kind="symmetric"), thm.var("Y", n, kind="symmetric")
+    Ah, Bh, Ch, Dh = thm.var("Ah", n, n), thm.var("Bh", n, p2), thm.var("Ch", m2, n), thm.var("Dh", m2, p2)
+    g = thm.scalar("g")
+    stated = rows or _stated
+    thm.lmi("(OF)", stated(A, B1, B2, C1, C2, D11, D12, D21, X, Y, Ah, Bh, Ch, Dh, g))
+    if xy:
+        thm.lmi("(XY)", [[X], [I, Y]], sense=">")
+    thm.minimize(g)
+    thm.output_feedback_form(X, Y, Ah, Bh, Ch, Dh, g, (A, B1, B2, C1, C2, D11, D12, D21))
+    return thm
+
+
+def _stated(A, B1, B2, C1, C2, D11, D12, D21, X, Y, Ah, Bh, Ch, Dh, g):
+    return [[He(A * X + B2 * Ch)],
+            [Ah + (A + B2 * Dh * C2).T, He(Y * A + Bh * C2)],
+            [(B1 + B2 * Dh * D21).T, (Y * B1 + Bh * D21).T, -g * I],
+            [C1 * X + D12 * Ch, C1 + D12 * Dh * C2, D11 + D12 * Dh * D21, -g * I]]
+
+
+def test_the_form_as_a_user_states_it_is_recognised_and_bounded():
+    thm = _of_theorem("same", "continuous")
+    assert output_feedback_lmi(thm) is not None
+    lower, how = frequency_lower_bound(bind(thm, _plain(AC4)))
+    assert how.startswith("full information") and "Hamiltonian" in how
+    assert lower <= 0.5573
+
+
+def test_without_xy_the_hamiltonian_certificate_is_not_used():
+    """Its X terms are ≥ 0 only for X ⪰ 0: without (XY) the frequency response alone bounds γ."""
+    data = _plain(AC4)
+    with_xy = frequency_lower_bound(bind(_of_theorem("with_xy", "continuous"), data))
+    without = frequency_lower_bound(bind(_of_theorem("without_xy", "continuous", xy=False), data))
+    assert "Hamiltonian" in with_xy[1] and "Hamiltonian" not in without[1]
+    assert without[0] < with_xy[0]
+
+
+@pytest.mark.parametrize("name,rows", [
+    ("feedthrough_dropped", lambda A, B1, B2, C1, C2, D11, D12, D21, X, Y, Ah, Bh, Ch, Dh, g:
+        [[He(A * X + B2 * Ch)], [Ah + (A + B2 * Dh * C2).T, He(Y * A + Bh * C2)],
+         [B1.T, (Y * B1 + Bh * D21).T, -g * I],
+         [C1 * X + D12 * Ch, C1 + D12 * Dh * C2, D11 + D12 * Dh * D21, -g * I]]),
+    ("level_halved", lambda A, B1, B2, C1, C2, D11, D12, D21, X, Y, Ah, Bh, Ch, Dh, g:
+        [[He(A * X + B2 * Ch)], [Ah + (A + B2 * Dh * C2).T, He(Y * A + Bh * C2)],
+         [(B1 + B2 * Dh * D21).T, (Y * B1 + Bh * D21).T, -0.5 * g * I],
+         [C1 * X + D12 * Ch, C1 + D12 * Dh * C2, D11 + D12 * Dh * D21, -g * I]]),
+    ("control_doubled", lambda A, B1, B2, C1, C2, D11, D12, D21, X, Y, Ah, Bh, Ch, Dh, g:
+        [[He(A * X + 2 * B2 * Ch)], [Ah + (A + B2 * Dh * C2).T, He(Y * A + Bh * C2)],
+         [(B1 + B2 * Dh * D21).T, (Y * B1 + Bh * D21).T, -g * I],
+         [C1 * X + D12 * Ch, C1 + D12 * Dh * C2, D11 + D12 * Dh * D21, -g * I]]),
+])
+def test_a_theorem_that_states_another_lmi_gets_no_bound(name, rows):
+    """A bound on the declared form would be false for these: each is refused."""
+    thm = _of_theorem(name, "continuous", rows)
+    assert output_feedback_lmi(thm) is None
+    assert frequency_lower_bound(bind(thm, _plain(AC4))) is None
