@@ -191,3 +191,24 @@ def test_a_theorem_that_states_another_lmi_gets_no_bound(name, rows):
     thm = _of_theorem(name, "continuous", rows)
     assert output_feedback_lmi(thm) is None
     assert frequency_lower_bound(bind(thm, _plain(AC4))) is None
+
+
+def _filter_as_controller(d: dict) -> dict:
+    """The filtering plant as an output-feedback plant: u = ẑ, B2 = 0, D12 = −I."""
+    P = _arrays(d)
+    n, p1 = P["A"].shape[0], P["C1"].shape[0]
+    return dict(P, B2=np.zeros((n, p1)), D12=-np.eye(p1))
+
+
+@pytest.mark.parametrize("time", ["continuous", "discrete"])
+@pytest.mark.parametrize("k", [2, 5])
+def test_a_filter_gets_the_slicot_level_from_the_full_control_rows(time, k):
+    """The full-order H∞ filter's optimum is the filtering Riccati equation's (no coupling): the
+    full-control rows prove it, within 1e-4 below SLICOT's achieved level for the filter as a
+    controller (B2 = 0, D12 = −I)."""
+    from theorems.textbook.plants import filter_cases
+    _, d = filter_cases(time)[k]
+    lower, how = frequency_lower_bound(bind(lmidsl.get_theorem(f"textbook.hinf_filter_{time[0]}t"), d))
+    assert how.startswith("full control")
+    reference = _slicot_level(_filter_as_controller(d), time)
+    assert reference * (1 - 1e-4) <= lower <= reference

@@ -15,6 +15,8 @@ Af = N⁻¹(Â − Y A X − B̂ C2 X) M⁻ᵀ, Bf = N⁻¹B̂, Cf = (Ĉ − D̂
 The analysis counterpart is the bounded real lemma of the error system
 (:func:`lmidsl.filter_error_matrices`).
 """
+from sympy import Identity, ZeroMatrix
+
 from lmidsl import Source, Theorem, filter_blocks, filter_error_matrices, full_order_filter
 
 from .brl import bounded_real, scale_state
@@ -65,6 +67,9 @@ def _synthesis(name: str, time: str, analysis: Theorem) -> Theorem:
     b = filter_blocks(X, Y, Ah, Bh, Ch, Dh, *(d[k] for k in PLANT))
     full_order_hinf_lmis(thm, "(F)", b, g, X, Y)
     thm.minimize(g, performance=("gamma", g))
+    # the filter is the controller of the plant with u = ẑ: B2 = 0, D12 = −I
+    thm.output_feedback_form(X, Y, Ah, Bh, Ch, Dh, g, (d["A"], d["B1"], ZeroMatrix(n, p1), d["C1"], d["C2"],
+                                                      d["D11"], -Identity(p1), d["D21"]))
     thm.recover(**full_order_filter(thm, X, Y, Ah, Bh, Ch, Dh, d["A"], d["C2"]))
     thm.certified_by(analysis, design=FILTER)
     scale_state(thm, ("A", "B1"), ("A", "C1", "C2"))
