@@ -926,7 +926,7 @@ def frequency_route(instance, upper: float | None) -> DualBound | None:
     instance whose theorem's LMI is its declared bounded-real form; None for any other.  It needs
     no dual, so it also bounds a point from another backend or a Riccati route."""
     t0 = time.perf_counter()
-    found = frequency_lower_bound(instance)
+    found = frequency_lower_bound(instance, upper)
     if found is None:
         return None
     out = DualBound(method="frequency")

@@ -92,6 +92,7 @@ import sympy as sp
 from flint import acb, acb_mat, arb
 
 from ..numeric.evaluate import NumericEvaluator
+from .coupling_bound import coupling_bound
 from .hamiltonian_bound import (inner, interpolation_bound, projected_response, proved_root, stabilisation_bound,
                                 transfer)
 from ..numeric.proof import BallEvaluator, ball_precision, round_down
@@ -232,6 +233,19 @@ def _positive(theorem, Y) -> bool:
     return False
 
 
+def _coupled(theorem, X, Y) -> bool:
+    """Whether one of the theorem's LMIs (certain, for every vertex alike, not quantified) is
+    [[X, I], [I, Y]] ⪰ 0 itself (its negative form [[−X], [−I, −Y]])."""
+    for lmi in theorem.lmis:
+        if getattr(lmi, "quantifier", None) is not None or lmi.per_vertex or uncertain_atoms_of_lmi(lmi):
+            continue
+        N = lmi.negative_form()
+        if N.nblocks == 2 and _same(N.lower[0][0], -X) and _same(N.lower[1][1], -Y) and \
+                _same(N.lower[1][0], -sp.Identity(X.shape[0])):
+            return True
+    return False
+
+
 def _level_is_objective(theorem, level) -> bool:
     """Whether the theorem minimises ``level``, a scalar variable, itself."""
     return theorem.objective is not None and isinstance(level, ScalarVariable) and \
@@ -333,12 +347,13 @@ def _ball_gain(Ab, Bb, Cb, Db, u: np.ndarray, frequency: float, time: str):
     return num / den
 
 
-def frequency_lower_bound(instance) -> tuple[float | None, str] | None:
+def frequency_lower_bound(instance, level: float | None = None) -> tuple[float | None, str] | None:
     """(proved lower bound on the theorem's objective, how it was found) for an instance of a
     theorem whose LMI is its declared bounded-real form (:func:`bounded_real_lmi`), H∞
     state-feedback form (:func:`state_feedback_lmi`) or H∞ output-feedback form
     (:func:`output_feedback_lmi`), (None, why none was found), or None when
-    the route does not apply (no such LMI, several vertices)."""
+    the route does not apply (no such LMI, several vertices).  ``level``: the objective at the
+    solver's point, if known (a hint for where to search; the bound does not depend on it)."""
     theorem = instance.theorem
     if getattr(instance, "nvertices", 1) > 1:
         return None
@@ -351,8 +366,8 @@ def frequency_lower_bound(instance) -> tuple[float | None, str] | None:
         system = form.plant
     elif output_feedback_lmi(theorem) is not None:
         form = theorem.output_feedback
-        positive = _positive(theorem, form.X), _positive(theorem, form.Y)
-        bound = lambda floats, balls, time: _output_feedback_bound(floats, balls, time, *positive)  # noqa: E731
+        positive = _positive(theorem, form.X), _positive(theorem, form.Y), _coupled(theorem, form.X, form.Y)
+        bound = lambda floats, balls, time: _output_feedback_bound(floats, balls, time, *positive, level)  # noqa: E731
         system = form.plant
     else:
         return None
@@ -477,11 +492,13 @@ def _state_feedback_bound(floats: list, balls: list, time: str, stabilising: boo
     return found
 
 
-def _output_feedback_bound(floats: list, balls: list, time: str, x_positive: bool,
-                           y_positive: bool) -> tuple[float | None, str]:
-    """:func:`frequency_lower_bound` of the output-feedback LMI (module docstring): the higher of
-    the full-information bound on (A, B1, B2, C1, D11, D12) and the full-control bound on the dual
-    plant (Aᵀ, C1ᵀ, C2ᵀ, B1ᵀ, D11ᵀ, D21ᵀ)."""
+def _output_feedback_bound(floats: list, balls: list, time: str, x_positive: bool, y_positive: bool,
+                           coupled: bool, level: float | None = None) -> tuple[float | None, str]:
+    """:func:`frequency_lower_bound` of the output-feedback LMI (module docstring): the highest of
+    the full-information bound on (A, B1, B2, C1, D11, D12), the full-control bound on the dual
+    plant (Aᵀ, C1ᵀ, C2ᵀ, B1ᵀ, D11ᵀ, D21ᵀ) and, in continuous time with [[X, I], [I, Y]] ⪰ 0 among
+    the LMIs (``coupled``), the coupled certificate of :mod:`lmidsl.certify.coupling_bound`
+    (``level``: the SDP's level, where its search starts)."""
     def parts(M):
         A, B1, B2, C1, C2, D11, D12, D21 = M
         return [A, B1, B2, C1, D11, D12], [A.T, C1.T, C2.T, B1.T, D11.T, D21.T]
@@ -489,6 +506,9 @@ def _output_feedback_bound(floats: list, balls: list, time: str, x_positive: boo
     (fi, fc), (fi_balls, fc_balls) = parts(floats), parts(balls)
     found = [("full information", _state_feedback_bound(fi, fi_balls, time, x_positive)),
              ("full control", _state_feedback_bound(fc, fc_balls, time, y_positive))]
+    if coupled and time == "continuous":
+        start = max([lower for _, (lower, _) in found if lower is not None], default=0.0)
+        found.append(("coupled", coupling_bound(fi, fi_balls, fc, fc_balls, max(start, 1e-6), level)))
     proved = [(lower, f"{name}: {how}") for name, (lower, how) in found if lower is not None]
     if proved:
         return max(proved, key=lambda item: item[0])

@@ -191,12 +191,14 @@ def least_level(feasible, start: float) -> float | None:
     return hi
 
 
-def _ball_bound(floats, balls, gamma0: float):
-    """A ball containing a/b (module docstring) for the stable eigenpairs of the Hamiltonian at
-    γ₀ built from ``balls`` (the data as written), or None (an eigenpair not isolated, D12ᵀD12
-    not provably invertible, no stable eigenvalue proved, b not provably positive)."""
+def stable_eigendata(balls, gamma0: float):
+    """(λ, X₁, X₂, R, H) in balls for the stable eigenpairs of the Hamiltonian at γ₀ built from
+    ``balls`` (the data as written): λ the stable eigenvalues (Re λ < 0 proved), X₁ and X₂ the
+    upper and lower halves of their eigenvectors, R = C1X₁ − D R_γ⁻¹(BᵀX₂ + DᵀC1X₁) and H = B1ᵀX₂ + D11ᵀR (module
+    docstring); None when an eigenpair is not isolated, R_γ not provably invertible or no stable
+    eigenvalue is proved."""
     A, B1, B2, C1, D11, D12 = (acb_mat([[acb(z) for z in row] for row in M.tolist()]) for M in balls)
-    n, m1 = floats[0].shape[0], floats[1].shape[1]
+    n, m1 = A.nrows(), B1.ncols()
     B = acb_mat([[B1[i, j] for j in range(m1)] + [B2[i, j] for j in range(B2.ncols())] for i in range(n)])
     D = acb_mat([[D11[i, j] for j in range(m1)] + [D12[i, j] for j in range(D12.ncols())]
                  for i in range(C1.nrows())])
@@ -225,28 +227,47 @@ def _ball_bound(floats, balls, gamma0: float):
         return None
     X1 = acb_mat([[V[i, k] for k in stable] for i in range(n)])
     X2 = acb_mat([[V[n + i, k] for k in stable] for i in range(n)])
+    R = C1 * X1 - D * (Ri * (B.transpose() * X2 + D.transpose() * C1 * X1))
+    return [E[k] for k in stable], X1, X2, R, B1.transpose() * X2 + D11.transpose() * R
+
+
+def midpoints(M: acb_mat) -> np.ndarray:
+    """The midpoints of a complex ball matrix, as a numpy array."""
+    return np.array([[complex(float(M[i, k].real.mid()), float(M[i, k].imag.mid())) for k in range(M.ncols())]
+                     for i in range(M.nrows())])
+
+
+def gramian(lam: list, c: np.ndarray) -> acb_mat:
+    """G = [−cᵢc̄ⱼ/(λᵢ + λ̄ⱼ)] = ∫ e^{Λt}cc*e^{Λ*t}dt ⪰ 0 in balls, c's doubles taken exactly: then
+    ΛG + GΛ* = −cc*."""
+    cb = [acb(float(z.real), float(z.imag)) for z in c]
+    return acb_mat([[-cb[i] * cb[j].conjugate() / (lam[i] + lam[j].conjugate()) for j in range(len(lam))]
+                    for i in range(len(lam))])
+
+
+def _ball_bound(balls, gamma0: float):
+    """A ball containing a/b (module docstring) for the stable eigenpairs of the Hamiltonian at
+    γ₀ built from ``balls`` (the data as written), or None (an eigenpair not isolated, D12ᵀD12
+    not provably invertible, no stable eigenvalue proved, b not provably positive)."""
+    found = stable_eigendata(balls, gamma0)
+    if found is None:
+        return None
+    lam, X1, X2, R, Hh = found
     # c: the most negative direction of S = X₁*X₂ from the midpoints (any c gives a valid bound;
     # a − γ₀²b = −γ₀² c*Sc, so this one makes the bound exceed γ₀ wherever S is not ⪰ 0)
-    X1f, X2f = (np.array([[complex(float(M[i, k].real.mid()), float(M[i, k].imag.mid()))
-                           for k in range(len(stable))] for i in range(n)]) for M in (X1, X2))
-    S = X1f.conj().T @ X2f
+    S = midpoints(X1).conj().T @ midpoints(X2)
     if not np.all(np.isfinite(S)):
         return None
     _, vecs = np.linalg.eigh((S + S.conj().T) / 2)
-    cb = [acb(float(z.real), float(z.imag)) for z in vecs[:, 0]]
-    lam = [E[k] for k in stable]
-    Gm = acb_mat([[-cb[i] * cb[j].conjugate() / (lam[i] + lam[j].conjugate()) for j in range(len(stable))]
-                  for i in range(len(stable))])
-    R = C1 * X1 - D * (Ri * (B.transpose() * X2 + D.transpose() * C1 * X1))
-    Hh = B1.transpose() * X2 + D11.transpose() * R
-    a = _weighted_square(Hh, Gm)
-    b = _weighted_square(R, Gm)
+    Gm = gramian(lam, vecs[:, 0])
+    a = weighted_square(Hh, Gm)
+    b = weighted_square(R, Gm)
     if not b > 0:
         return None
     return a / b
 
 
-def _weighted_square(M: acb_mat, G: acb_mat):
+def weighted_square(M: acb_mat, G: acb_mat):
     """Re tr(G M*M) = Re Σ (M G)ᵣᵢ conj(Mᵣᵢ), a real ball."""
     MG = M * G
     total = acb(0)
@@ -273,7 +294,7 @@ def stabilisation_bound(floats: list, balls: list, start: float) -> tuple[float 
     best = None
     with ball_precision(PRECISION):
         for gamma0 in _levels(floats, top):       # done once one reaches its γ₀
-            lower = proved_root(_ball_bound(floats, balls, gamma0))
+            lower = proved_root(_ball_bound(balls, gamma0))
             if lower is None:
                 continue
             if best is None or lower > best[0]:

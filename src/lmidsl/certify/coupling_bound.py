@@ -1,0 +1,195 @@
+"""A proved lower bound on a continuous-time H∞ output-feedback optimum where the coupling of the
+two Riccati equations sets it (ρ(X∞Y∞) = γ², Doyle, Glover, Khargonekar, Francis 1989).
+
+The full-order LMI in the linearising variables (:mod:`lmidsl.certify.frequency_bound`, "Output
+feedback") contains the full-information rows (X, w, z) and the full-control rows (Y, z, w), and
+[[X, I], [I, Y]] ⪰ 0 is among the theorem's LMIs.  Take the Hamiltonian certificate of each
+(:mod:`lmidsl.certify.hamiltonian_bound`): for the full-information problem of (A, B1, B2, C1,
+D11, D12) at a level γ₀, the stable eigenvalues λᵢ with eigenvectors [x1ᵢ; x2ᵢ], P = [x2ᵢ], the
+columns R and H, and for any vector c the Gramian G = [−cᵢc̄ⱼ/(λᵢ + λ̄ⱼ)] ⪰ 0; the dual point
+Z₁ = Re(V G V*), V = [P; κH; R] in the rows (X, w, z), gives
+
+    Re tr(Z₁ N) = x*Xx + 2κa₁ − γ(κ²a₁ + b₁),   x = Pc,  a₁ = tr(G H*H),  b₁ = tr(G R*R),
+
+because ΛG + GΛ* = −cc* (the X terms are −tr(P*XP(ΛG + GΛ*))).  The same for the full-control
+problem of the dual plant (Aᵀ, C1ᵀ, C2ᵀ, B1ᵀ, D11ᵀ, D21ᵀ), its vector d and Gramian in the rows
+(Y, z, w): y*Yy + 2μa₂ − γ(μ²a₂ + b₂), y = P̃d.  Z₁ has a zero Y row and Z₂ a zero X row, so
+Z = Z₁ + Z₂ ⪰ 0 pairs Â (the (Y, X) block) with zero, and Ĉ, B̂ and D̂ vanish by the identities of
+each part.  On [[X, I], [I, Y]] ⪰ 0 the dual point Re(ww*), w = [x; −e^{iφ}y] with e^{iφ}x*y ≥ 0,
+gives x*Xx + y*Yy ≥ 2|x*y|.  Every feasible (X, Y, Â, B̂, Ĉ, D̂, γ) therefore has, with κ = μ = 1/γ
+and c, d scaled by t₁, t₂ ≥ 0,
+
+    0 ≥ 2t₁t₂ξ + t₁²(a₁/γ − γb₁) + t₂²(a₂/γ − γb₂),   ξ = |x*y|,
+
+so both brackets are ≤ 0 and (γb₁ − a₁/γ)(γb₂ − a₂/γ) ≥ ξ²: with g = γ², (gb₁ − a₁)(gb₂ − a₂) ≥ gξ²
+on g ≥ max(a₁/b₁, a₂/b₂), i.e. g at least the larger root of b₁b₂g² − (a₁b₂ + a₂b₁ + ξ²)g + a₁a₂:
+
+    γ ≥ √g₊.
+
+With ξ = 0 this is the larger of the two Hamiltonian bounds; the coupling term is what lifts it to
+the output-feedback optimum.  Nothing else is assumed: no Riccati solution, no theorem about the
+optimum.  The eigenpairs are python-flint's rigorous enclosures (``acb_mat.eig``, at γ₀ a double),
+c and d doubles taken exactly, and a₁, b₁, a₂, b₂, ξ and g₊ are evaluated in balls, so the bound
+holds for an exact dual point.
+
+**Making it tight.**  a, b and x are a Hermitian form, a Hermitian form and a linear map of c:
+a₁ = c*M₁c, b₁ = c*N₁c, x = Pc (M₁ᵢⱼ = −(H*H)ᵢⱼ/(λⱼ + λ̄ᵢ), N₁ likewise with R), and the same for d.
+A level γ is excluded when Q₁ = γ²N₁ − M₁ or Q₂ = γ²N₂ − M₂ has a negative eigenvalue, or when
+γ σ_max(Q₁^{-1/2} P*P̃ Q₂^{-1/2}) > 1 (the dual of ρ(XY) > γ²); c and d are the top singular
+vectors there, at the largest such γ found by bisection in floating point from the enclosures'
+midpoints.  γ₀ matters little when it is near or above the optimum (on a random 3-state plant
+γ₀ = 12.3 and 15 give 12.379858848 and 12.37985 for an optimum at 12.3798589–12.3798847); it
+is refined by a few fixed-point steps γ₀ ← the bound at γ₀, started above the optimum: from far
+below they can stall (a random 4-state plant: 6.80 from γ₀ = 5, 19.4736 from 30 or 1000, for
+an optimum at 19.4736–19.4738).
+"""
+from __future__ import annotations
+
+import numpy as np
+from flint import acb, acb_mat, arb
+
+from ..numeric.proof import ball_precision, round_down
+from .hamiltonian_bound import MAX_STATES, PRECISION, gramian, inner, midpoints, stable_eigendata, weighted_square
+
+#: fixed-point steps γ₀ ← bound(γ₀) in floating point before the enclosure
+LEVEL_STEPS = 4
+#: the certificate's directions are taken this far (relative) below the floating-point bound
+BELOW = 1e-9
+
+
+def _forms(lam, P, R, H) -> tuple:
+    """(M, N, P) in floating point from the enclosures' midpoints: a = c*Mc, b = c*Nc, x = Pc."""
+    lam = np.array([complex(float(z.real.mid()), float(z.imag.mid())) for z in lam])
+    kernel = -1.0 / (lam[None, :] + lam.conj()[:, None])
+    Hf, Rf, Pf = midpoints(H), midpoints(R), midpoints(P)
+    return (Hf.conj().T @ Hf) * kernel, (Rf.conj().T @ Rf) * kernel, Pf
+
+
+def _inverse_root(Q: np.ndarray) -> np.ndarray | None:
+    """Q^{-1/2} of a Hermitian Q ≻ 0, or None when Q is not positive definite in floating point."""
+    w, V = np.linalg.eigh((Q + Q.conj().T) / 2)
+    if not np.all(np.isfinite(w)) or w[0] <= 0:
+        return None
+    return (V / np.sqrt(w)) @ V.conj().T
+
+
+def _excluding(first, second, gamma: float):
+    """(c, d) that exclude ``gamma`` (module docstring, "Making it tight"), or None when these
+    forms do not."""
+    (M1, N1, P1), (M2, N2, P2) = first, second
+    Q1, Q2 = gamma ** 2 * N1 - M1, gamma ** 2 * N2 - M2
+    for Q, k in ((Q1, 0), (Q2, 1)):
+        w, V = np.linalg.eigh((Q + Q.conj().T) / 2)
+        if np.isfinite(w[0]) and w[0] < 0:
+            zero = np.zeros(P2.shape[1] if k == 0 else P1.shape[1], dtype=complex)
+            return (V[:, 0], zero) if k == 0 else (zero, V[:, 0])
+    S1, S2 = _inverse_root(Q1), _inverse_root(Q2)
+    if S1 is None or S2 is None:
+        return None
+    u, sv, vh = np.linalg.svd(S1 @ P1.conj().T @ P2 @ S2)
+    if not gamma * sv[0] > 1:
+        return None
+    return S1 @ u[:, 0], S2 @ vh[0].conj()
+
+
+def _float_level(first, second, start: float) -> float:
+    """The largest γ the forms exclude (bisection, relative 1e-13), or ``start``·1e-3 if none."""
+    lo, hi = start * 1e-3, start * 10
+    if _excluding(first, second, lo) is None:
+        return lo
+    while _excluding(first, second, hi) is not None and hi < 1e15:
+        lo, hi = hi, hi * 10
+    while hi - lo > 1e-13 * hi:
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if _excluding(first, second, mid) is not None else (lo, mid)
+    return lo
+
+
+def _ball_level(one, two, c: np.ndarray, d: np.ndarray):
+    """A ball containing g₊ (module docstring) for the vectors c, d (doubles, exact) and the
+    enclosures ``one``, ``two``, or None when b₁ or b₂ is not provably positive."""
+    (lam1, P1, R1, H1), (lam2, P2, R2, H2) = one, two
+    G1, G2 = gramian(lam1, c), gramian(lam2, d)
+    a1, b1 = weighted_square(H1, G1), weighted_square(R1, G1)
+    a2, b2 = weighted_square(H2, G2), weighted_square(R2, G2)
+    for vector, a, b in ((d, a1, b1), (c, a2, b2)):
+        if not vector.any():                    # one certificate alone (t₂ = 0 or t₁ = 0): g ≥ a/b
+            return a / b if b > 0 else None
+    if not (b1 > 0 and b2 > 0):
+        return None
+    x, y = P1 * _column(c), P2 * _column(d)
+    xi = abs(inner(x, y))
+    s = a1 * b2 + a2 * b1 + xi * xi
+    disc = s * s - 4 * a1 * a2 * b1 * b2
+    root = arb(0) if not disc > 0 else disc.sqrt()
+    return (s + root) / (2 * b1 * b2)
+
+
+def _column(v: np.ndarray) -> acb_mat:
+    """A vector of doubles (exact) as a ball column."""
+    return acb_mat([[acb(float(z.real), float(z.imag))] for z in v])
+
+
+def _enclosures(fi_balls, fc_balls, gamma0: float):
+    """The stable eigendata (λ, X₂, R, H) of both Hamiltonians at γ₀, or None."""
+    out = []
+    for balls in (fi_balls, fc_balls):
+        found = stable_eigendata(balls, gamma0)
+        if found is None:
+            return None
+        lam, _, X2, R, H = found
+        out.append((lam, X2, R, H))
+    return out
+
+
+def coupling_bound(fi: list, fi_balls: list, fc: list, fc_balls: list, start: float,
+                   level: float | None = None) -> tuple[float | None, str]:
+    """(proved lower bound on γ, how) of the continuous-time output-feedback LMI with
+    [[X, I], [I, Y]] ⪰ 0 (module docstring): ``fi`` the full-information data (A, B1, B2, C1, D11,
+    D12), ``fc`` the dual plant's, in floating point and in balls; ``start`` a level below the
+    optimum (the larger of the two state-feedback bounds), ``level`` one above it if known (the
+    SDP's).  The fixed-point steps on γ₀ start above the optimum — at ``level``, else at
+    10·``start`` — where they reach it (from below they can stall: 6.8 for an optimum of 19.47),
+    then, if that gave nothing, just above ``start``.  (None, why) when none was proved."""
+    n = fi[0].shape[0]
+    if n > MAX_STATES:
+        return None, f"more than {MAX_STATES} states (the eigen-enclosures cost O(n³) ball operations)"
+    for M, name in ((fi[5], "D12"), (fc[5], "D21ᵀ")):
+        if M.shape[1] == 0 or np.linalg.matrix_rank(M) < M.shape[1]:
+            return None, f"{name} has no full column rank"
+    best = None
+    with ball_precision(PRECISION):
+        for gamma0 in ([level * (1 + 1e-6)] if level else []) + [10 * start, start * (1 + 1e-3)]:
+            found = _from_level(fi_balls, fc_balls, gamma0)
+            if found is not None and (best is None or found[0] > best[0]):
+                best = found
+            if best is not None:
+                break
+    return best or (None, "no level gave a ball bound for the coupled certificate")
+
+
+def _from_level(fi_balls: list, fc_balls: list, gamma0: float) -> tuple[float, str] | None:
+    """The best proved bound of the fixed-point steps γ₀ ← the floating-point bound at γ₀."""
+    best = None
+    for _ in range(LEVEL_STEPS):
+        found = _enclosures(fi_balls, fc_balls, gamma0)
+        if found is None:
+            break
+        forms = [_forms(*e) for e in found]
+        level = _float_level(*forms, gamma0)
+        directions = _excluding(*forms, level * (1 - BELOW))
+        if directions is None:
+            break
+        ball = _ball_level(*found, *directions)
+        if ball is not None and ball.is_finite() and ball.lower() > 0:
+            lower = round_down(float(arb(ball.lower()).sqrt().lower()))
+            if best is None or lower > best[0]:
+                best = (lower, f"the two Hamiltonians' stable eigenvectors at γ₀ = {gamma0:.10g} coupled "
+                               f"through [[X, I], [I, Y]] ⪰ 0 (a dual point: γ ≥ √g₊)")
+        if abs(level - gamma0) <= 1e-9 * level:
+            break
+        gamma0 = level
+    return best
+
+
+__all__ = ["coupling_bound"]
