@@ -1,5 +1,5 @@
-"""A proved lower bound on a continuous-time H∞ output-feedback optimum where the coupling of the
-two Riccati equations sets it (ρ(X∞Y∞) = γ², Doyle, Glover, Khargonekar, Francis 1989).
+"""A proved lower bound on an H∞ output-feedback optimum where the coupling of the two Riccati
+equations sets it (ρ(X∞Y∞) = γ², Doyle, Glover, Khargonekar, Francis 1989).
 
 The full-order LMI in the linearising variables (:mod:`lmidsl.certify.frequency_bound`, "Output
 feedback") contains the full-information rows (X, w, z) and the full-control rows (Y, z, w), and
@@ -32,6 +32,17 @@ optimum.  The eigenpairs are python-flint's rigorous enclosures (``acb_mat.eig``
 c and d doubles taken exactly, and a₁, b₁, a₂, b₂, ξ and g₊ are evaluated in balls, so the bound
 holds for an exact dual point.
 
+**Discrete time.**  The form's rows (X, Y) are −[[X, I], [I, Y]] itself, so the dual point
+Re(ww*) sits on those rows of the same LMI, and the two parts are the interpolation certificates
+of :mod:`lmidsl.certify.hamiltonian_bound` (points sᵢ outside the unit circle, kernel vectors,
+the Pick kernel G): the full-information one in the rows (X, w, X', z) has X terms x*Xx with
+x = Σᵢ p2ᵢ, p2ᵢ = (sᵢI − Aᵀ)⁻¹C1ᵀrᵢ (tr(F(SGS* − G)) with SGS* − G the all-ones matrix), the
+full-control one in the rows (Y, w, Y', z) (:mod:`lmidsl.certify.frequency_bound`, "Output
+feedback") has Y terms y*Yy with y = Σᵢ aᵢ; the blocks that pair the two parts (Â, A + B2D̂C2 and
+the −I between X' and Y') meet zero, and the argument above goes through unchanged.  The points
+are the mirror images 1/μ of the eigenvalues of each full-information closed loop at γ₀, and
+the kernel coefficients the forms' singular vectors.
+
 **Making it tight.**  a, b and x are a Hermitian form, a Hermitian form and a linear map of c:
 a₁ = c*M₁c, b₁ = c*N₁c, x = Pc (M₁ᵢⱼ = −(H*H)ᵢⱼ/(λⱼ + λ̄ᵢ), N₁ likewise with R), and the same for d.
 A level γ is excluded when Q₁ = γ²N₁ − M₁ or Q₂ = γ²N₂ − M₂ has a negative eigenvalue, or when
@@ -49,7 +60,9 @@ import numpy as np
 from flint import acb, acb_mat, arb
 
 from ..numeric.proof import ball_precision, round_down
-from .hamiltonian_bound import MAX_STATES, PRECISION, gramian, inner, midpoints, stable_eigendata, weighted_square
+from ..numeric.riccati import full_information_feedback
+from .hamiltonian_bound import (MAX_STATES, PRECISION, gramian, inner, interpolation_forms, interpolation_parts,
+                                midpoints, split_directions, stable_eigendata, weighted_square)
 
 #: fixed-point steps γ₀ ← bound(γ₀) in floating point before the enclosure
 LEVEL_STEPS = 4
@@ -105,19 +118,12 @@ def _float_level(first, second, start: float) -> float:
     return lo
 
 
-def _ball_level(one, two, c: np.ndarray, d: np.ndarray):
-    """A ball containing g₊ (module docstring) for the vectors c, d (doubles, exact) and the
-    enclosures ``one``, ``two``, or None when b₁ or b₂ is not provably positive."""
-    (lam1, P1, R1, H1), (lam2, P2, R2, H2) = one, two
-    G1, G2 = gramian(lam1, c), gramian(lam2, d)
-    a1, b1 = weighted_square(H1, G1), weighted_square(R1, G1)
-    a2, b2 = weighted_square(H2, G2), weighted_square(R2, G2)
-    for vector, a, b in ((d, a1, b1), (c, a2, b2)):
-        if not vector.any():                    # one certificate alone (t₂ = 0 or t₁ = 0): g ≥ a/b
-            return a / b if b > 0 else None
+def _g_plus(first: tuple, second: tuple):
+    """A ball containing g₊ (module docstring) from the balls (a₁, b₁, x) and (a₂, b₂, y), or None
+    when b₁ or b₂ is not provably positive."""
+    (a1, b1, x), (a2, b2, y) = first, second
     if not (b1 > 0 and b2 > 0):
         return None
-    x, y = P1 * _column(c), P2 * _column(d)
     xi = abs(inner(x, y))
     s = a1 * b2 + a2 * b1 + xi * xi
     disc = s * s - 4 * a1 * a2 * b1 * b2
@@ -130,66 +136,102 @@ def _column(v: np.ndarray) -> acb_mat:
     return acb_mat([[acb(float(z.real), float(z.imag))] for z in v])
 
 
-def _enclosures(fi_balls, fc_balls, gamma0: float):
-    """The stable eigendata (λ, X₂, R, H) of both Hamiltonians at γ₀, or None."""
-    out = []
-    for balls in (fi_balls, fc_balls):
-        found = stable_eigendata(balls, gamma0)
-        if found is None:
-            return None
-        lam, _, X2, R, H = found
-        out.append((lam, X2, R, H))
-    return out
+def _hamiltonian_parts(floats: list, balls: list, gamma0: float):
+    """(forms, evaluate) of a Hamiltonian certificate at γ₀ (continuous time): the floating-point
+    forms (M, N, P) and c ↦ balls of (a, b, x); None when the enclosure fails."""
+    found = stable_eigendata(balls, gamma0)
+    if found is None:
+        return None
+    lam, _, P, R, H = found
+
+    def evaluate(c):
+        G = gramian(lam, c)
+        return weighted_square(H, G), weighted_square(R, G), P * _column(c)
+
+    return _forms(lam, P, R, H), evaluate
 
 
-def coupling_bound(fi: list, fi_balls: list, fc: list, fc_balls: list, start: float,
+def _interpolation_parts(floats: list, balls: list, gamma0: float):
+    """(forms, evaluate) of an interpolation certificate (discrete time) at the mirror images of
+    the eigenvalues of the full-information closed loop A + BF at γ₀; None when there is none."""
+    with np.errstate(all="ignore"):
+        F = full_information_feedback(*floats, gamma0, "discrete")
+    if F is None:
+        return None
+    mu = np.linalg.eigvals(floats[0] + np.hstack([floats[1], floats[2]]) @ F)
+    points = [1 / m for m in mu if abs(m) > 1e-12]
+    found = interpolation_forms(floats, points) if points else None
+    if found is None:
+        return None
+    top, bottom, storage, bases = found
+
+    def evaluate(z):
+        return interpolation_parts(balls, points, split_directions(bases, z), storage=True)
+
+    return (top, bottom, storage), evaluate
+
+
+def _from_level(family, fi, fi_balls, fc, fc_balls, gamma0: float) -> tuple[float, str] | None:
+    """The best proved bound of the fixed-point steps γ₀ ← the floating-point bound at γ₀, with
+    ``family`` :func:`_hamiltonian_parts` or :func:`_interpolation_parts`."""
+    best = None
+    for _ in range(LEVEL_STEPS):
+        parts = [family(fi, fi_balls, gamma0), family(fc, fc_balls, gamma0)]
+        if None in parts:
+            break
+        forms = [f for f, _ in parts]
+        level = _float_level(*forms, gamma0)
+        directions = _excluding(*forms, level * (1 - BELOW))
+        if directions is None:
+            break
+        alone = [k for k, v in enumerate(directions) if v.any()]
+        values = [parts[k][1](directions[k]) for k in alone]
+        if None in values:
+            ball = None
+        elif len(alone) == 1:                    # one certificate alone (t₂ = 0 or t₁ = 0): g ≥ a/b
+            a, b, _ = values[0]
+            ball = a / b if b > 0 else None
+        else:
+            ball = _g_plus(*values)
+        if ball is not None and ball.is_finite() and ball.lower() > 0:
+            lower = round_down(float(arb(ball.lower()).sqrt().lower()))
+            if best is None or lower > best[0]:
+                best = (lower, gamma0)
+        if abs(level - gamma0) <= 1e-9 * level:
+            break
+        gamma0 = level
+    return best
+
+
+def coupling_bound(fi: list, fi_balls: list, fc: list, fc_balls: list, start: float, time: str,
                    level: float | None = None) -> tuple[float | None, str]:
-    """(proved lower bound on γ, how) of the continuous-time output-feedback LMI with
-    [[X, I], [I, Y]] ⪰ 0 (module docstring): ``fi`` the full-information data (A, B1, B2, C1, D11,
-    D12), ``fc`` the dual plant's, in floating point and in balls; ``start`` a level below the
-    optimum (the larger of the two state-feedback bounds), ``level`` one above it if known (the
-    SDP's).  The fixed-point steps on γ₀ start above the optimum — at ``level``, else at
-    10·``start`` — where they reach it (from below they can stall: 6.8 for an optimum of 19.47),
-    then, if that gave nothing, just above ``start``.  (None, why) when none was proved."""
+    """(proved lower bound on γ, how) of the output-feedback LMI with [[X, I], [I, Y]] ⪰ 0 among its
+    LMIs (continuous time) or as its leading principal block (discrete time) (module docstring):
+    ``fi`` the full-information data (A, B1, B2, C1, D11, D12), ``fc`` the dual plant's, in
+    floating point and in balls; ``start`` a level below the optimum (the larger of the two
+    state-feedback bounds), ``level`` one above it if known (the SDP's).  The fixed-point steps
+    on γ₀ start above the optimum — at ``level``, else at 10·``start`` — where they reach it
+    (from below they can stall: 6.8 for an optimum of 19.47), then, if that gave nothing, just
+    above ``start``.  (None, why) when none was proved."""
     n = fi[0].shape[0]
     if n > MAX_STATES:
         return None, f"more than {MAX_STATES} states (the eigen-enclosures cost O(n³) ball operations)"
     for M, name in ((fi[5], "D12"), (fc[5], "D21ᵀ")):
         if M.shape[1] == 0 or np.linalg.matrix_rank(M) < M.shape[1]:
             return None, f"{name} has no full column rank"
+    family, what = (_hamiltonian_parts, "the two Hamiltonians' stable eigenvectors") if time == "continuous" \
+        else (_interpolation_parts, "two interpolation certificates")
     best = None
     with ball_precision(PRECISION):
         for gamma0 in ([level * (1 + 1e-6)] if level else []) + [10 * start, start * (1 + 1e-3)]:
-            found = _from_level(fi_balls, fc_balls, gamma0)
+            found = _from_level(family, fi, fi_balls, fc, fc_balls, gamma0)
             if found is not None and (best is None or found[0] > best[0]):
                 best = found
             if best is not None:
                 break
-    return best or (None, "no level gave a ball bound for the coupled certificate")
-
-
-def _from_level(fi_balls: list, fc_balls: list, gamma0: float) -> tuple[float, str] | None:
-    """The best proved bound of the fixed-point steps γ₀ ← the floating-point bound at γ₀."""
-    best = None
-    for _ in range(LEVEL_STEPS):
-        found = _enclosures(fi_balls, fc_balls, gamma0)
-        if found is None:
-            break
-        forms = [_forms(*e) for e in found]
-        level = _float_level(*forms, gamma0)
-        directions = _excluding(*forms, level * (1 - BELOW))
-        if directions is None:
-            break
-        ball = _ball_level(*found, *directions)
-        if ball is not None and ball.is_finite() and ball.lower() > 0:
-            lower = round_down(float(arb(ball.lower()).sqrt().lower()))
-            if best is None or lower > best[0]:
-                best = (lower, f"the two Hamiltonians' stable eigenvectors at γ₀ = {gamma0:.10g} coupled "
-                               f"through [[X, I], [I, Y]] ⪰ 0 (a dual point: γ ≥ √g₊)")
-        if abs(level - gamma0) <= 1e-9 * level:
-            break
-        gamma0 = level
-    return best
+    if best is None:
+        return None, "no level gave a ball bound for the coupled certificate"
+    return best[0], f"{what} at γ₀ = {best[1]:.10g} coupled through [[X, I], [I, Y]] ⪰ 0 (a dual point: γ ≥ √g₊)"
 
 
 __all__ = ["coupling_bound"]

@@ -366,7 +366,9 @@ def frequency_lower_bound(instance, level: float | None = None) -> tuple[float |
         system = form.plant
     elif output_feedback_lmi(theorem) is not None:
         form = theorem.output_feedback
-        positive = _positive(theorem, form.X), _positive(theorem, form.Y), _coupled(theorem, form.X, form.Y)
+        # discrete time: the form's rows (X, Y) are −[[X, I], [I, Y]] itself
+        coupled = theorem.time == "discrete" or _coupled(theorem, form.X, form.Y)
+        positive = _positive(theorem, form.X), _positive(theorem, form.Y), coupled
         bound = lambda floats, balls, time: _output_feedback_bound(floats, balls, time, *positive, level)  # noqa: E731
         system = form.plant
     else:
@@ -496,8 +498,8 @@ def _output_feedback_bound(floats: list, balls: list, time: str, x_positive: boo
                            coupled: bool, level: float | None = None) -> tuple[float | None, str]:
     """:func:`frequency_lower_bound` of the output-feedback LMI (module docstring): the highest of
     the full-information bound on (A, B1, B2, C1, D11, D12), the full-control bound on the dual
-    plant (Aᵀ, C1ᵀ, C2ᵀ, B1ᵀ, D11ᵀ, D21ᵀ) and, in continuous time with [[X, I], [I, Y]] ⪰ 0 among
-    the LMIs (``coupled``), the coupled certificate of :mod:`lmidsl.certify.coupling_bound`
+    plant (Aᵀ, C1ᵀ, C2ᵀ, B1ᵀ, D11ᵀ, D21ᵀ) and, with [[X, I], [I, Y]] ⪰ 0 among the LMIs or inside
+    the form (``coupled``), the coupled certificate of :mod:`lmidsl.certify.coupling_bound`
     (``level``: the SDP's level, where its search starts)."""
     def parts(M):
         A, B1, B2, C1, C2, D11, D12, D21 = M
@@ -506,9 +508,9 @@ def _output_feedback_bound(floats: list, balls: list, time: str, x_positive: boo
     (fi, fc), (fi_balls, fc_balls) = parts(floats), parts(balls)
     found = [("full information", _state_feedback_bound(fi, fi_balls, time, x_positive)),
              ("full control", _state_feedback_bound(fc, fc_balls, time, y_positive))]
-    if coupled and time == "continuous":
+    if coupled:
         start = max([lower for _, (lower, _) in found if lower is not None], default=0.0)
-        found.append(("coupled", coupling_bound(fi, fi_balls, fc, fc_balls, max(start, 1e-6), level)))
+        found.append(("coupled", coupling_bound(fi, fi_balls, fc, fc_balls, max(start, 1e-6), time, level)))
     proved = [(lower, f"{name}: {how}") for name, (lower, how) in found if lower is not None]
     if proved:
         return max(proved, key=lambda item: item[0])

@@ -364,19 +364,25 @@ def _pick(s_i, s_j):
     return 1 / (s_i * s_j.conjugate() - 1)
 
 
-def _interpolation_directions(floats, points: list):
-    """The vectors uᵢ ∈ ker P12(sᵢ)ᵀ that maximise the certificate's ratio at the given points, in
-    floating point: the top generalised eigenvector of the Hermitian forms tr(G H*H) and
-    tr(G R*R) over the kernels (G the Pick kernel, H = [P11(sᵢ)ᵀuᵢ]); None when there is none."""
-    from scipy.linalg import eigh, null_space
-    bases, images = [], []
-    for s in points:
-        P11, P12 = transfer(floats, s)
-        N = null_space(P12.T)
-        if N.size == 0:
-            return None
-        bases.append(N)
-        images.append(P11.T @ N)
+def interpolation_forms(floats, points: list):
+    """(T, B, P, bases) in floating point for the interpolation certificate at the given points
+    (module docstring): with uᵢ = Nᵢzᵢ in the kernel of P12(sᵢ)ᵀ (Nᵢ = ``bases[i]``, z stacked),
+    tr(G H*H) = z*Tz, tr(G R*R) = z*Bz and Σᵢ p2ᵢ = Pz, p2ᵢ = (sᵢI − Aᵀ)⁻¹C1ᵀuᵢ; None when a kernel
+    is {0} or sᵢI − A is singular."""
+    from scipy.linalg import null_space
+    A, C1 = floats[0], floats[3]
+    bases, images, storage = [], [], []
+    try:
+        for s in points:
+            P11, P12 = transfer(floats, s)
+            N = null_space(P12.T)
+            if N.size == 0:
+                return None
+            bases.append(N)
+            images.append(P11.T @ N)
+            storage.append(np.linalg.solve(s * np.eye(A.shape[0]) - A.T, C1.T @ N))
+    except np.linalg.LinAlgError:
+        return None
     offsets = np.cumsum([0] + [N.shape[1] for N in bases])
     top = np.zeros((offsets[-1], offsets[-1]), dtype=complex)
     bottom = np.zeros_like(top)
@@ -386,18 +392,41 @@ def _interpolation_directions(floats, points: list):
             rows, cols = slice(offsets[j], offsets[j + 1]), slice(offsets[i], offsets[i + 1])
             top[rows, cols] = k * (images[j].conj().T @ images[i])
             bottom[rows, cols] = k * (bases[j].conj().T @ bases[i])
+    return top, bottom, np.hstack(storage), bases
+
+
+def split_directions(bases: list, z: np.ndarray) -> list:
+    """The kernel vectors uᵢ = Nᵢzᵢ of a stacked coefficient vector z."""
+    offsets = np.cumsum([0] + [N.shape[1] for N in bases])
+    return [N @ z[offsets[i]:offsets[i + 1]] for i, N in enumerate(bases)]
+
+
+def _interpolation_directions(floats, points: list):
+    """The vectors uᵢ ∈ ker P12(sᵢ)ᵀ that maximise the certificate's ratio at the given points, in
+    floating point: the top generalised eigenvector of the Hermitian forms tr(G H*H) and
+    tr(G R*R) over the kernels (G the Pick kernel, H = [P11(sᵢ)ᵀuᵢ]); None when there is none."""
+    from scipy.linalg import eigh
+    found = interpolation_forms(floats, points)
+    if found is None:
+        return None
+    top, bottom, _, bases = found
     try:
         _, vectors = eigh(top, bottom)
     except (np.linalg.LinAlgError, ValueError):
         return None
-    y = vectors[:, -1]
-    return [bases[i] @ y[offsets[i]:offsets[i + 1]] for i in range(len(points))]
+    return split_directions(bases, vectors[:, -1])
 
 
-def _ball_interpolation(balls, points: list, directions: list):
-    """A ball containing a/b of the interpolation certificate (module docstring) at the exact
-    points (their doubles) with the exact kernel projections of ``directions``, or None."""
+def interpolation_parts(balls, points: list, directions: list, storage: bool = False):
+    """Balls of (a, b, x) = (tr(G H*H), tr(G R*R), Σᵢ p2ᵢ) of the interpolation certificate (module
+    docstring) at the exact points (their doubles) with the exact kernel projections rᵢ of
+    ``directions`` and p2ᵢ = (sᵢI − Aᵀ)⁻¹C1ᵀrᵢ (x only with ``storage``; else None), or None (a
+    point not outside the unit circle, a matrix not provably invertible)."""
+    n = balls[0].shape[0]
+    At = acb_mat([[acb(z) for z in row] for row in balls[0].T.tolist()])
+    C1t = acb_mat([[acb(z) for z in row] for row in balls[3].T.tolist()])
     exact, rs, hs = [], [], []
+    x = acb_mat(n, 1)
     for s, u in zip(points, directions):
         sb = acb(float(s.real), float(s.imag))
         if not abs(sb) > 1:
@@ -408,15 +437,28 @@ def _ball_interpolation(balls, points: list, directions: list):
         exact.append(sb)
         rs.append(found[0])
         hs.append(found[1])
+        if storage:
+            M = acb_mat([[(sb if i == j else acb(0)) - At[i, j] for j in range(n)] for i in range(n)])
+            try:
+                x += M.solve(C1t * found[0])
+            except ZeroDivisionError:
+                return None
     a, b = acb(0), acb(0)
     for i, si in enumerate(exact):
         for j, sj in enumerate(exact):
             k = _pick(si, sj)
             a += k * inner(hs[j], hs[i])
             b += k * inner(rs[j], rs[i])
-    if not b.real > 0:
+    return a.real, b.real, (x if storage else None)
+
+
+def _ball_interpolation(balls, points: list, directions: list):
+    """A ball containing a/b of the interpolation certificate (module docstring) at the exact
+    points (their doubles) with the exact kernel projections of ``directions``, or None."""
+    found = interpolation_parts(balls, points, directions)
+    if found is None or not found[1] > 0:
         return None
-    return a.real / b.real
+    return found[0] / found[1]
 
 
 def inner(x: acb_mat, y: acb_mat):
