@@ -49,8 +49,9 @@ the kernel, so every identity holds exactly.  Points that make it tight: the mir
 the eigenvalues of the full-information closed loop A + BF just above its Riccati threshold, with
 the rᵢ of the best generalised eigenvector of the two Pick forms: it then proves the
 full-information level, which in discrete time can be below a static state feedback's optimum.
-(In continuous time the points −μ, Re sᵢ > 0 and G = [1/(sᵢ + s̄ⱼ)] give the same certificate as
-the eigenvectors above, to 1e-11 in floating point on bench_scale's plants; not used there.)
+In continuous time the points −μ, Re sᵢ > 0 and G = [1/(sᵢ + s̄ⱼ)] give the same certificate as
+the eigenvectors above (to 1e-11 in floating point on bench_scale's plants) and need no R_γ⁻¹:
+:mod:`lmidsl.certify.coupling_bound` uses them for singular output-feedback problems.
 """
 from __future__ import annotations
 
@@ -359,12 +360,19 @@ def transfer(floats, s: complex):
     return P[:, :B1.shape[1]] + D11, P[:, B1.shape[1]:] + D12
 
 
-def _pick(s_i, s_j):
-    """The Pick kernel 1/(sᵢs̄ⱼ − 1) (|s| > 1)."""
-    return 1 / (s_i * s_j.conjugate() - 1)
+def _pick(s_i, s_j, time: str = "discrete"):
+    """The Pick kernel: 1/(sᵢs̄ⱼ − 1) for |s| > 1 (discrete time), 1/(sᵢ + s̄ⱼ) for Re s > 0
+    (continuous time: ∫ e^{−sᵢt} e^{−s̄ⱼt} dt); either makes [kᵢⱼ] ⪰ 0."""
+    return 1 / (s_i * s_j.conjugate() - 1) if time == "discrete" else 1 / (s_i + s_j.conjugate())
 
 
-def interpolation_forms(floats, points: list):
+def _outside(s, time: str) -> bool:
+    """Whether the point (a ball) is provably outside the unit disc (discrete) or in the open
+    right half-plane (continuous): the domain of :func:`_pick`."""
+    return bool(abs(s) > 1) if time == "discrete" else bool(s.real > 0)
+
+
+def interpolation_forms(floats, points: list, time: str = "discrete"):
     """(T, B, P, bases) in floating point for the interpolation certificate at the given points
     (module docstring): with uᵢ = Nᵢzᵢ in the kernel of P12(sᵢ)ᵀ (Nᵢ = ``bases[i]``, z stacked),
     tr(G H*H) = z*Tz, tr(G R*R) = z*Bz and Σᵢ p2ᵢ = Pz, p2ᵢ = (sᵢI − Aᵀ)⁻¹C1ᵀuᵢ; None when a kernel
@@ -388,7 +396,7 @@ def interpolation_forms(floats, points: list):
     bottom = np.zeros_like(top)
     for i, si in enumerate(points):
         for j, sj in enumerate(points):
-            k = _pick(si, sj)
+            k = _pick(si, sj, time)
             rows, cols = slice(offsets[j], offsets[j + 1]), slice(offsets[i], offsets[i + 1])
             top[rows, cols] = k * (images[j].conj().T @ images[i])
             bottom[rows, cols] = k * (bases[j].conj().T @ bases[i])
@@ -417,7 +425,7 @@ def _interpolation_directions(floats, points: list):
     return split_directions(bases, vectors[:, -1])
 
 
-def interpolation_parts(balls, points: list, directions: list, storage: bool = False):
+def interpolation_parts(balls, points: list, directions: list, storage: bool = False, time: str = "discrete"):
     """Balls of (a, b, x) = (tr(G H*H), tr(G R*R), Σᵢ p2ᵢ) of the interpolation certificate (module
     docstring) at the exact points (their doubles) with the exact kernel projections rᵢ of
     ``directions`` and p2ᵢ = (sᵢI − Aᵀ)⁻¹C1ᵀrᵢ (x only with ``storage``; else None), or None (a
@@ -429,7 +437,7 @@ def interpolation_parts(balls, points: list, directions: list, storage: bool = F
     x = acb_mat(n, 1)
     for s, u in zip(points, directions):
         sb = acb(float(s.real), float(s.imag))
-        if not abs(sb) > 1:
+        if not _outside(sb, time):
             return None
         found = projected_response(balls, sb, u)
         if found is None:
@@ -446,7 +454,7 @@ def interpolation_parts(balls, points: list, directions: list, storage: bool = F
     a, b = acb(0), acb(0)
     for i, si in enumerate(exact):
         for j, sj in enumerate(exact):
-            k = _pick(si, sj)
+            k = _pick(si, sj, time)
             a += k * inner(hs[j], hs[i])
             b += k * inner(rs[j], rs[i])
     return a.real, b.real, (x if storage else None)
