@@ -79,6 +79,10 @@ from .hamiltonian_bound import (MAX_STATES, PRECISION, gramian, inner, interpola
 LEVEL_STEPS = 4
 #: the certificate's directions are taken this far (relative) below the floating-point bound
 BELOW = 1e-9
+#: eigenvalues of the forms below this fraction of the largest are left out of the search
+CONDITION = 1e-12
+#: working precisions (bits) of a Hamiltonian's eigen-enclosure, tried in turn until it is accurate
+ENCLOSURE_LADDER = (PRECISION, 512, 1024)
 #: ε of the regularised D12 = [D12; εI] (relative to ‖[C1 D12]‖) that places the points of a
 #: singular problem's interpolation certificate, tried in turn until its Riccati equation solves
 REGULARISATION = (1e-3, 1e-5, 1e-1)
@@ -93,11 +97,15 @@ def _forms(lam, P, R, H) -> tuple:
 
 
 def _inverse_root(Q: np.ndarray) -> np.ndarray | None:
-    """Q^{-1/2} of a Hermitian Q ≻ 0, or None when Q is not positive definite in floating point."""
+    """S with S*QS = I on the eigenvectors of a Hermitian Q ⪰ 0 whose eigenvalues exceed
+    ``CONDITION``·λ_max (Q^{-1/2} on the well-conditioned part: a direction of Q's near-kernel
+    would get a length of 1e60 and a ball 1e11 wide — COMPleib's HE1), or None when Q has no such
+    eigenvalue in floating point."""
     w, V = np.linalg.eigh((Q + Q.conj().T) / 2)
-    if not np.all(np.isfinite(w)) or w[0] <= 0:
+    if not np.all(np.isfinite(w)) or not w[-1] > 0:
         return None
-    return (V / np.sqrt(w)) @ V.conj().T
+    keep = w > CONDITION * w[-1]
+    return V[:, keep] / np.sqrt(w[keep])
 
 
 def _excluding(first, second, gamma: float):
@@ -107,13 +115,13 @@ def _excluding(first, second, gamma: float):
     Q1, Q2 = gamma ** 2 * N1 - M1, gamma ** 2 * N2 - M2
     for Q, k in ((Q1, 0), (Q2, 1)):
         w, V = np.linalg.eigh((Q + Q.conj().T) / 2)
-        if np.isfinite(w[0]) and w[0] < 0:
+        if np.isfinite(w[0]) and w[0] < -CONDITION * abs(w[-1]):
             zero = np.zeros(P2.shape[1] if k == 0 else P1.shape[1], dtype=complex)
             return (V[:, 0], zero) if k == 0 else (zero, V[:, 0])
     S1, S2 = _inverse_root(Q1), _inverse_root(Q2)
     if S1 is None or S2 is None:
         return None
-    u, sv, vh = np.linalg.svd(S1 @ P1.conj().T @ P2 @ S2)
+    u, sv, vh = np.linalg.svd(S1.conj().T @ P1.conj().T @ P2 @ S2)
     if not gamma * sv[0] > 1:
         return None
     return S1 @ u[:, 0], S2 @ vh[0].conj()
@@ -153,8 +161,12 @@ def _column(v: np.ndarray) -> acb_mat:
 def _hamiltonian_parts(floats: list, balls: list, gamma0: float):
     """(forms, evaluate) of a Hamiltonian certificate at γ₀ (continuous time): the floating-point
     forms (M, N, P) and c ↦ balls of (a, b, x); None when the enclosure fails."""
-    found = stable_eigendata(balls, gamma0)
-    if found is None:
+    for bits in ENCLOSURE_LADDER:
+        with ball_precision(bits):
+            found = stable_eigendata(balls, gamma0)
+        if found is None or _accurate(found[2]):
+            break
+    if found is None or not _accurate(found[2]):
         return None
     lam, _, P, R, H = found
 
@@ -163,6 +175,13 @@ def _hamiltonian_parts(floats: list, balls: list, gamma0: float):
         return weighted_square(H, G), weighted_square(R, G), P * _column(c)
 
     return _forms(lam, P, R, H), evaluate
+
+
+def _accurate(M: acb_mat) -> bool:
+    """Whether every entry's radius is below 1e-30 of the largest midpoint (the enclosure of an
+    ill-conditioned stable subspace can come out 1e11 wide at 192 bits: COMPleib's HE1)."""
+    scale = max(abs(complex(float(z.real.mid()), float(z.imag.mid()))) for z in M.entries())
+    return all(float(z.rad()) <= 1e-30 * scale for z in M.entries())
 
 
 def _interpolation_parts(floats: list, balls: list, gamma0: float, time: str):
@@ -207,12 +226,13 @@ def _regularised(floats: list, eps: float) -> list:
             np.vstack([D12, scale * np.eye(m2)])]
 
 
-def _from_level(family, fi, fi_balls, fc, fc_balls, gamma0: float) -> tuple[float, str] | None:
+def _from_level(families, fi, fi_balls, fc, fc_balls, gamma0: float) -> tuple[float, str] | None:
     """The best proved bound of the fixed-point steps γ₀ ← the floating-point bound at γ₀, with
-    ``family`` :func:`_hamiltonian_parts` or :func:`_interpolation_parts`."""
+    ``families`` the constructions (:func:`_hamiltonian_parts` or :func:`_interpolation_parts`)
+    of the full-information and the full-control part."""
     best = None
     for _ in range(LEVEL_STEPS):
-        parts = [family(fi, fi_balls, gamma0), family(fc, fc_balls, gamma0)]
+        parts = [families[0](fi, fi_balls, gamma0), families[1](fc, fc_balls, gamma0)]
         if None in parts:
             break
         forms = [f for f, _ in parts]
@@ -252,15 +272,19 @@ def coupling_bound(fi: list, fi_balls: list, fc: list, fc_balls: list, start: fl
     n = fi[0].shape[0]
     if n > MAX_STATES:
         return None, f"more than {MAX_STATES} states (the eigen-enclosures cost O(n³) ball operations)"
-    if time == "continuous" and _full_column_rank(fi[5]) and _full_column_rank(fc[5]):
-        family, what = _hamiltonian_parts, "the two Hamiltonians' stable eigenvectors"
-    else:
-        family = lambda floats, balls, g: _interpolation_parts(floats, balls, g, time)  # noqa: E731
-        what = "two interpolation certificates"
+    families, names = [], []
+    for floats in (fi, fc):                        # a Hamiltonian where R_γ is invertible (continuous)
+        if time == "continuous" and _full_column_rank(floats[5]):
+            families.append(_hamiltonian_parts)
+            names.append("a Hamiltonian's stable eigenvectors")
+        else:
+            families.append(lambda f, b, g: _interpolation_parts(f, b, g, time))
+            names.append("an interpolation certificate")
+    what = f"full information: {names[0]}, full control: {names[1]},"
     best = None
     with ball_precision(PRECISION):
         for gamma0 in ([level * (1 + 1e-6)] if level else []) + [10 * start, start * (1 + 1e-3)]:
-            found = _from_level(family, fi, fi_balls, fc, fc_balls, gamma0)
+            found = _from_level(families, fi, fi_balls, fc, fc_balls, gamma0)
             if found is not None and (best is None or found[0] > best[0]):
                 best = found
             if best is not None:

@@ -105,6 +105,10 @@ from ..theorem.values import symbols_in
 
 #: working precision (bits) of the ball evaluation
 PRECISION = 128
+#: precision (bits) of the output-feedback plant's balls: the coupled certificate's stable
+#: subspaces can be so ill-conditioned that data balls 2⁻¹²⁸ wide leave its enclosure useless
+#: (COMPleib's AC7); its own working precision rises as needed (coupling_bound.ENCLOSURE_LADDER)
+COUPLING_DATA_PRECISION = 1024
 
 
 def form_rows(form, time: str) -> list:
@@ -357,6 +361,7 @@ def frequency_lower_bound(instance, level: float | None = None) -> tuple[float |
     theorem = instance.theorem
     if getattr(instance, "nvertices", 1) > 1:
         return None
+    data_precision = PRECISION
     if bounded_real_lmi(theorem) is not None:
         bound, system = _bound, theorem.bounded_real.system
     elif state_feedback_lmi(theorem) is not None:
@@ -371,6 +376,7 @@ def frequency_lower_bound(instance, level: float | None = None) -> tuple[float |
         positive = _positive(theorem, form.X), _positive(theorem, form.Y), coupled
         bound = lambda floats, balls, time: _output_feedback_bound(floats, balls, time, *positive, level)  # noqa: E731
         system = form.plant
+        data_precision = COUPLING_DATA_PRECISION
     else:
         return None
     try:
@@ -378,9 +384,10 @@ def frequency_lower_bound(instance, level: float | None = None) -> tuple[float |
         floats = [np.atleast_2d(np.asarray(ev.visit(e), dtype=float)) for e in system]
         if not all(np.all(np.isfinite(M)) for M in floats):
             return None, "the system's data are not finite"
-        with ball_precision(PRECISION):
+        with ball_precision(data_precision):
             bev = BallEvaluator(instance.dims, instance.data, instance.params)
             balls = [np.atleast_2d(np.asarray(bev.visit(e), dtype=object)) for e in system]
+        with ball_precision(PRECISION):
             return bound(floats, balls, theorem.time)
     except (ArithmeticError, ValueError, KeyError, TypeError, np.linalg.LinAlgError) as exc:
         return None, f"the frequency response could not be evaluated ({type(exc).__name__}: {exc})"
