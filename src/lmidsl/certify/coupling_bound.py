@@ -72,8 +72,9 @@ from flint import acb, acb_mat, arb
 
 from ..numeric.proof import ball_precision, round_down
 from ..numeric.riccati import full_information_feedback
-from .hamiltonian_bound import (MAX_STATES, PRECISION, gramian, inner, interpolation_forms, interpolation_parts,
-                                midpoints, split_directions, stable_eigendata, weighted_square)
+from .hamiltonian_bound import (MAX_STATES, PRECISION, REGULARISATION, full_column_rank, gramian, inner,
+                                interpolation_forms, interpolation_parts, loop_points, midpoints, regularised,
+                                split_directions, stable_eigendata, weighted_square)
 
 #: fixed-point steps γ₀ ← bound(γ₀) in floating point before the enclosure
 LEVEL_STEPS = 4
@@ -83,9 +84,6 @@ BELOW = 1e-9
 CONDITION = 1e-12
 #: working precisions (bits) of a Hamiltonian's eigen-enclosure, tried in turn until it is accurate
 ENCLOSURE_LADDER = (PRECISION, 512, 1024)
-#: ε of the regularised D12 = [D12; εI] (relative to ‖[C1 D12]‖) that places the points of a
-#: singular problem's interpolation certificate, tried in turn until its Riccati equation solves
-REGULARISATION = (1e-3, 1e-5, 1e-1)
 
 
 def _forms(lam, P, R, H) -> tuple:
@@ -191,15 +189,14 @@ def _interpolation_parts(floats: list, balls: list, gamma0: float, time: str):
     singular problem: only the points come from it; the certificate is the plant's own); None
     when there is none."""
     F = None
-    for eps in ((0.0,) if _full_column_rank(floats[5]) else ()) + REGULARISATION:
+    for eps in ((0.0,) if full_column_rank(floats[5]) else ()) + REGULARISATION:
         with np.errstate(all="ignore"):
-            F = full_information_feedback(*_regularised(floats, eps), gamma0, time)
+            F = full_information_feedback(*regularised(floats, eps), gamma0, time)
         if F is not None:
             break
     if F is None:
         return None
-    mu = np.linalg.eigvals(floats[0] + np.hstack([floats[1], floats[2]]) @ F)
-    points = [1 / m for m in mu if abs(m) > 1e-12] if time == "discrete" else [-m for m in mu if m.real < 0]
+    points = loop_points(floats, F, time)
     found = interpolation_forms(floats, points, time) if points else None
     if found is None:
         return None
@@ -209,21 +206,6 @@ def _interpolation_parts(floats: list, balls: list, gamma0: float, time: str):
         return interpolation_parts(balls, points, split_directions(bases, z), storage=True, time=time)
 
     return (top, bottom, storage), evaluate
-
-
-def _full_column_rank(M: np.ndarray) -> bool:
-    return M.shape[1] > 0 and np.linalg.matrix_rank(M) == M.shape[1]
-
-
-def _regularised(floats: list, eps: float) -> list:
-    """(A, B1, B2, [C1; 0], [D11; 0], [D12; εI]) (unchanged for ε = 0)."""
-    if eps == 0.0:
-        return floats
-    A, B1, B2, C1, D11, D12 = floats
-    m2 = B2.shape[1]
-    scale = eps * max(1.0, float(np.linalg.norm(np.hstack([C1, D12]), 2)))
-    return [A, B1, B2, np.vstack([C1, np.zeros((m2, A.shape[0]))]), np.vstack([D11, np.zeros((m2, B1.shape[1]))]),
-            np.vstack([D12, scale * np.eye(m2)])]
 
 
 def _from_level(families, fi, fi_balls, fc, fc_balls, gamma0: float) -> tuple[float, str] | None:
@@ -274,7 +256,7 @@ def coupling_bound(fi: list, fi_balls: list, fc: list, fc_balls: list, start: fl
         return None, f"more than {MAX_STATES} states (the eigen-enclosures cost O(n³) ball operations)"
     families, names = [], []
     for floats in (fi, fc):                        # a Hamiltonian where R_γ is invertible (continuous)
-        if time == "continuous" and _full_column_rank(floats[5]):
+        if time == "continuous" and full_column_rank(floats[5]):
             families.append(_hamiltonian_parts)
             names.append("a Hamiltonian's stable eigenvectors")
         else:

@@ -93,7 +93,7 @@ from flint import acb, acb_mat, arb
 
 from ..numeric.evaluate import NumericEvaluator
 from .coupling_bound import coupling_bound
-from .hamiltonian_bound import (inner, interpolation_bound, projected_response, proved_root, stabilisation_bound,
+from .hamiltonian_bound import (full_column_rank, inner, interpolation_bound, projected_response, proved_root, stabilisation_bound,
                                 transfer)
 from ..numeric.proof import BallEvaluator, ball_precision, round_down
 from ..numeric.riccati import balancing_transform
@@ -494,8 +494,8 @@ def _state_feedback_bound(floats: list, balls: list, time: str, stabilising: boo
     if not stabilising:
         return found
     start = found[0] or 0.0
-    other = stabilisation_bound(floats, balls, start) if time == "continuous" else \
-        interpolation_bound(floats, balls, start)
+    other = stabilisation_bound(floats, balls, start) if time == "continuous" and full_column_rank(floats[5]) \
+        else interpolation_bound(floats, balls, start, time)
     if other[0] is not None and (found[0] is None or other[0] > found[0]):
         return other
     return found

@@ -409,12 +409,12 @@ def split_directions(bases: list, z: np.ndarray) -> list:
     return [N @ z[offsets[i]:offsets[i + 1]] for i, N in enumerate(bases)]
 
 
-def _interpolation_directions(floats, points: list):
+def _interpolation_directions(floats, points: list, time: str = "discrete"):
     """The vectors uᵢ ∈ ker P12(sᵢ)ᵀ that maximise the certificate's ratio at the given points, in
     floating point: the top generalised eigenvector of the Hermitian forms tr(G H*H) and
     tr(G R*R) over the kernels (G the Pick kernel, H = [P11(sᵢ)ᵀuᵢ]); None when there is none."""
     from scipy.linalg import eigh
-    found = interpolation_forms(floats, points)
+    found = interpolation_forms(floats, points, time)
     if found is None:
         return None
     top, bottom, _, bases = found
@@ -460,10 +460,10 @@ def interpolation_parts(balls, points: list, directions: list, storage: bool = F
     return a.real, b.real, (x if storage else None)
 
 
-def _ball_interpolation(balls, points: list, directions: list):
+def _ball_interpolation(balls, points: list, directions: list, time: str = "discrete"):
     """A ball containing a/b of the interpolation certificate (module docstring) at the exact
     points (their doubles) with the exact kernel projections of ``directions``, or None."""
-    found = interpolation_parts(balls, points, directions)
+    found = interpolation_parts(balls, points, directions, time=time)
     if found is None or not found[1] > 0:
         return None
     return found[0] / found[1]
@@ -478,44 +478,80 @@ def inner(x: acb_mat, y: acb_mat):
 LOOP_STEPS = (1e-4, 1e-2, 1e-6)
 
 
-def interpolation_bound(floats: list, balls: list, start: float) -> tuple[float | None, str]:
-    """(proved lower bound on γ, how) of the discrete-time state-feedback LMI from points sᵢ
-    (module docstring, the interpolation certificate): the mirror images 1/μ of the eigenvalues μ
-    of the full-information closed loop A + BF just above the Riccati threshold, with the best
-    kernel directions; (None, why) when none gave a ball bound."""
+def full_column_rank(M: np.ndarray) -> bool:
+    """Whether M (floating point) has full column rank (and at least one column)."""
+    return M.shape[1] > 0 and np.linalg.matrix_rank(M) == M.shape[1]
+
+
+#: ε of the regularised D12 = [D12; εI] (relative to ‖[C1 D12]‖) that places the points of a
+#: singular problem's interpolation certificate, tried in turn
+REGULARISATION = (1e-3, 1e-5, 1e-1)
+
+
+def regularised(floats: list, eps: float) -> list:
+    """(A, B1, B2, [C1; 0], [D11; 0], [D12; εI]) (unchanged for ε = 0): a regular problem whose
+    Riccati equation places the points of a singular problem's certificate, which stays the
+    plant's own."""
+    if eps == 0.0:
+        return floats
+    A, B1, B2, C1, D11, D12 = floats
+    m2 = B2.shape[1]
+    scale = eps * max(1.0, float(np.linalg.norm(np.hstack([C1, D12]), 2)))
+    return [A, B1, B2, np.vstack([C1, np.zeros((m2, A.shape[0]))]), np.vstack([D11, np.zeros((m2, B1.shape[1]))]),
+            np.vstack([D12, scale * np.eye(m2)])]
+
+
+def loop_points(floats: list, F: np.ndarray, time: str) -> list:
+    """The points of an interpolation certificate from the full-information closed loop A + BF:
+    the mirror images 1/μ of its eigenvalues μ (discrete time) or −μ (continuous time)."""
+    mu = np.linalg.eigvals(floats[0] + np.hstack([floats[1], floats[2]]) @ F)
+    return [1 / m for m in mu if abs(m) > 1e-12] if time == "discrete" else [-m for m in mu if m.real < 0]
+
+
+def interpolation_bound(floats: list, balls: list, start: float, time: str = "discrete") -> tuple[float | None, str]:
+    """(proved lower bound on γ, how) of the state-feedback LMI from points sᵢ (module docstring,
+    the interpolation certificate): the mirror images of the eigenvalues of the full-information
+    closed loop A + BF just above the Riccati threshold (of the plant with D12 regularised,
+    :func:`regularised`, where D12 has no full column rank), with the best kernel directions;
+    (None, why) when none gave a ball bound."""
     n = floats[0].shape[0]
     if n > MAX_STATES:
         return None, f"more than {MAX_STATES} states"
-    B = np.hstack([floats[1], floats[2]])
-
-    def feedback(g):
-        with np.errstate(all="ignore"):
-            return full_information_feedback(*floats, g, "discrete")
-
-    hi = least_level(lambda g: feedback(g) is not None, start)
-    if hi is None:
-        return None, "no level with a stabilising Riccati solution ⪰ 0 was found"
     best = None
-    with ball_precision(PRECISION):
-        for step in LOOP_STEPS:
-            F = feedback(hi * (1 + step))
-            if F is None:
-                continue
-            mu = np.linalg.eigvals(floats[0] + B @ F)
-            points = [1 / m for m in mu if abs(m) > 1e-12]
-            directions = _interpolation_directions(floats, points) if points else None
-            if directions is None:
-                continue
-            lower = proved_root(_ball_interpolation(balls, points, directions))
-            if lower is None:
-                continue
-            if best is None or lower > best[0]:
-                best = (lower, f"an interpolation certificate at the mirror images of the closed loop's "
-                               f"eigenvalues at γ = {hi * (1 + step):.10g} (γ ≥ √(tr(G H*H)/tr(G R*R)), "
-                               f"G the Pick kernel)")
+    for eps in (0.0,) if full_column_rank(floats[5]) else REGULARISATION:
+        problem = regularised(floats, eps)
+
+        def feedback(g):
+            with np.errstate(all="ignore"):
+                return full_information_feedback(*problem, g, time)
+
+        hi = least_level(lambda g: feedback(g) is not None, start)
+        if hi is None:
+            continue
+        with ball_precision(PRECISION):
+            for step in LOOP_STEPS:
+                F = feedback(hi * (1 + step))
+                if F is None:
+                    continue
+                points = loop_points(floats, F, time)
+                directions = _interpolation_directions(floats, points, time) if points else None
+                if directions is None:
+                    continue
+                lower = proved_root(_ball_interpolation(balls, points, directions, time))
+                if lower is None:
+                    continue
+                if best is None or lower > best[0]:
+                    best = (lower, f"an interpolation certificate at the mirror images of the closed loop's "
+                                   f"eigenvalues at γ = {hi * (1 + step):.10g}"
+                                   f"{f' (D12 regularised by ε = {eps:g})' if eps else ''} "
+                                   f"(γ ≥ √(tr(G H*H)/tr(G R*R)), G the Pick kernel)")
+        if best is not None:
+            break
     return best or (None, "no closed loop near the Riccati threshold gave a ball bound")
 
 
-__all__ = ["ball_transfer", "inner", "proved_root", "interpolation_bound", "kernel_projection", "projected_response",
+__all__ = ["ball_transfer", "full_column_rank", "gramian", "inner", "interpolation_bound", "interpolation_forms",
+           "interpolation_parts", "kernel_projection", "loop_points", "midpoints", "projected_response", "proved_root",
+           "regularised", "split_directions", "stable_eigendata", "weighted_square",
            "stabilisation_bound", "transfer",
            "threshold"]
