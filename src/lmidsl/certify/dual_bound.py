@@ -643,7 +643,11 @@ class PendingBound:
 
     def _run(self, jobs, others, level, tries):
         try:
+            start = time.perf_counter()
             best = None if self._frequency is None else frequency_route(*self._frequency)
+            for job in jobs:         # the duals' time budgets count from here, not from before the
+                if isinstance(job, _BoundJob):       # frequency route (a singular plant's: seconds)
+                    job.t0 += time.perf_counter() - start
             for k, job in enumerate(jobs):
                 if self._cancel.is_set():
                     raise BoundCancelled
