@@ -68,11 +68,11 @@ an optimum at 19.4736–19.4738).
 from __future__ import annotations
 
 import numpy as np
-from flint import acb, acb_mat, arb
+from flint import acb_mat, arb
 
 from ..numeric.proof import ball_precision, round_down
 from ..numeric.riccati import full_information_feedback
-from .hamiltonian_bound import (MAX_STATES, PRECISION, REGULARISATION, full_column_rank, gramian, inner,
+from .hamiltonian_bound import (MAX_STATES, PRECISION, REGULARISATION, exact_column, full_column_rank, gramian, inner,
                                 interpolation_forms, interpolation_parts, loop_points, midpoints, regularised,
                                 split_directions, stable_eigendata, weighted_square)
 
@@ -151,11 +151,6 @@ def _g_plus(first: tuple, second: tuple):
     return (s + root) / (2 * b1 * b2)
 
 
-def _column(v: np.ndarray) -> acb_mat:
-    """A vector of doubles (exact) as a ball column."""
-    return acb_mat([[acb(float(z.real), float(z.imag))] for z in v])
-
-
 def _hamiltonian_parts(floats: list, balls: list, gamma0: float):
     """(forms, evaluate) of a Hamiltonian certificate at γ₀ (continuous time): the floating-point
     forms (M, N, P) and c ↦ balls of (a, b, x); None when the enclosure fails."""
@@ -170,7 +165,7 @@ def _hamiltonian_parts(floats: list, balls: list, gamma0: float):
 
     def evaluate(c):
         G = gramian(lam, c)
-        return weighted_square(H, G), weighted_square(R, G), P * _column(c)
+        return weighted_square(H, G), weighted_square(R, G), P * exact_column(c)
 
     return _forms(lam, P, R, H), evaluate
 
@@ -208,8 +203,8 @@ def _interpolation_parts(floats: list, balls: list, gamma0: float, time: str):
     return (top, bottom, storage), evaluate
 
 
-def _from_level(families, fi, fi_balls, fc, fc_balls, gamma0: float) -> tuple[float, str] | None:
-    """The best proved bound of the fixed-point steps γ₀ ← the floating-point bound at γ₀, with
+def _from_level(families, fi, fi_balls, fc, fc_balls, gamma0: float) -> tuple[float, float] | None:
+    """(the best proved bound, its γ₀) of the fixed-point steps γ₀ ← the floating-point bound at γ₀, with
     ``families`` the constructions (:func:`_hamiltonian_parts` or :func:`_interpolation_parts`)
     of the full-information and the full-control part."""
     best = None
@@ -222,11 +217,11 @@ def _from_level(families, fi, fi_balls, fc, fc_balls, gamma0: float) -> tuple[fl
         directions = _excluding(*forms, level * (1 - BELOW))
         if directions is None:
             break
-        alone = [k for k, v in enumerate(directions) if v.any()]
-        values = [parts[k][1](directions[k]) for k in alone]
+        used = [k for k, v in enumerate(directions) if v.any()]
+        values = [parts[k][1](directions[k]) for k in used]
         if None in values:
             ball = None
-        elif len(alone) == 1:                    # one certificate alone (t₂ = 0 or t₁ = 0): g ≥ a/b
+        elif len(used) == 1:                    # one certificate alone (t₂ = 0 or t₁ = 0): g ≥ a/b
             a, b, _ = values[0]
             ball = a / b if b > 0 else None
         else:
@@ -266,9 +261,7 @@ def coupling_bound(fi: list, fi_balls: list, fc: list, fc_balls: list, start: fl
     best = None
     with ball_precision(PRECISION):
         for gamma0 in ([level * (1 + 1e-6)] if level else []) + [10 * start, start * (1 + 1e-3)]:
-            found = _from_level(families, fi, fi_balls, fc, fc_balls, gamma0)
-            if found is not None and (best is None or found[0] > best[0]):
-                best = found
+            best = _from_level(families, fi, fi_balls, fc, fc_balls, gamma0)
             if best is not None:
                 break
     if best is None:

@@ -93,7 +93,7 @@ from flint import acb, acb_mat, arb
 
 from ..numeric.evaluate import NumericEvaluator
 from .coupling_bound import coupling_bound
-from .hamiltonian_bound import (full_column_rank, inner, interpolation_bound, projected_response, proved_root, stabilisation_bound,
+from .hamiltonian_bound import (exact_entries, full_column_rank, inner, interpolation_bound, projected_response, proved_root, stabilisation_bound,
                                 transfer)
 from ..numeric.proof import BallEvaluator, ball_precision, round_down
 from ..numeric.riccati import balancing_transform
@@ -224,30 +224,25 @@ def output_feedback_lmi(theorem):
     return _lmi_in_form(theorem, lambda: output_feedback_rows(form, theorem.time), "output_feedback_form")
 
 
-def _positive(theorem, Y) -> bool:
-    """Whether one of the theorem's LMIs (certain, for every vertex alike, not quantified) has −Y
-    as a diagonal block of its negative form, so that Y ⪰ 0 on its feasible set (Y ≻ 0 itself,
-    or [[X, I], [I, Y]] ≻ 0)."""
+def _certain_forms(theorem):
+    """(LMI, its negative form) for each of the theorem's LMIs that is certain, for every vertex
+    alike and not quantified: the only ones a declared form or a sign can be read from."""
     for lmi in theorem.lmis:
-        if getattr(lmi, "quantifier", None) is not None or lmi.per_vertex or uncertain_atoms_of_lmi(lmi):
-            continue
-        N = lmi.negative_form()
-        if any(_same(N.lower[k][k], -Y) for k in range(N.nblocks)):
-            return True
-    return False
+        if getattr(lmi, "quantifier", None) is None and not lmi.per_vertex and not uncertain_atoms_of_lmi(lmi):
+            yield lmi, lmi.negative_form()
+
+
+def _positive(theorem, Y) -> bool:
+    """Whether one of the theorem's certain LMIs has −Y as a diagonal block of its negative form,
+    so that Y ⪰ 0 on its feasible set (Y ≻ 0 itself, or [[X, I], [I, Y]] ≻ 0)."""
+    return any(_same(N.lower[k][k], -Y) for _, N in _certain_forms(theorem) for k in range(N.nblocks))
 
 
 def _coupled(theorem, X, Y) -> bool:
-    """Whether one of the theorem's LMIs (certain, for every vertex alike, not quantified) is
-    [[X, I], [I, Y]] ⪰ 0 itself (its negative form [[−X], [−I, −Y]])."""
-    for lmi in theorem.lmis:
-        if getattr(lmi, "quantifier", None) is not None or lmi.per_vertex or uncertain_atoms_of_lmi(lmi):
-            continue
-        N = lmi.negative_form()
-        if N.nblocks == 2 and _same(N.lower[0][0], -X) and _same(N.lower[1][1], -Y) and \
-                _same(N.lower[1][0], -sp.Identity(X.shape[0])):
-            return True
-    return False
+    """Whether one of the theorem's certain LMIs is [[X, I], [I, Y]] ⪰ 0 itself (its negative form
+    [[−X], [−I, −Y]])."""
+    return any(N.nblocks == 2 and _same(N.lower[0][0], -X) and _same(N.lower[1][1], -Y) and
+               _same(N.lower[1][0], -sp.Identity(X.shape[0])) for _, N in _certain_forms(theorem))
 
 
 def _level_is_objective(theorem, level) -> bool:
@@ -263,13 +258,9 @@ def _lmi_in_form(theorem, rows, name: str):
         canonical = block_matrix(rows(), where=f"{theorem.id}: {name}")
     except Exception:                 # a form whose blocks do not fit: nothing to compare with
         return None
-    for lmi in theorem.lmis:
-        if getattr(lmi, "quantifier", None) is not None or lmi.per_vertex or uncertain_atoms_of_lmi(lmi):
-            continue
-        N = lmi.negative_form()
-        if N.nblocks != canonical.nblocks:
-            continue
-        if all(_same(N.lower[i][j], canonical.lower[i][j]) for i in range(N.nblocks) for j in range(i + 1)):
+    for lmi, N in _certain_forms(theorem):
+        if N.nblocks == canonical.nblocks and \
+                all(_same(N.lower[i][j], canonical.lower[i][j]) for i in range(N.nblocks) for j in range(i + 1)):
             return lmi
     return None
 
@@ -333,7 +324,7 @@ def _ball_gain(Ab, Bb, Cb, Db, u: np.ndarray, frequency: float, time: str):
     """A ball containing |G(s) u|² / |u|² at the exact s of ``frequency`` (module docstring), or
     None when sI − A is not provably invertible."""
     n, m = Bb.shape
-    uc = [acb(float(z.real), float(z.imag)) for z in u]
+    uc = exact_entries(u)
     Bu = [sum((Bb[i, k] * uc[k] for k in range(m)), acb(0)) for i in range(n)]
     Du = [sum((Db[i, k] * uc[k] for k in range(m)), acb(0)) for i in range(Db.shape[0])]
     if math.isinf(frequency) or n == 0:

@@ -238,10 +238,20 @@ def midpoints(M: acb_mat) -> np.ndarray:
                      for i in range(M.nrows())])
 
 
+def exact_entries(v) -> list:
+    """The complex balls of a vector's doubles, taken exactly (zero radius)."""
+    return [acb(float(z.real), float(z.imag)) for z in v]
+
+
+def exact_column(v) -> acb_mat:
+    """A vector of doubles as an exact ball column."""
+    return acb_mat([[z] for z in exact_entries(v)])
+
+
 def gramian(lam: list, c: np.ndarray) -> acb_mat:
     """G = [−cᵢc̄ⱼ/(λᵢ + λ̄ⱼ)] = ∫ e^{Λt}cc*e^{Λ*t}dt ⪰ 0 in balls, c's doubles taken exactly: then
     ΛG + GΛ* = −cc*."""
-    cb = [acb(float(z.real), float(z.imag)) for z in c]
+    cb = exact_entries(c)
     return acb_mat([[-cb[i] * cb[j].conjugate() / (lam[i] + lam[j].conjugate()) for j in range(len(lam))]
                     for i in range(len(lam))])
 
@@ -334,7 +344,7 @@ def kernel_projection(P12: acb_mat, u: np.ndarray):
     p1, m2 = P12.nrows(), P12.ncols()
     P12t = P12.transpose()
     P12c = acb_mat([[P12[i, j].conjugate() for j in range(m2)] for i in range(p1)])
-    ub = acb_mat([[acb(float(z.real), float(z.imag))] for z in u])
+    ub = exact_column(u)
     try:
         return ub - P12c * (P12t * P12c).solve(P12t * ub)
     except ZeroDivisionError:
@@ -431,8 +441,9 @@ def interpolation_parts(balls, points: list, directions: list, storage: bool = F
     ``directions`` and p2ᵢ = (sᵢI − Aᵀ)⁻¹C1ᵀrᵢ (x only with ``storage``; else None), or None (a
     point not outside the unit circle, a matrix not provably invertible)."""
     n = balls[0].shape[0]
-    At = acb_mat([[acb(z) for z in row] for row in balls[0].T.tolist()])
-    C1t = acb_mat([[acb(z) for z in row] for row in balls[3].T.tolist()])
+    if storage:
+        At = acb_mat([[acb(z) for z in row] for row in balls[0].T.tolist()])
+        C1t = acb_mat([[acb(z) for z in row] for row in balls[3].T.tolist()])
     exact, rs, hs = [], [], []
     x = acb_mat(n, 1)
     for s, u in zip(points, directions):
@@ -550,7 +561,7 @@ def interpolation_bound(floats: list, balls: list, start: float, time: str = "di
     return best or (None, "no closed loop near the Riccati threshold gave a ball bound")
 
 
-__all__ = ["ball_transfer", "full_column_rank", "gramian", "inner", "interpolation_bound", "interpolation_forms",
+__all__ = ["ball_transfer", "exact_column", "exact_entries", "full_column_rank", "gramian", "inner", "interpolation_bound", "interpolation_forms",
            "interpolation_parts", "kernel_projection", "loop_points", "midpoints", "projected_response", "proved_root",
            "regularised", "split_directions", "stable_eigendata", "weighted_square",
            "stabilisation_bound", "transfer",
