@@ -102,7 +102,8 @@ more than 1e-6 relative; a floor that the delivered design's own closed loop goe
 reported as refuted instead (REF-REFUTED) and not used.  BADDESIGN — a certified design whose
 closed loop (python-control, recomputed from the recovered controller as
 ``bench_designs.measured`` does) is unstable or has an H∞ norm above the certified level ×
-(1 + 1e-6).  Each case runs in its own process, killed after ``--timeout`` seconds.
+(1 + 1e-6), the norm above the level confirmed by the loop's gain evaluated at 50 digits
+(``witnessed_gain``: ``linfnorm`` is wrong on stiff loops).  Each case runs in its own process, killed after ``--timeout`` seconds.
 """
 from __future__ import annotations
 
@@ -852,14 +853,48 @@ def run_child(name: str, problem: str, timeout: float) -> dict:
 
 
 # -- judging -------------------------------------------------------------------------------------
-def closed_loop_norm(name: str, problem: str, design: dict) -> float:
-    """The H∞ norm of the closed loop of the delivered design (inf when unstable), python-control."""
+def _loop(name: str, problem: str, design: dict) -> tuple:
+    """(A, B, C, D) of the plant's closed loop with the delivered design, in doubles."""
     P = arrays(name)
     if problem == "sf":
         K = np.asarray(design["K"], dtype=float)
-        return linf(P["A"] + P["B2"] @ K, P["B1"], P["C1"] + P["D12"] @ K, P["D11"], CT)
+        return P["A"] + P["B2"] @ K, P["B1"], P["C1"] + P["D12"] @ K, P["D11"]
     K = tuple(np.asarray(design[k], dtype=float) for k in ("AK", "BK", "CK", "DK"))
-    return linf(*of_closed_loop(P, K), CT)
+    return of_closed_loop(P, K)
+
+
+def closed_loop_norm(name: str, problem: str, design: dict) -> float:
+    """The H∞ norm of the closed loop of the delivered design (inf when unstable), python-control."""
+    return linf(*_loop(name, problem, design), CT)
+
+
+WITNESS_DIGITS = 50
+
+
+def witnessed_gain(name: str, problem: str, design: dict) -> float:
+    """max σ(G(jω)) of the delivered design's closed loop (its doubles taken exactly) evaluated at
+    50 digits (mpmath) at the frequency where python-control's ``linfnorm`` puts the peak and on a
+    grid of 61 frequencies (0 and 1e-6 … 1e6): a lower bound on the closed loop's norm that no
+    rounding can raise.  A design "misses its level" only where this exceeds it: on TF1's stiff
+    output-feedback loop (controller poles to −2.6e5, a closed-loop pole at −1.2e-4) ``linfnorm``
+    said 6.8359 at ω = 0 where the loop's gain at ω = 0 is 6.7689366 (50 digits; the balanced
+    realisation's AB13DD agrees)."""
+    import control
+    import mpmath
+    A, B, C, D = _loop(name, problem, design)
+    if not stable(A, CT):
+        return float("inf")
+    peak = float(control.linfnorm(control.ss(A, B, C, D), tol=1e-10)[1])
+    with mpmath.workdps(WITNESS_DIGITS):
+        Am, Bm, Cm, Dm = (mpmath.matrix(np.atleast_2d(M).tolist()) for M in (A, B, C, D))
+        n = A.shape[0]
+
+        def gain(omega: float):
+            X = mpmath.lu_solve(mpmath.mpc(0, omega) * mpmath.eye(n) - Am, Bm)
+            return max(mpmath.svd_c(Cm * X + Dm, compute_uv=False))
+
+        omegas = [peak if np.isfinite(peak) else 0.0, 0.0, *np.logspace(-6, 6, 61)]
+        return float(max(gain(float(w)) for w in omegas))
 
 
 def judge(name: str, problem: str, row: dict, ref: dict) -> dict:
@@ -868,7 +903,7 @@ def judge(name: str, problem: str, row: dict, ref: dict) -> dict:
     design's own closed loop (python-control) goes below is refuted, not used: the Riccati floors
     fail at tiny levels (DLR1's state-feedback optimum is 0: u = −C1x, D12 = I, A − B2C1 stable;
     the Riccati equation fails below 3.7e-7)."""
-    out = {"false": [], "baddesign": False, "closed_loop": None, "refuted": []}
+    out = {"false": [], "baddesign": False, "closed_loop": None, "witnessed": None, "refuted": []}
     if "error" in row:
         return out
     box = row["bracket"]
@@ -878,7 +913,8 @@ def judge(name: str, problem: str, row: dict, ref: dict) -> dict:
     if row.get("design") is not None:
         out["closed_loop"] = closed_loop_norm(name, problem, row["design"])
         if level is not None and not out["closed_loop"] <= level * (1 + TOL):
-            out["baddesign"] = True
+            out["witnessed"] = witnessed_gain(name, problem, row["design"])
+            out["baddesign"] = not out["witnessed"] <= level * (1 + TOL)
     achieved = out["closed_loop"] if out["closed_loop"] is not None and np.isfinite(out["closed_loop"]) else None
     own = ref[problem]
     floors = []                                     # (value, what): the optimum is ≥ value
@@ -920,7 +956,7 @@ def run_case(name: str, problem: str, ref: dict, timeout: float) -> dict:
             or row.get("line"),
             "seconds": row.get("seconds"), "wall": row.get("wall", row.get("seconds")),
             "ref_hi": own.get("hi"), "ref_lo": own.get("lo"), "ref_none": own.get("none"),
-            "closed_loop": flags["closed_loop"], "false": flags["false"], "baddesign": flags["baddesign"],
+            "closed_loop": flags["closed_loop"], "witnessed": flags["witnessed"], "false": flags["false"], "baddesign": flags["baddesign"],
             "refuted": flags["refuted"],
             "line": row.get("line"), "lmidsl": row.get("lmidsl")}
 

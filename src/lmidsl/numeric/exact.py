@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import random
 
+import numpy as np
 import sympy as sp
 from flint import fmpq, fmpq_mat
 
@@ -50,6 +51,31 @@ def random_matrix(rng: random.Random, rows: int, cols: int, kind: str = "full") 
                 continue
             M[i, j] = random_rational(rng)
     return M
+
+
+def rational_matrix(M) -> fmpq_mat:
+    """The exact value of a matrix of doubles (each double is a rational), or of a
+    :class:`~lmidsl.numeric.proof.PreciseMatrix`'s exact value, as an ``fmpq_mat``."""
+    exact = getattr(M, "exact", None)
+    M = np.atleast_2d(np.asarray(M if exact is None else exact, dtype=object))
+    return fmpq_mat(M.shape[0], M.shape[1],
+                    [x if isinstance(x, fmpq) else fmpq(*float(x).as_integer_ratio()) for x in M.ravel()])
+
+
+def midpoint(x) -> fmpq:
+    """The midpoint of a python-flint ``arb`` (or an mpmath ``mpf``) as an exact rational
+    (ValueError / OverflowError when it is not finite)."""
+    if hasattr(x, "mid"):
+        man, exp = x.mid().man_exp()
+    else:                                  # mpmath: man is the unsigned mantissa
+        man, exp = (-x.man if x < 0 else x.man), x.exp
+    man, exp = int(man), int(exp)
+    return fmpq(man * 2 ** exp) if exp >= 0 else fmpq(man, 2 ** -exp)
+
+
+def entries(M: fmpq_mat) -> np.ndarray:
+    """An ``fmpq_mat`` as an object array of its ``fmpq`` entries."""
+    return np.array([[M[i, j] for j in range(M.ncols())] for i in range(M.nrows())], dtype=object)
 
 
 def to_matrix(value) -> fmpq_mat:

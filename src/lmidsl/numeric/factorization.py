@@ -50,7 +50,11 @@ def _cond(M) -> float:
 
 
 def balanced_split(M: np.ndarray, label: str = "M"):
-    """R, S with R Sᵀ = M and cond(R) = cond(S) = cond(M)^{1/2} (SVD split)."""
+    """R, S with R Sᵀ = M and cond(R) = cond(S) = cond(M)^{1/2} (SVD split).  A
+    :class:`~lmidsl.numeric.proof.PreciseMatrix` M is split from its exact value
+    (:func:`_precise_split`)."""
+    if getattr(M, "exact", None) is not None:
+        return _precise_split(M, label)
     M = np.atleast_2d(np.asarray(M, dtype=float))
     if M.shape[0] != M.shape[1]:
         raise FactorizationError(f"R Sᵀ = {label}: {label} is {M.shape[0]}×{M.shape[1]}, not square")
@@ -64,6 +68,39 @@ def balanced_split(M: np.ndarray, label: str = "M"):
     report = [{"matrix": label, "cond": _cond(M),
                "note": f"factored as R Sᵀ by the balanced SVD split, cond(R) = cond(S) = {_cond(R):.3g}"}]
     return (R, S), report
+
+
+SPLIT_DIGITS = 100
+"""Decimal digits of the high-precision SVD of an exact M (mpmath): M = I − X Y at an
+output-feedback point near a singular optimum had singular values from 1.4e14 down to 3.6e-7
+(COMPleib AC7), which doubles cannot resolve."""
+
+
+def _precise_split(M, label: str):
+    """The balanced split of an exact M (a PreciseMatrix), by mpmath's SVD at
+    :data:`SPLIT_DIGITS` digits; R and S are returned exactly (PreciseMatrix of the mpmath
+    results as rationals), so that the recovery formulas evaluated in ball arithmetic use the
+    very factors whose product is M to ~1e-100."""
+    import mpmath
+    from .exact import midpoint
+    from .proof import PreciseMatrix
+
+    exact = np.atleast_2d(M.exact)
+    if exact.shape[0] != exact.shape[1]:
+        raise FactorizationError(f"R Sᵀ = {label}: {label} is {exact.shape[0]}×{exact.shape[1]}, not square")
+    with mpmath.workdps(SPLIT_DIGITS):
+        Mm = mpmath.matrix([[mpmath.mpf(int(x.p)) / int(x.q) for x in row] for row in exact])
+        U, s, V = mpmath.svd_r(Mm)
+        if s[s.rows - 1] <= s[0] * mpmath.mpf(10) ** (-SPLIT_DIGITS // 2):
+            raise FactorizationError(f"R Sᵀ = {label}: {label} is singular to {SPLIT_DIGITS // 2} digits")
+        root = [mpmath.sqrt(x) for x in s]
+        R = [[midpoint(U[i, j] * root[j]) for j in range(U.cols)] for i in range(U.rows)]
+        S = [[midpoint(V[j, i] * root[j]) for j in range(V.rows)] for i in range(V.cols)]
+        cond_M, cond_R = float(s[0] / s[s.rows - 1]), float(root[0] / root[-1])
+    report = [{"matrix": label, "cond": cond_M,
+               "note": f"factored as R Sᵀ by the balanced SVD split at {SPLIT_DIGITS} digits, "
+                       f"cond(R) = cond(S) = {cond_R:.3g}"}]
+    return (PreciseMatrix.of(R), PreciseMatrix.of(S)), report
 
 
 def square_pair(shape):

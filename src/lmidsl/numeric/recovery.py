@@ -14,7 +14,8 @@ import numpy as np
 from .design import Design
 from .instance import Instance
 from .evaluate import NumericEvaluator
-from .proof import PRECISION, BallEvaluator, ball_precision
+from .exact import midpoint
+from .proof import PRECISION, BallEvaluator, PreciseMatrix, ball_precision
 from ..theorem.values import FactorStep
 
 
@@ -30,7 +31,8 @@ def recover(instance: Instance, values: dict) -> tuple[dict, list]:
     steps = theorem.recovery_steps or [("formula", name) for name in theorem.recovery]
     for step in steps:
         if isinstance(step, FactorStep):
-            args = [np.atleast_2d(evaluator.visit(a)) for a in step.args]
+            args = [_precise_formula(instance, point, a, exact=True) if precise
+                    else np.atleast_2d(evaluator.visit(a)) for a in step.args]
             outputs, report = step.factorization(*args)
             point.update(dict(zip(step.names, outputs)))
             reports += report
@@ -43,14 +45,21 @@ def recover(instance: Instance, values: dict) -> tuple[dict, list]:
     return recovered, reports + evaluator.inverted
 
 
-def _precise_formula(instance: Instance, point: dict, formula) -> np.ndarray:
-    """A recovery formula at a point holding exact values (:class:`~lmidsl.numeric.proof.PreciseMatrix`:
-    the Riccati route's storage of a stiff loop), evaluated in :data:`PRECISION`-bit ball
-    arithmetic and rounded to doubles.  In doubles, K = W Y⁻¹ at a Y of condition number 1e18
-    (H∞ state feedback, 24 states) is noise; exactly, it is the gain the point was built from."""
+def _precise_formula(instance: Instance, point: dict, formula, exact: bool = False) -> np.ndarray:
+    """A recovery formula (or a factorisation's argument) at a point holding exact values
+    (:class:`~lmidsl.numeric.proof.PreciseMatrix`: the Riccati routes' points), evaluated in
+    :data:`PRECISION`-bit ball arithmetic and rounded to doubles.  In doubles, K = W Y⁻¹ at a Y of
+    condition number 1e18 (H∞ state feedback, 24 states) is noise; exactly, it is the gain the
+    point was built from.  Likewise I − X Y at an output-feedback point whose X Y ≈ I (a singular
+    plant near its optimum): in doubles it loses every digit the factors M Nᵀ = I − X Y need, so
+    a factorisation's argument is returned with ``exact``: a
+    :class:`~lmidsl.numeric.proof.PreciseMatrix` of the balls' midpoints, which the factorisation
+    splits in high precision (:func:`lmidsl.numeric.factorization.balanced_split`)."""
     with ball_precision(PRECISION):
         balls = np.atleast_2d(np.asarray(BallEvaluator(instance.dims, point, instance.params).visit(formula),
                                          dtype=object))
+        if exact:
+            return PreciseMatrix.of(np.vectorize(midpoint, otypes=[object])(balls))
         return np.array([[float(x.mid()) for x in row] for row in balls], dtype=float)
 
 

@@ -46,8 +46,9 @@ nothing (huge_gain-2) and 2.8 % above the norm (spread-3).
 from __future__ import annotations
 
 import numpy as np
-from flint import acb_mat, arb, arb_mat, fmpq
+from flint import acb_mat, arb, arb_mat
 
+from .exact import midpoint
 from .proof import PreciseMatrix, ball_precision, decimal_ball, object_array
 from .systems import hinf_norm as systems_hinf_norm, is_stable
 
@@ -245,12 +246,8 @@ def _stabilising_solution(A: arb_mat, B: arb_mat, Q: arb_mat, S: arb_mat, Ri: ar
 def _exact_midpoints(M) -> np.ndarray | None:
     """The midpoints of the real parts of an ``acb_mat`` as exact rationals (an object array of
     ``fmpq``), or None when one is not finite (eig did not converge)."""
-    def rational(x):
-        man, exp = x.real.mid().man_exp()
-        return fmpq(int(man) * 2 ** int(exp)) if exp >= 0 else fmpq(int(man), 2 ** int(-exp))
-
     try:
-        out = np.array([[rational(M[i, j]) for j in range(M.ncols())] for i in range(M.nrows())], dtype=object)
+        out = np.array([[midpoint(M[i, j].real) for j in range(M.ncols())] for i in range(M.nrows())], dtype=object)
     except (ValueError, OverflowError):
         return None
     return out if np.all(np.isfinite([[float(x) for x in row] for row in out])) else None

@@ -161,20 +161,16 @@ WORKER_CONFIG = {"distributed.worker.profile.enabled": False, "distributed.admin
 
 def warm_up(theorems: bool = False) -> None:
     """Make this process ready to solve: lmidsl's solving modules imported
-    (:data:`FORKSERVER_PRELOAD`), the BLAS and OpenMP pools at one thread (threadpoolctl, when it
-    is installed: for a worker started without Dask's nanny, which otherwise sets
+    (:data:`FORKSERVER_PRELOAD`), the BLAS and OpenMP pools at one thread (threadpoolctl: for a
+    worker started without Dask's nanny, which otherwise sets
     ``OMP_NUM_THREADS=1`` and its kin before the worker imports numpy), and with ``theorems`` the
     theorem files read (``reproduce`` looks theorems up by id on the workers)."""
     import importlib
 
     for name in FORKSERVER_PRELOAD:
         importlib.import_module(name)
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:
-        pass
-    else:
-        threadpool_limits(1)
+    from threadpoolctl import threadpool_limits
+    threadpool_limits(1)
     if theorems:
         all_theorems()
 
