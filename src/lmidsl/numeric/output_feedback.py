@@ -95,6 +95,22 @@ def closed_loop_norm(plant: tuple, controller: tuple, time: str) -> float | None
     return value if value is not None and np.isfinite(value) else None
 
 
+def bounded_real_residual(loop: tuple, storage, g: float, time: str) -> float:
+    """λ_max of the closed loop's bounded-real matrix at the storage P (γ²-form, g = γ²; the
+    module docstring of :mod:`lmidsl.numeric.riccati`) in doubles, relative to its largest
+    eigenvalue modulus: ≤ ~1e-9 where the LMI may hold up to rounding."""
+    A, B, C, D = loop
+    P = np.asarray(storage, dtype=float)
+    m, p = B.shape[1], C.shape[0]
+    if time == "continuous":
+        L = np.block([[A.T @ P + P @ A, P @ B, C.T], [B.T @ P, -g * np.eye(m), D.T], [C, D, -np.eye(p)]])
+    else:
+        L = np.block([[A.T @ P @ A - P + C.T @ C, A.T @ P @ B + C.T @ D],
+                      [B.T @ P @ A + D.T @ C, B.T @ P @ B + D.T @ D - g * np.eye(m)]])
+    eig = np.linalg.eigvalsh((L + L.T) / 2)
+    return float(eig[-1] / max(abs(eig).max(), 1e-300))
+
+
 def linearising_variables(storage, gamma: float, plant: tuple, controller: tuple) -> dict | None:
     """{X, Y, Ah, Bh, Ch, Dh} of the closed loop's storage 𝒫 = ``storage`` / γ (``storage``: of the
     γ²-form, doubles or a :class:`~lmidsl.numeric.proof.PreciseMatrix`; module docstring), computed
