@@ -45,12 +45,40 @@ def _plant(d: dict) -> tuple:
     return tuple(np.atleast_2d(np.asarray(d[k], dtype=float)) for k in PLANT)
 
 
-def _achieved_level(plant: tuple, time: str = "continuous") -> tuple[float, tuple]:
-    """The least closed-loop norm (linfnorm) of SB10FD's controllers met while bisecting the level
-    of the plant regularised here with ε = 1e-6 (outputs εx, εu; inputs on x and y): an
-    achieved level, so an upper bound on the plant's optimum."""
+def _discretised(d: dict, h: float = 0.1) -> dict:
+    """Zero-order hold of (A, [B1 B2]) at step h; C and D unchanged."""
+    from scipy.signal import cont2discrete
+    P = {k: np.atleast_2d(np.asarray(v, dtype=float)) for k, v in d.items()}
+    B = np.hstack([P["B1"], P["B2"]])
+    Ad, Bd, *_ = cont2discrete((P["A"], B, np.eye(len(P["A"])), np.zeros((len(P["A"]), B.shape[1]))), h)
+    m1 = P["B1"].shape[1]
+    return {**{k: v.tolist() for k, v in P.items()}, "A": Ad.tolist(), "B1": Bd[:, :m1].tolist(),
+            "B2": Bd[:, m1:].tolist()}
+
+
+def _loop(plant: tuple, K: tuple, time: str):
+    """python-control's closed loop of the plant with the controller (D22 = 0)."""
     import control
-    from slycot import sb10fd
+    A, B1, B2, C1, C2, D11, D12, D21 = plant
+    AK, BK, CK, DK = (np.atleast_2d(M) for M in K)
+    return control.ss(np.block([[A + B2 @ DK @ C2, B2 @ CK], [BK @ C2, AK]]),
+                      np.vstack([B1 + B2 @ DK @ D21, BK @ D21]),
+                      np.hstack([C1 + D12 @ DK @ C2, D12 @ CK]), D11 + D12 @ DK @ D21,
+                      0 if time == "continuous" else True)
+
+
+def _norm(loop, time: str) -> float:
+    import control
+    poles = loop.poles()
+    stable = np.all(poles.real < 0) if time == "continuous" else np.all(abs(poles) < 1)
+    return float(control.linfnorm(loop, tol=1e-10)[0]) if stable else np.inf
+
+
+def _achieved_level(plant: tuple, time: str = "continuous") -> tuple[float, tuple]:
+    """The least closed-loop norm (linfnorm) of SLICOT's controllers (SB10FD continuous, SB10DD
+    discrete) met while bisecting the level of the plant regularised here with ε = 1e-6 (outputs
+    εx, εu; inputs on x and y): an achieved level, so an upper bound on the plant's optimum."""
+    from slycot import sb10dd, sb10fd
     A, B1, B2, C1, C2, D11, D12, D21 = plant
     n, m1, m2, p1, p2 = A.shape[0], B1.shape[1], B2.shape[1], C1.shape[0], C2.shape[0]
     e = 1e-6
@@ -64,15 +92,12 @@ def _achieved_level(plant: tuple, time: str = "continuous") -> tuple[float, tupl
     for _ in range(60):
         g = np.sqrt(lo * hi)
         try:
-            K = sb10fd(n, B.shape[1], C.shape[0], m2, p2, g, A, B, C, D)[:4]
+            K = (sb10fd(n, B.shape[1], C.shape[0], m2, p2, g, A, B, C, D)[:4] if time == "continuous"
+                 else sb10dd(n, B.shape[1], C.shape[0], m2, p2, g, A, B, C, D)[1:5])
         except Exception:        # noqa: BLE001 — no controller at this level
             lo = g
             continue
-        AK, BK, CK, DK = K
-        loop = control.ss(np.block([[A + B2 @ DK @ C2, B2 @ CK], [BK @ C2, AK]]),
-                          np.vstack([B1 + B2 @ DK @ D21, BK @ D21]),
-                          np.hstack([C1 + D12 @ DK @ C2, D12 @ CK]), D11 + D12 @ DK @ D21)
-        norm = float(control.linfnorm(loop, tol=1e-10)[0]) if np.all(loop.poles().real < 0) else np.inf
+        norm = _norm(_loop(plant, K, time), time)
         if norm < best[0]:
             best = (norm, K)
         lo, hi = (lo, g) if norm <= g else (g, hi)
@@ -154,30 +179,27 @@ def test_midpoint_keeps_the_sign():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name, data", [("HE1", HE1), ("DIS2", DIS2)])
-def test_right_design_on_singular_published_plants(name, data):
-    """On COMPleib's HE1 and DIS2 (D21 = 0: the optimum is not attained) the delivered controller's
-    closed loop (python-control linfnorm) meets the certified γ, which is within 1e-4 of the level
-    SB10FD reaches on the ε-regularised plant (this test's own bisection), and the proved lower end
-    is below the closed loop's norm.  Before the closed form the SDP's design was 0.9 % (HE1) and
-    0.2 % (DIS2) above that level."""
-    import control
+@pytest.mark.parametrize("name, data, time", [("HE1", HE1, "continuous"), ("DIS2", DIS2, "continuous"),
+                                              ("DIS2 (zero-order hold, h = 0.1)", _discretised(DIS2), "discrete")])
+def test_right_design_on_singular_published_plants(name, data, time):
+    """On COMPleib's HE1 and DIS2 (D21 = 0: the optimum is not attained) and DIS2's discretisation,
+    the delivered controller's closed loop (python-control linfnorm) meets the certified γ, which
+    is within 1e-4 of the level SLICOT reaches on the ε-regularised plant (this test's own
+    bisection), and the proved lower end is below the closed loop's norm.  Before the closed form
+    the SDP's design was 0.9 % (HE1) and 0.2 % (DIS2) above that level.  Discrete DIS2: the SDP's
+    point is the optimum (bracket 1.8e-6 wide) but its recovery inverts a matrix of condition
+    number 7e8, so the design is the back-off's at δ = 1e-3: within 1e-3."""
+    theorem = "textbook.hinf_of_ct" if time == "continuous" else "textbook.hinf_of_dt"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        sol = lmidsl.solve("textbook.hinf_of_ct", data={**data, "D22": np.zeros(
-            (len(data["C2"]), len(data["B2"][0]))).tolist()})
+        sol = lmidsl.solve(theorem, data={**data, "D22": np.zeros((len(data["C2"]), len(data["B2"][0]))).tolist()})
     verdict = sol.verdict
     assert verdict.certified
     plant = _plant(data)
-    A, B1, B2, C1, C2, D11, D12, D21 = plant
-    AK, BK, CK, DK = (np.atleast_2d(np.asarray(sol.design[k], dtype=float)) for k in ("AK", "BK", "CK", "DK"))
-    loop = control.ss(np.block([[A + B2 @ DK @ C2, B2 @ CK], [BK @ C2, AK]]),
-                      np.vstack([B1 + B2 @ DK @ D21, BK @ D21]),
-                      np.hstack([C1 + D12 @ DK @ C2, D12 @ CK]), D11 + D12 @ DK @ D21)
-    assert np.all(loop.poles().real < 0)
-    achieved = float(control.linfnorm(loop, tol=1e-10)[0])
+    achieved = _norm(_loop(plant, tuple(np.asarray(sol.design[k], dtype=float) for k in ("AK", "BK", "CK", "DK")),
+                           time), time)
     assert achieved <= verdict.gamma * (1 + 1e-6)
-    reference, _ = _achieved_level(plant)
-    assert verdict.gamma <= reference * (1 + 1e-4), (verdict.gamma, reference)
+    reference, _ = _achieved_level(plant, time)
+    assert verdict.gamma <= reference * (1 + (1e-4 if time == "continuous" else 1e-3)), (verdict.gamma, reference)
     lower = (verdict.bracket or {}).get("lower")
     assert lower is not None and lower <= achieved
