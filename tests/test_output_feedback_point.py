@@ -203,3 +203,34 @@ def test_right_design_on_singular_published_plants(name, data, time):
     assert verdict.gamma <= reference * (1 + (1e-4 if time == "continuous" else 1e-3)), (verdict.gamma, reference)
     lower = (verdict.bracket or {}).get("lower")
     assert lower is not None and lower <= achieved
+
+
+def _doubled_objective_theorem():
+    """textbook.hinf_of_ct's LMIs and form, minimising 2γ (an adversarial user theorem)."""
+    from lmidsl import Source, Theorem, output_feedback_blocks
+    from lmidsl.theorems.textbook.hinf_of import PLANT as OF_PLANT, full_order_hinf_lmis, full_order_variables, generalized_plant
+    thm = Theorem("adversarial.of_doubled", "OF LMI, objective 2γ", Source("test", "test", "test"), time="continuous")
+    (n, m1, m2, p1, p2), d = generalized_plant(thm)
+    X, Y, Ah, Bh, Ch, Dh, g = full_order_variables(thm, n, p2, m2)
+    b = output_feedback_blocks(X, Y, Ah, Bh, Ch, Dh, *(d[k] for k in OF_PLANT[:-1]))
+    full_order_hinf_lmis(thm, "(OF)", b, g, X, Y)
+    thm.minimize(2 * g, performance=("gamma", g))
+    thm.output_feedback_form(X, Y, Ah, Bh, Ch, Dh, g, tuple(d[k] for k in OF_PLANT[:-1]))
+    return thm
+
+
+def test_closed_form_objective_is_the_theorems():
+    """A theorem that declares the output-feedback form but minimises 2γ: the closed-form point's
+    objective is 2γ at the point (it was γ, half of it, and the point was kept over the SDP's for
+    it), and its proved enclosure contains it."""
+    from lmidsl.pipeline import make_instance
+    from lmidsl.solver.fallback import output_feedback_point
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        instance = make_instance(_doubled_objective_theorem(), data={**HE1, "D22": [[0, 0]]})
+        sol = output_feedback_point(instance)
+    assert sol is not None
+    level = float(np.asarray(sol.values["gamma"]))
+    assert sol.objective == pytest.approx(2 * level, rel=1e-12)
+    lo, hi = sol.objective_bounds
+    assert lo <= 2 * level <= hi

@@ -39,7 +39,7 @@ from ..numeric.output_feedback import (bounded_real_residual, central_controller
 from ..numeric.riccati import (PRECISE_DIGITS, full_information_gain, hinf_norm,
                                precise_full_information_gain, realisation_norm, storage_candidates)
 from .backends import Route, get_backend
-from .solution import Solution, evaluate_performance, lmi_certificate
+from .solution import Solution, evaluate_performance, lmi_certificate, objective_enclosure
 from .status import OPTIMAL
 
 
@@ -132,7 +132,7 @@ def riccati_point(instance: Instance, synthesis_gamma, tolerance):
             continue
         for how, P in storage_candidates(A, B, C, D, gamma ** 2, time, seed, lambda balls: written()):
             values = {form.storage.name: P, form.level.name: gamma ** 2}
-            sol = _certified_point(instance, values, gamma ** 2)
+            sol = _certified_point(instance, values)
             if sol is not None:
                 sol.notes.append(f"P from the bounded-real Riccati equation at γ = {gamma:.10g} "
                                  f"({measured} {norm:.10g}; {how})"
@@ -159,10 +159,13 @@ resolves ~1e-16‖N‖₂ per entry; n² entries and ill-conditioned P add decad
 candidate is dropped without a proof."""
 
 
-def _certified_point(instance: Instance, values: dict, objective: float) -> Solution | None:
+def _certified_point(instance: Instance, values: dict) -> Solution | None:
     """A Solution (backend "riccati") at ``values`` when every LMI holds there, else None: by
     numpy's eigenvalues, or, where those are rounding (a stiff realisation: entries ~1e16, margin
-    ~1e-7), by the ball-arithmetic proof of every LMI (:func:`lmi_certificate` with ``prove``)."""
+    ~1e-7), by the ball-arithmetic proof of every LMI (:func:`lmi_certificate` with ``prove``).
+    Its objective is the theorem's objective evaluated at the point (and enclosed, as a solver's
+    is), never the form's level: a theorem may declare a form and minimise 2γ, whose closed-form
+    point was kept over the SDP's with its level (half its objective) as the objective."""
     point = {**instance.data, **values}
     lmis = lmi_certificate(instance, point)
     if lmis and not all(r.max_eig < 0 for r in lmis):
@@ -174,9 +177,16 @@ def _certified_point(instance: Instance, values: dict, objective: float) -> Solu
             return None
     if not (lmis and all(r.max_eig < 0 for r in lmis)):
         return None
+    objective = instance.theorem.objective
+    if objective is not None:
+        objective = complex(np.asarray(NumericEvaluator(instance.dims, point, instance.params).visit(objective)).reshape(()))
+        if objective.imag != 0 or not np.isfinite(objective.real):
+            return None
+        objective = objective.real
     return Solution(instance.theorem.id, instance.example, CLOSED_FORM, "scipy ARE", OPTIMAL,
                     objective=objective, point_gamma=evaluate_performance(instance, point), lmis=lmis,
-                    values=values, params=dict(instance.params), instance=instance)
+                    values=values, params=dict(instance.params), instance=instance,
+                    objective_bounds=objective_enclosure(instance, point))
 
 
 SF_BISECTION_STEPS = 60
@@ -283,7 +293,7 @@ def state_feedback_point(instance: Instance) -> Solution | None:
             for _, P2 in storage_candidates(Acl, B1, Ccl, D11, gamma ** 2, time, norm, written):
                 Y, W = gain_point(P2, K, gamma)
                 values = {form.Y.name: Y, form.W.name: W, form.level.name: gamma}
-                sol = _certified_point(instance, values, gamma)
+                sol = _certified_point(instance, values)
                 if sol is not None:
                     sol.notes.append(f"Y, W from the full-information Riccati gain at the level γ = {gamma:.10g} "
                                      f"(Riccati optimum ≈ {hi:.10g}; the gain's closed loop norm {norm:.10g})")
@@ -344,7 +354,7 @@ def _precise_state_feedback_point(instance: Instance, arrays: tuple, plant, leve
         if not is_stable(A + B2 @ rounded, "continuous"):
             continue    # the delivered gain's loop, summed in doubles, must be one numerics can check
         Y, W = gain_point(PreciseMatrix.of(X), K, gamma)
-        sol = _certified_point(instance, {form.Y.name: Y, form.W.name: W, form.level.name: gamma}, gamma)
+        sol = _certified_point(instance, {form.Y.name: Y, form.W.name: W, form.level.name: gamma})
         if sol is not None:
             sol.notes.append(f"Y, W from the full-information Riccati equation at the level γ = {gamma:.10g}, "
                              f"solved at {PRECISE_DIGITS} digits (its solution exists from ≈ {level:.10g}; in "
@@ -405,7 +415,7 @@ def output_feedback_point(instance: Instance) -> Solution | None:
                 continue
             values = {getattr(form, k).name: v for k, v in variables.items()}
             values[form.level.name] = gamma
-            sol = _certified_point(instance, values, gamma)
+            sol = _certified_point(instance, values)
             if sol is not None:
                 plant_said = "the plant as written" if eps == 0 else f"the plant regularised with ε = {eps:.3g}"
                 sol.notes.append(f"X, Y, Â, B̂, Ĉ, D̂ from SLICOT's central controller for {plant_said} "
