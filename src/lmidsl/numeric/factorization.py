@@ -19,9 +19,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable
 
+import mpmath
 import numpy as np
 
 from ..errors import LmidslError
+from .exact import midpoint
+from .proof import PreciseMatrix
 
 
 class FactorizationError(LmidslError):
@@ -81,10 +84,6 @@ def _precise_split(M, label: str):
     :data:`SPLIT_DIGITS` digits; R and S are returned exactly (PreciseMatrix of the mpmath
     results as rationals), so that the recovery formulas evaluated in ball arithmetic use the
     very factors whose product is M to ~1e-100."""
-    import mpmath
-    from .exact import midpoint
-    from .proof import PreciseMatrix
-
     exact = np.atleast_2d(M.exact)
     if exact.shape[0] != exact.shape[1]:
         raise FactorizationError(f"R Sᵀ = {label}: {label} is {exact.shape[0]}×{exact.shape[1]}, not square")
