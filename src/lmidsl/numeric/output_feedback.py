@@ -58,6 +58,29 @@ def regularised_plant(plant: tuple, eps: float) -> tuple:
     return A, B1e, B2, C1e, C2, D11e, D12e, D21e
 
 
+def balanced_plant(plant: tuple) -> tuple[tuple, np.ndarray]:
+    """(the plant in balanced state coordinates, t): T⁻¹AT, T⁻¹B, CT with T = diag(t), t the
+    powers of 2 nearest SLICOT TB01ID's balancing of the system matrix [[A, [B1 B2]], [[C1; C2], 0]]
+    (powers of 2, so that the scaling is exact in doubles and :func:`linearising_variables` maps
+    the point back exactly).  A controller acts on y and u, not on the plant's state: it is the
+    same controller for both realisations, and its closed loops are similar (the same norm).  On
+    a theorem's state-scaled data (COMPleib's TF1: ‖B1‖ = 1.9e-7, ‖C1‖ = 2.6e5) SLICOT found no
+    controller at any level, and no closed-loop storage was a point; balanced, both."""
+    from slycot import tb01id
+
+    A, B1, B2, C1, C2, D11, D12, D21 = plant
+    n = A.shape[0]
+    B, C = np.hstack([B1, B2]), np.vstack([C1, C2])
+    try:
+        scale = tb01id(n, B.shape[1], C.shape[0], 0.0, A.copy(), B.copy(), C.copy(), job="A")[4]
+        t = 2.0 ** np.round(np.log2(np.asarray(scale, dtype=float)))
+    except Exception:        # noqa: BLE001 — slycot's errors: the plant as it is
+        t = np.ones(n)
+    if not np.all(np.isfinite(t)) or np.any(t == 0):
+        t = np.ones(n)
+    return (A * t / t[:, None], B1 / t[:, None], B2 / t[:, None], C1 * t, C2 * t, D11, D12, D21), t
+
+
 def central_controller(plant: tuple, gamma: float, time: str):
     """(AK, BK, CK, DK): SLICOT's central H∞ controller of the regular ``plant`` at the level γ
     (SB10FD continuous, SB10DD discrete), or None where SLICOT finds none."""
@@ -111,14 +134,19 @@ def bounded_real_residual(loop: tuple, storage, g: float, time: str) -> float:
     return float(eig[-1] / max(abs(eig).max(), 1e-300))
 
 
-def linearising_variables(storage, gamma: float, plant: tuple, controller: tuple) -> dict | None:
+def linearising_variables(storage, gamma: float, plant: tuple, controller: tuple,
+                          state_scale: np.ndarray | None = None) -> dict | None:
     """{X, Y, Ah, Bh, Ch, Dh} of the closed loop's storage 𝒫 = ``storage`` / γ (``storage``: of the
     γ²-form, doubles or a :class:`~lmidsl.numeric.proof.PreciseMatrix`; module docstring), computed
     exactly in rationals from the exact values of the storage, the plant's and the controller's
     doubles: the point's LMI is then exactly the congruence of the closed loop's by Π, which no
     rounding of the conversion can break (on singular plants 𝒫 has condition numbers ~1e13, and
-    the conversion in doubles violated LMIs that held for the closed loop).  None when 𝒫 or its
-    off-diagonal block is singular, or the controller is not of full order."""
+    the conversion in doubles violated LMIs that held for the closed loop).  With ``state_scale``
+    t, ``plant`` is the balanced one of :func:`balanced_plant` and the variables are mapped back
+    to the plant's own coordinates x = T x_b, T = diag(t), exactly: X = T X_b T, Y = T⁻¹ Y_b T⁻¹,
+    Â = T⁻¹ Â_b T, B̂ = T⁻¹ B̂_b, Ĉ = Ĉ_b T (the SGC LMI of the plant is the congruence of the
+    balanced one by diag(T⁻¹, T, I, I)).  None when 𝒫 or its off-diagonal block is singular, or
+    the controller is not of full order."""
     A, B1, B2, C1, C2 = (rational_matrix(M) for M in plant[:5])
     AK, BK, CK, DK = (rational_matrix(M) for M in controller)
     n = A.nrows()
@@ -136,6 +164,11 @@ def linearising_variables(storage, gamma: float, plant: tuple, controller: tuple
     Mt = M.transpose()
     Ah = N * AK * Mt + N * BK * C2 * X + Y * B2 * CK * Mt + Y * (A + B2 * DK * C2) * X
     values = {"X": X, "Y": Y, "Ah": Ah, "Bh": N * BK + Y * B2 * DK, "Ch": CK * Mt + DK * C2 * X}
+    if state_scale is not None:
+        T = rational_matrix(np.diag(state_scale))
+        Ti = rational_matrix(np.diag(1.0 / np.asarray(state_scale, dtype=float)))   # powers of 2: exact
+        values = {"X": T * values["X"] * T, "Y": Ti * values["Y"] * Ti, "Ah": Ti * values["Ah"] * T,
+                  "Bh": Ti * values["Bh"], "Ch": values["Ch"] * T}
     out = {k: PreciseMatrix.of(entries(v)) for k, v in values.items()}
     out["Dh"] = np.atleast_2d(np.asarray(controller[3], dtype=float))
     return out

@@ -34,7 +34,8 @@ from ..numeric.evaluate import NumericEvaluator
 from ..numeric.instance import Instance
 from ..numeric.proof import PROVED, BallEvaluator, PreciseMatrix
 from ..numeric.systems import is_stable
-from ..numeric.output_feedback import (bounded_real_residual, central_controller, closed_loop as of_closed_loop,
+from ..numeric.output_feedback import (balanced_plant, bounded_real_residual, central_controller,
+                                       closed_loop as of_closed_loop,
                                        closed_loop_norm, linearising_variables, regularised_plant)
 from ..numeric.riccati import (PRECISE_DIGITS, full_information_gain, hinf_norm,
                                precise_full_information_gain, realisation_norm, storage_candidates)
@@ -401,16 +402,17 @@ def output_feedback_point(instance: Instance) -> Solution | None:
     ev = NumericEvaluator(instance.dims, dict(instance.data), instance.params)
     plant = tuple(np.atleast_2d(np.asarray(ev.visit(e), dtype=float)) for e in form.plant)
     time = instance.theorem.time
+    balanced, scale = balanced_plant(plant)    # the same controllers; its closed loops better scaled
     with threadpool_limits(1):               # SLICOT's small LAPACK calls: 10× slower on a loaded
-        controllers = _controllers(plant, time)   # machine with the BLAS pool's threads spinning
+        controllers = _controllers(balanced, time)   # machine with the BLAS pool's threads spinning
     tries = sorted(((norm * (1 + r), norm, K, eps) for norm, K, eps in controllers
                     for r in OF_MARGINS), key=lambda t: t[0])[:OF_LEVELS]
     for gamma, norm, K, eps in tries:
-        loop = of_closed_loop(plant, K)
+        loop = of_closed_loop(balanced, K)
         for how, P2 in storage_candidates(*loop, gamma ** 2, time, norm):
             if getattr(P2, "exact", None) is None and bounded_real_residual(loop, P2, gamma ** 2, time) > ROUNDING:
                 continue        # the closed loop's LMI fails beyond rounding: so would its congruence
-            variables = linearising_variables(P2, gamma, plant, K)
+            variables = linearising_variables(P2, gamma, balanced, K, scale)
             if variables is None:
                 continue
             values = {getattr(form, k).name: v for k, v in variables.items()}
@@ -420,7 +422,7 @@ def output_feedback_point(instance: Instance) -> Solution | None:
                 plant_said = "the plant as written" if eps == 0 else f"the plant regularised with ε = {eps:.3g}"
                 sol.notes.append(f"X, Y, Â, B̂, Ĉ, D̂ from SLICOT's central controller for {plant_said} "
                                  f"and its closed loop's storage at the level γ = {gamma:.10g} (the closed "
-                                 f"loop's norm {norm:.10g}; {how})")
+                                 f"loop's norm {norm:.10g}; {how}; the plant's state balanced by SLICOT TB01ID)")
                 return sol
     return None
 
