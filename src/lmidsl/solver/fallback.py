@@ -386,8 +386,11 @@ def output_feedback_point(instance: Instance) -> Solution | None:
     """A certified point of a theorem declaring its output-feedback form
     (:meth:`Theorem.output_feedback_form`), from SLICOT's central controllers.
 
-    For each ε of :data:`OF_REGULARISATION` (0 only where SLICOT accepts the plant as written), the
-    least level at which SLICOT returns a controller for the ε-regularised plant whose closed loop
+    The plant is taken in the state coordinates SLICOT's TB01ID balances
+    (:func:`~lmidsl.numeric.output_feedback.balanced_plant`; the controllers are the same, and the
+    point is mapped back exactly).  For each ε of :data:`OF_REGULARISATION` (0 only where SLICOT
+    accepts the plant as written), the least level at which SLICOT returns a controller for the
+    ε-regularised plant whose closed loop
     meets the level is bisected on log γ; of all controllers met on the way, the one whose closed
     loop *with the plant as written* has the least norm ν is kept (any stabilising controller
     gives a point above its ν).  At γ = ν (1 + r), r in :data:`OF_MARGINS`, the closed loop's
