@@ -164,13 +164,17 @@ def _certified_point(instance: Instance, values: dict) -> Solution | None:
     """A Solution (backend "riccati") at ``values`` when every LMI holds there, else None: by
     numpy's eigenvalues, or, where those are rounding (a stiff realisation: entries ~1e16, margin
     ~1e-7), by the ball-arithmetic proof of every LMI (:func:`lmi_certificate` with ``prove``).
+    A point holding exact values (:class:`~lmidsl.numeric.proof.PreciseMatrix`) is always proved:
+    its doubles are only its rounding, and numpy's −1e-11 at the rounded output-feedback point of a
+    random plant hid an exact point that violates the LMI (a negative pivot of −4.7e-12 in balls),
+    which was then kept over the SDP's proved point.
     Its objective is the theorem's objective evaluated at the point (and enclosed, as a solver's
     is), never the form's level: a theorem may declare a form and minimise 2γ, whose closed-form
     point was kept over the SDP's with its level (half its objective) as the objective."""
     point = {**instance.data, **values}
     lmis = lmi_certificate(instance, point)
-    if lmis and not all(r.max_eig < 0 for r in lmis):
-        precise = any(getattr(v, "exact", None) is not None for v in values.values())
+    precise = any(getattr(v, "exact", None) is not None for v in values.values())
+    if lmis and (precise or not all(r.max_eig < 0 for r in lmis)):
         if not precise and any(r.max_eig > ROUNDING * r.scale for r in lmis):
             return None          # violated beyond what rounding explains: no proof is tried
         lmis = lmi_certificate(instance, point, prove=True)
