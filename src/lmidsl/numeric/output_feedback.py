@@ -12,13 +12,15 @@ disturbances ε w_x (on the state), ε w_y (on the measurement):
     B1ε = [B1, εI, 0],  C1ε = [C1; εI; 0],  D11ε = [[D11, 0, 0], [0, 0, 0], [0, 0, 0]],
     D12ε = [D12; 0; εI],  D21ε = [D21, 0, εI].
 
-[D12ε; ·] has full column rank and D21ε full row rank, and P12ε, P21ε have no finite zeros at all
+D12ε has full column rank and D21ε full row rank, and P12ε, P21ε have no finite zeros at all
 (their realisations' system matrices have full rank at every s through the ε columns and rows).
 The closed loop of the plant with any controller is the (1, 1) block of the regularised closed
 loop, so its norm is at most the regularised one: a controller at level γ for Pε is one at level γ
 for P, and γ_opt(Pε) ↓ γ_opt(P) as ε → 0 (the singular optimum is an infimum).  Nothing here is
 a proof: the controller's closed-loop norm is measured, and the point built from it
-(:func:`linearising_variables`) is proved against the theorem's own LMIs by the caller.
+(:func:`linearising_variables`) is proved against the theorem's own LMIs by the caller.  SLICOT
+is given the plant in state coordinates balanced by its TB01ID (:func:`balanced_plant`): the
+controller does not depend on them, and on badly scaled data it found none at any level.
 
 **The linearising variables.**  For a full-order controller K = (AK, BK, CK, DK) whose closed loop
 (Acl, Bcl, Ccl, Dcl) (state [x; xK]) satisfies the bounded real lemma with −γI on both diagonal
