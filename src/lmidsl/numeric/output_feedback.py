@@ -42,6 +42,7 @@ import numpy as np
 from flint import fmpq, fmpq_mat
 
 from .exact import entries, rational_matrix
+from .interconnection import lower_lft
 from .proof import PreciseMatrix
 from .riccati import hinf_norm
 
@@ -105,13 +106,11 @@ def central_controller(plant: tuple, gamma: float, time: str):
 
 
 def closed_loop(plant: tuple, controller: tuple) -> tuple:
-    """(Acl, Bcl, Ccl, Dcl) of the plant (D22 = 0) with u = K y, state [x; xK]."""
-    A, B1, B2, C1, C2, D11, D12, D21 = plant
-    AK, BK, CK, DK = controller
-    Acl = np.block([[A + B2 @ DK @ C2, B2 @ CK], [BK @ C2, AK]])
-    Bcl = np.vstack([B1 + B2 @ DK @ D21, BK @ D21])
-    Ccl = np.hstack([C1 + D12 @ DK @ C2, D12 @ CK])
-    return Acl, Bcl, Ccl, D11 + D12 @ DK @ D21
+    """(Acl, Bcl, Ccl, Dcl) of the plant (D22 = 0) with u = K y, state [x; xK]
+    (:func:`lmidsl.numeric.interconnection.lower_lft`)."""
+    B2, C2 = plant[2], plant[4]
+    loop = lower_lft((*plant, np.zeros((C2.shape[0], B2.shape[1]))), controller, None)
+    return loop.A, loop.B, loop.C, loop.D
 
 
 def closed_loop_norm(plant: tuple, controller: tuple, time: str) -> float | None:

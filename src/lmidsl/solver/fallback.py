@@ -28,9 +28,10 @@ from __future__ import annotations
 
 import numpy as np
 from threadpoolctl import threadpool_limits
-from flint import arb_mat, fmpq, fmpq_mat
+from flint import arb_mat, fmpq
 
 from ..numeric.evaluate import NumericEvaluator
+from ..numeric.exact import entries, rational_matrix
 from ..numeric.instance import Instance
 from ..numeric.proof import PROVED, BallEvaluator, PreciseMatrix
 from ..numeric.systems import is_stable
@@ -40,7 +41,7 @@ from ..numeric.output_feedback import (balanced_plant, bounded_real_residual, ce
 from ..numeric.riccati import (PRECISE_DIGITS, full_information_gain, hinf_norm,
                                precise_full_information_gain, realisation_norm, storage_candidates)
 from .backends import Route, get_backend
-from .solution import Solution, evaluate_performance, lmi_certificate, objective_enclosure
+from .solution import Solution, evaluate_objective, evaluate_performance, lmi_certificate, objective_enclosure
 from .status import OPTIMAL
 
 
@@ -182,12 +183,9 @@ def _certified_point(instance: Instance, values: dict) -> Solution | None:
             return None
     if not (lmis and all(r.max_eig < 0 for r in lmis)):
         return None
-    objective = instance.theorem.objective
-    if objective is not None:
-        objective = complex(np.asarray(NumericEvaluator(instance.dims, point, instance.params).visit(objective)).reshape(()))
-        if objective.imag != 0 or not np.isfinite(objective.real):
-            return None
-        objective = objective.real
+    objective = evaluate_objective(instance, point)
+    if objective is None and instance.theorem.objective is not None:
+        return None
     return Solution(instance.theorem.id, instance.example, CLOSED_FORM, "scipy ARE", OPTIMAL,
                     objective=objective, point_gamma=evaluate_performance(instance, point), lmis=lmis,
                     values=values, params=dict(instance.params), instance=instance,
@@ -204,22 +202,16 @@ def gain_point(P2, K, gamma: float):
     stiff loop) Y and W are computed exactly in rationals (python-flint ``fmpq_mat``), so that the
     congruence that makes them satisfy the LMIs is exact too; otherwise in floating point.  K may
     be exact itself (an object array of ``fmpq``)."""
-    exact = getattr(P2, "exact", None)
-    if exact is None:
+    if getattr(P2, "exact", None) is None:
         Y = gamma * np.linalg.inv(P2)
         Y = (Y + Y.T) / 2
         return Y, np.asarray(K, dtype=float) @ Y
-    n = exact.shape[0]
-    K = np.atleast_2d(np.asarray(K, dtype=object if K.dtype == object else float))
     try:
-        Yq = fmpq_mat(n, n, [x for row in exact for x in row]).inv() * fmpq(*float(gamma).as_integer_ratio())
+        Yq = rational_matrix(P2).inv() * fmpq(*float(gamma).as_integer_ratio())
     except ZeroDivisionError:
         return gain_point(np.asarray(P2, dtype=float), K, gamma)
-    Kq = fmpq_mat(K.shape[0], K.shape[1], [x if isinstance(x, fmpq) else fmpq(*float(x).as_integer_ratio())
-                                           for x in K.ravel()])
-    Wq = Kq * Yq
-    as_array = lambda M: np.array([[M[i, j] for j in range(M.ncols())] for i in range(M.nrows())], dtype=object)  # noqa: E731
-    return PreciseMatrix.of(as_array(Yq)), PreciseMatrix.of(as_array(Wq))
+    Wq = rational_matrix(K) * Yq
+    return PreciseMatrix.of(entries(Yq)), PreciseMatrix.of(entries(Wq))
 
 
 def state_feedback_point(instance: Instance) -> Solution | None:

@@ -321,16 +321,24 @@ def lmi_certificate(instance: Instance, values: dict, prove: bool = False,
     return reports
 
 
-def evaluate_performance(instance: Instance, values: dict):
-    """The theorem's performance figure (e.g. γ = √g) at a point, or None."""
-    perf = instance.theorem.performance
-    if perf is None:
-        return None
-    ev = NumericEvaluator(instance.dims, values, instance.params)
-    value = complex(np.asarray(ev.visit(perf[1])).reshape(()))
+def _real_at(instance: Instance, values: dict, expr):
+    """A scalar expression of the theorem at a point, or None where it is not a finite real."""
+    value = complex(np.asarray(NumericEvaluator(instance.dims, values, instance.params).visit(expr)).reshape(()))
     if value.imag != 0 or not np.isfinite(value.real):
         return None  # e.g. γ = √g with g < 0 at the solver's point: no real level to report
     return value.real
+
+
+def evaluate_performance(instance: Instance, values: dict):
+    """The theorem's performance figure (e.g. γ = √g) at a point, or None."""
+    perf = instance.theorem.performance
+    return None if perf is None else _real_at(instance, values, perf[1])
+
+
+def evaluate_objective(instance: Instance, values: dict):
+    """The theorem's objective at a point (None: no objective, or not a finite real there)."""
+    objective = instance.theorem.objective
+    return None if objective is None else _real_at(instance, values, objective)
 
 
 def objective_enclosure(instance: Instance, values: dict) -> tuple[float, float] | None:
