@@ -92,10 +92,12 @@ def declares_closed_form(theorem) -> bool:
     return any(form is not None for form in (theorem.state_feedback, theorem.output_feedback, theorem.bounded_real))
 
 
-RICCATI_LEVELS = (1e-5, 3e-5, 9e-5, 1e-3)
+RICCATI_LEVELS = (1e-6, 1e-5, 3e-5, 9e-5, 1e-3)
 """Levels γ = ‖G‖∞ (1 + r) tried first by the Riccati route, then the synthesis γ (and + tolerance).
-The middle ones serve stiff realisations, where a margin of ε = 1e-5 of the room is below the
-Riccati solution's rounding (stress set, brl_ct/light-1: proved at 9e-5, not at 1e-5)."""
+The first sets how far above a design's norm its analysis certifies it (with 1e-5 first, a
+16-state state-feedback design proved 1e-6 above its optimum was reported 1.1e-5 above it).  The
+others serve stiff realisations, where a margin of ε = 1e-5 of the room is below the Riccati
+solution's rounding (stress set, brl_ct/light-1: proved at 9e-5, not at 1e-5)."""
 
 
 def riccati_point(instance: Instance, synthesis_gamma, tolerance):
@@ -163,8 +165,11 @@ candidate is dropped without a proof."""
 
 def _certified_point(instance: Instance, values: dict) -> Solution | None:
     """A Solution (backend "riccati") at ``values`` when every LMI holds there, else None: by
-    numpy's eigenvalues, or, where those are rounding (a stiff realisation: entries ~1e16, margin
-    ~1e-7), by the ball-arithmetic proof of every LMI (:func:`lmi_certificate` with ``prove``).
+    numpy's eigenvalues, or, where one of them is within rounding of 0 (|λmax| ≤ ROUNDING ‖N‖₂:
+    a stiff realisation, entries ~1e16, margin ~1e-7), by the ball-arithmetic proof of every LMI
+    (:func:`lmi_certificate` with ``prove``).  COMPleib NN5, output feedback: numpy's λmax
+    −5.5e-11 at ‖N‖₂ = 4.4e16 hid a closed-loop storage the ball LDLᵀ refutes; taken, it left the
+    design uncertified where the next level's storage is proved.
     A point holding exact values (:class:`~lmidsl.numeric.proof.PreciseMatrix`) is always proved:
     its doubles are only its rounding, and numpy's −1e-11 at the rounded output-feedback point of a
     random plant hid an exact point that violates the LMI (a negative pivot of −4.7e-12 in balls),
@@ -175,7 +180,8 @@ def _certified_point(instance: Instance, values: dict) -> Solution | None:
     point = {**instance.data, **values}
     lmis = lmi_certificate(instance, point)
     precise = any(getattr(v, "exact", None) is not None for v in values.values())
-    if lmis and (precise or not all(r.max_eig < 0 for r in lmis)):
+    unresolved = any(abs(r.max_eig) <= ROUNDING * r.scale for r in lmis)
+    if lmis and (precise or unresolved or not all(r.max_eig < 0 for r in lmis)):
         if not precise and any(r.max_eig > ROUNDING * r.scale for r in lmis):
             return None          # violated beyond what rounding explains: no proof is tried
         lmis = lmi_certificate(instance, point, prove=True)
@@ -193,7 +199,7 @@ def _certified_point(instance: Instance, values: dict) -> Solution | None:
 
 
 SF_BISECTION_STEPS = 60
-SF_MARGINS = (1e-5, 1e-4, 1e-3, 1e-2, 1e-1)
+SF_MARGINS = (1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1)
 
 
 def gain_point(P2, K, gamma: float):
@@ -271,7 +277,8 @@ def state_feedback_point(instance: Instance) -> Solution | None:
         exists = _existence_level(lambda g: full_information_gain(A, B1, B2, C1, D11, D12, g, time) is not None,
                                   lo, hi)
         if least[0][0] > exists * (1 + PRECISE_SF_TRIGGER):
-            sol = _precise_state_feedback_point(instance, (A, B1, B2, C1, D11, D12), plant, exists)
+            sol = _precise_state_feedback_point(instance, (A, B1, B2, C1, D11, D12), plant, exists,
+                                                least[0][0] * (1 + SF_MARGINS[0]))
             if sol is not None:
                 return sol
     for r in SF_MARGINS:
@@ -300,20 +307,39 @@ def state_feedback_point(instance: Instance) -> Solution | None:
 
 
 
-PRECISE_SF_TRIGGER = 1e-4
+PRECISE_SF_TRIGGER = 1e-6
 """The float route's least closed-loop norm ν, relative to the level γ_e where the full-information
-equation first has its solution, above which the 60-digit route is tried first."""
-PRECISE_SF_MARGINS = (1e-5, 1e-4, 1e-3, 1e-2)
-PRECISE_SF_MAX_STATES = 24
-"""The largest state dimension given the 60-digit route.  Its gain is delivered in doubles, and the
-analysis of that design must find the loop's storage from the loop alone: at 24 states (one
-actuator, gains ~1e10) it did so by the 120-digit Hamiltonian; at 32 states the loop summed in
-doubles is unstable (the exact loop is stable), SLICOT's norms of it are 5 × off, the Riccati
-margin set from them is wrong, and no storage was proved (the design then went uncertified, where
-the double-precision route's gain, 4 % above the optimum, was certified)."""
-PRECISE_SF_EPS = 1e-7
+equation first has its solution, above which the 60-digit route is tried first (random 16-state
+plant, two actuators: ν is 1e-5 above γ_e, the 60-digit gain at γ_e (1 + 1e-6) is proved)."""
+PRECISE_SF_MARGINS = (1e-6, 1e-5, 1e-4, 1e-3, 1e-2)
+PRECISE_SF_MAX_STATES = 32
+"""The largest state dimension given the 60-digit route: one solve costs 0.2 s at 16 states, 1.3 s
+at 32 and 5–8 s at 48, where on a random two-actuator plant only the gain at γ_e (1 + 1e-3) was
+confirmed in doubles (its gains grow like 1/r: 6e8 at r = 1e-6)."""
+PRECISE_SF_UNCONFIRMED_STATES = 24
+"""Up to this many states the 60-digit gain's loop needs only to be stable summed in doubles: the
+analysis of the delivered design proves the stiff loop's storage by the 120-digit Hamiltonian
+(24 states, one actuator, gains ~1e10: loops 8 % above their levels by SLICOT in doubles, every
+design certified within 1.6e-5 of the proved optimum).  Above it the loop's level must be
+confirmed in doubles (:func:`_confirmed_in_doubles`): at 32 states with one actuator the analysis
+found no storage of such a loop in 200 s, and the design went uncertified where the
+double-precision route's gain was certified."""
+PRECISE_SF_CONFIRM = 1e-6
+PRECISE_SF_EPS = 1e-9
 """ε of Q = C₁ᵀC₁ + εI relative to max(‖C₁ᵀC₁‖, 1) in the 60-digit route: the point is exact, so
-any ε > 0 makes the LMI strict; a small one moves the level at which a solution exists least."""
+any ε > 0 makes the LMI strict; ε moves the level at which a solution exists (1e-7 moved it 3e-6
+above γ_e on a 16-state plant, so that no solution existed at γ_e (1 + 1e-6))."""
+
+
+def _confirmed_in_doubles(arrays: tuple, K: np.ndarray, gamma: float) -> bool:
+    """Whether the loop (A + B₂K, B₁, C₁ + D₁₂K, D₁₁) summed in doubles is stable with SLICOT's
+    H∞ norm at most γ (1 + :data:`PRECISE_SF_CONFIRM`): the design is one double-precision numerics
+    can check."""
+    A, B1, B2, C1, D11, D12 = arrays
+    if not is_stable(A + B2 @ K, "continuous"):
+        return False
+    norm = hinf_norm(A + B2 @ K, B1, C1 + D12 @ K, D11, "continuous")
+    return norm is not None and norm <= gamma * (1 + PRECISE_SF_CONFIRM)
 
 
 def _existence_level(exists, lo: float, hi: float, steps: int = 40) -> float:
@@ -329,26 +355,33 @@ def _existence_level(exists, lo: float, hi: float, steps: int = 40) -> float:
     return hi
 
 
-def _precise_state_feedback_point(instance: Instance, arrays: tuple, plant, level: float) -> Solution | None:
+def _precise_state_feedback_point(instance: Instance, arrays: tuple, plant, level: float,
+                                  ceiling: float) -> Solution | None:
     """The point (Y, W, γ) = (γ X⁻¹, K Y, γ) of the full-information Riccati solution X and gain K
     computed at 60 digits and kept exactly (:func:`~lmidsl.numeric.riccati.precise_full_information_gain`:
     X is the loop's bounded-real storage at γ², so no second Riccati equation is solved for the
-    stiff loop), at γ = ``level`` (1 + r), r in :data:`PRECISE_SF_MARGINS`, skipping a level whose
-    gain, rounded to the doubles it is delivered in, closes a loop that is unstable when summed in
-    doubles (the exact loop is stable, but no double-precision check of the design — SLICOT's norm,
-    the balancing — could then see it: 32 states, r = 1e-5 and 1e-4); None when none is proved.
+    stiff loop), at γ = ``level`` (1 + r), r in :data:`PRECISE_SF_MARGINS`, below ``ceiling`` (the
+    double-precision route's first level: a published 10-state plant's 60-digit point was proved
+    only at r = 1e-3, 9.5e-4 above the double-precision gain's), skipping a level whose
+    gain, rounded to the doubles it is delivered in, closes a loop that is unstable summed in doubles
+    or, above :data:`PRECISE_SF_UNCONFIRMED_STATES` states, whose level doubles do not confirm
+    (:func:`_confirmed_in_doubles`; the exact loop is stable, but no double-precision check of the
+    design — SLICOT's norm, the balancing — could then see it); None when none is proved.
     ``arrays``: the plant (A, B₁, B₂, C₁, D₁₁, D₁₂) in doubles; ``plant()``: in balls as written."""
     form = instance.theorem.state_feedback
     A, B1, B2, C1, D11, D12 = arrays
     eps = PRECISE_SF_EPS * max(np.linalg.norm(C1.T @ C1, 2), 1.0)
     for r in PRECISE_SF_MARGINS:
         gamma = level * (1 + r)
+        if gamma >= ceiling:
+            break
         found = precise_full_information_gain(A, B1, B2, C1, D11, D12, gamma, eps, lambda balls: plant())
         if found is None:
             continue
         K, X = found
         rounded = np.array([[float(x) for x in row] for row in K])
-        if not is_stable(A + B2 @ rounded, "continuous"):
+        if not (is_stable(A + B2 @ rounded, "continuous") if A.shape[0] <= PRECISE_SF_UNCONFIRMED_STATES
+                else _confirmed_in_doubles(arrays, rounded, gamma)):
             continue    # the delivered gain's loop, summed in doubles, must be one numerics can check
         Y, W = gain_point(PreciseMatrix.of(X), K, gamma)
         sol = _certified_point(instance, {form.Y.name: Y, form.W.name: W, form.level.name: gamma})

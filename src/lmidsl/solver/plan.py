@@ -239,6 +239,8 @@ class Plan:
                 break          # a bisection step after a solver error: the first "infeasible" ends it
         if point is not None:
             kept = better(kept, point)
+            if kept is not point and _certified(point):
+                kept.closed_form = point      # its design, should the kept point's need a back-off
         if len(tried) == 1:
             return first
         if kept is first and not good(first):

@@ -91,6 +91,7 @@ class Solution:
     objective_bounds: tuple | None = None  # [lo, hi] ∋ the objective at the point, data as written (proved)
     infeasibility: object = None    # lmidsl.certify.infeasibility.InfeasibilityCertificate
     verdict: object = None          # lmidsl.certify.verdict.Verdict: set once, by the judge, when the result is final
+    closed_form: Solution | None = field(default=None, repr=False)  # the closed form's point when the road kept another
 
     @property
     def gamma(self) -> float | None:
