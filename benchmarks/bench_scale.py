@@ -11,6 +11,8 @@ For each state dimension n (default 8, 16, 24, 32, 48, 64) and two problems,
 * ``sf_mild``: the same on a milder random plant (:func:`mild_plant`: A = N/√n − 0.3 I, a few
   unstable modes, two actuators, two disturbances; Clarabel's optimum is inaccurate, Y near
   singular);
+* ``sf_dt``: the same in discrete time (:func:`mild_discrete_plant`, spectral radius 1.05),
+  ``lmidsl solve textbook.hinf_sf_dt``;
 
 the command and a hand-written script (:data:`HAND`: the same LMIs in cvxpy, solved by Clarabel,
 no certificate, no bound) run as fresh processes, interleaved, in the same run, after one untimed
@@ -22,8 +24,8 @@ the part of the wall time the ``times`` record does not account for, and an inde
 (SLICOT AB13DD's H∞ norm for the BRL; for state feedback the closed-loop norm of the
 full-information Riccati gain at the least γ, found by bisection, where the Riccati equation has a
 stabilising solution — an achieved level, so the optimum is at most it; AB13DD's value or, when
-larger, σ_max of the loop's response at 60 digits (:func:`precise_gain`)) against which the proved
-lower end is checked.
+larger, σ_max of the loop's response at 60 digits (:func:`precise_gain`; in discrete time AB13DD's
+value alone)) against which the proved lower end is checked.
 
     python benchmarks/bench_scale.py [--sizes 8 16] [--problems brl sf] [--timeout 600]
 
@@ -46,7 +48,10 @@ sys.path.insert(0, os.path.join(HERE, "stress"))
 from cases import lists, plant, system  # noqa: E402
 from lmidsl.pipeline import TIME_PARTS  # noqa: E402
 
-THEOREMS = {"brl": "textbook.brl_ct", "sf": "textbook.hinf_sf_ct", "sf_mild": "textbook.hinf_sf_ct"}
+THEOREMS = {"brl": "textbook.brl_ct", "sf": "textbook.hinf_sf_ct", "sf_mild": "textbook.hinf_sf_ct",
+            "sf_dt": "textbook.hinf_sf_dt"}
+#: the problems in discrete time (the others are continuous)
+DISCRETE = {"sf_dt"}
 
 #: the hand-written scripts: read the plant, build the LMIs in cvxpy, solve with Clarabel, print γ
 HAND = {
@@ -79,6 +84,21 @@ cp.Problem(cp.Minimize(g), cons).solve(solver=cp.CLARABEL)
 K = W.value @ np.linalg.inv(Y.value)
 print(float(g.value))
 ''',
+    "sf_dt": r'''
+import json, sys
+import cvxpy as cp, numpy as np
+d = {k: np.array(v) for k, v in json.load(open(sys.argv[1])).items()}
+A, B1, B2, C1, D11, D12 = (d[k] for k in ("A", "B1", "B2", "C1", "D11", "D12"))
+n, m1, p1 = A.shape[0], B1.shape[1], C1.shape[0]
+Y = cp.Variable((n, n), symmetric=True); W = cp.Variable((B2.shape[1], n)); g = cp.Variable()
+AY, CY = A @ Y + B2 @ W, C1 @ Y + D12 @ W
+N = cp.bmat([[-Y, AY, B1, np.zeros((n, p1))], [AY.T, -Y, np.zeros((n, m1)), CY.T],
+             [B1.T, np.zeros((m1, n)), -g * np.eye(m1), D11.T], [np.zeros((p1, n)), CY, D11, -g * np.eye(p1)]])
+eps = 1e-7
+cons = [N << -eps * np.eye(2 * n + m1 + p1), Y >> eps * np.eye(n)]
+cp.Problem(cp.Minimize(g), cons).solve(solver=cp.CLARABEL)
+print(float(g.value))
+''',
 }
 
 #: entries of the ``times`` record that are the proofs' cost (on the main thread or waited for)
@@ -99,11 +119,23 @@ def mild_plant(n: int) -> dict:
             "D12": np.vstack([np.zeros((2, 2)), np.eye(2)])}
 
 
+def mild_discrete_plant(n: int) -> dict:
+    """:func:`mild_plant` in discrete time: A = N/√n scaled to spectral radius 1.05 (seed 200 + n)."""
+    rng = np.random.default_rng(200 + n)
+    A = rng.standard_normal((n, n)) / np.sqrt(n)
+    return {"A": A * (1.05 / max(abs(np.linalg.eigvals(A)))),
+            "B1": rng.standard_normal((n, 2)), "B2": rng.standard_normal((n, 2)),
+            "C1": np.vstack([rng.standard_normal((2, n)), np.zeros((2, n))]), "D11": np.zeros((4, 2)),
+            "D12": np.vstack([np.zeros((2, 2)), np.eye(2)])}
+
+
 def plant_data(problem: str, n: int) -> dict:
     if problem == "brl":
         return lists(system("random", n, "continuous", n=n, m=2, p=2))
     if problem == "sf_mild":
         return lists(mild_plant(n))
+    if problem == "sf_dt":
+        return lists(mild_discrete_plant(n))
     return lists(plant(n, "continuous", n=n))
 
 
@@ -117,15 +149,15 @@ def reference(problem: str, data: dict) -> float | None:
     from lmidsl.numeric.riccati import full_information_gain
     from lmidsl.numeric.systems import hinf_norm
     A, B1, B2, C1, D11, D12 = (d[k] for k in ("A", "B1", "B2", "C1", "D11", "D12"))
-
+    time = "discrete" if problem in DISCRETE else "continuous"
     best = [np.inf, None]
 
     def achieved(gamma):
-        K = full_information_gain(A, B1, B2, C1, D11, D12, gamma, "continuous")
+        K = full_information_gain(A, B1, B2, C1, D11, D12, gamma, time)
         if K is None:
             return None
         K = np.atleast_2d(K)
-        value = hinf_norm(A + B2 @ K, B1, C1 + D12 @ K, D11, "continuous")
+        value = hinf_norm(A + B2 @ K, B1, C1 + D12 @ K, D11, time)
         if value < best[0]:
             best[:] = [value, K]
         return value
@@ -144,6 +176,8 @@ def reference(problem: str, data: dict) -> float | None:
     if not np.isfinite(best[0]):
         return None
     K = best[1]
+    if time == "discrete":
+        return best[0]            # AB13DD's norm (precise_gain evaluates on the imaginary axis)
     return max(best[0], precise_gain(A + B2 @ K, B1, C1 + D12 @ K, D11))
 
 
@@ -188,7 +222,7 @@ def one(problem: str, n: int, where: str, timeout: float) -> dict:
         json.dump(data, f)
     hand_path = os.path.join(where, f"hand_{problem}.py")
     with open(hand_path, "w") as f:
-        f.write(HAND["brl" if problem == "brl" else "sf"])
+        f.write(HAND[problem if problem in HAND else "sf"])
     hand_wall, hand = run([sys.executable, hand_path, path], timeout)
     wall, out = run([sys.executable, "-m", "lmidsl", "solve", THEOREMS[problem], "--data", path, "--json"], timeout)
     row = {"problem": problem, "n": n, "wall": wall, "hand": hand_wall, "ratio": wall / hand_wall,
