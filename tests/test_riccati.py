@@ -150,6 +150,21 @@ def test_state_feedback_design_reaches_the_least_achieved_level(n):
     assert sol.evidence and not any(e.refutes for e in sol.evidence)
 
 
+def _assert_design_near_the_proved_optimum(data: dict, gap: float) -> None:
+    """``lmidsl.solve("textbook.hinf_sf_ct")`` on ``data``: the delivered gain certified within
+    ``gap`` (relative) of the proved lower end, and python-control's norm of its closed loop (an
+    achieved level, so the optimum and the lower end are at most it) in [lower end, certified level]."""
+    sol = lmidsl.solve("textbook.hinf_sf_ct", data=data)
+    box = sol.verdict.bracket
+    assert sol.verdict.certified and box["lower_proved"], sol.verdict.why
+    assert (sol.gamma - box["lower"]) / sol.gamma < gap, (box, sol.gamma)
+    d = {k: np.atleast_2d(np.asarray(v, dtype=float)) for k, v in data.items()}
+    K = np.atleast_2d(sol.recovered["K"])
+    loop = control.ss(d["A"] + d["B2"] @ K, d["B1"], d["C1"] + d["D12"] @ K, d["D11"])
+    achieved = control.linfnorm(loop)[0]
+    assert box["lower"] * (1 - 1e-9) <= achieved <= sol.gamma * (1 + 1e-7), (box, achieved, sol.gamma)
+
+
 @pytest.mark.parametrize("n", [8, 16])
 def test_state_feedback_bracket_is_a_millionth_wide_on_a_two_actuator_plant(n):
     """benchmarks/bench_scale.py's ``sf_mild`` plants (A = N/√n − 0.3 I, two actuators; Clarabel's
@@ -160,14 +175,7 @@ def test_state_feedback_bracket_is_a_millionth_wide_on_a_two_actuator_plant(n):
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     from bench_scale import mild_plant
     d = mild_plant(n)
-    sol = lmidsl.solve("textbook.hinf_sf_ct", data=lists(d))
-    box = sol.verdict.bracket
-    assert sol.verdict.certified and box["lower_proved"], sol.verdict.why
-    assert (sol.gamma - box["lower"]) / sol.gamma < 3e-6, (box, sol.gamma)
-    K = np.atleast_2d(sol.recovered["K"])
-    loop = control.ss(d["A"] + d["B2"] @ K, d["B1"], d["C1"] + d["D12"] @ K, d["D11"])
-    achieved = control.linfnorm(loop)[0]
-    assert box["lower"] * (1 - 1e-9) <= achieved <= sol.gamma * (1 + 1e-7), (box, achieved, sol.gamma)
+    _assert_design_near_the_proved_optimum(lists(d), 3e-6)
 
 
 @pytest.mark.parametrize("name", ["AC3", "HE3"])
@@ -179,13 +187,4 @@ def test_an_ill_conditioned_sdp_optimum_delivers_the_closed_forms_design(name):
     python-control's norm of its closed loop lies in [lower end, certified level]."""
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks" / "stress"))
     from published import case_data
-    data = case_data(name, "sf")
-    sol = lmidsl.solve("textbook.hinf_sf_ct", data=data)
-    box = sol.verdict.bracket
-    assert sol.verdict.certified and box["lower_proved"], sol.verdict.why
-    assert (sol.gamma - box["lower"]) / sol.gamma < 1e-5, (box, sol.gamma)
-    d = {k: np.atleast_2d(np.asarray(v, dtype=float)) for k, v in data.items()}
-    K = np.atleast_2d(sol.recovered["K"])
-    loop = control.ss(d["A"] + d["B2"] @ K, d["B1"], d["C1"] + d["D12"] @ K, d["D11"])
-    achieved = control.linfnorm(loop)[0]
-    assert box["lower"] * (1 - 1e-9) <= achieved <= sol.gamma * (1 + 1e-7), (box, achieved, sol.gamma)
+    _assert_design_near_the_proved_optimum(case_data(name, "sf"), 1e-5)

@@ -146,6 +146,7 @@ def _recover_and_certify(model, applied, solution: Solution, backoff, bounds: bo
     reason = _backoff_reason(solution, instance, finish)
     if reason is None:
         return solution
+    t0 = time.perf_counter()
     closed = closed_form_design(solution, reason, finish)
     if closed is not None and solution.point_gamma is not None and \
             closed.verdict.gamma <= solution.point_gamma * (1 + AUTO_DELTAS[0]):
@@ -156,9 +157,15 @@ def _recover_and_certify(model, applied, solution: Solution, backoff, bounds: bo
         kept = backed_off(model, applied, solution, delta, reason, finish, searched=delta in SEARCHED,
                           started=started)
         if kept is not solution:
-            return kept if closed is None or judge(kept).verdict.gamma <= closed.verdict.gamma else closed
+            # (kept was judged by backed_off: an automatic back-off keeps only a certified point)
+            if closed is None or kept.verdict.gamma <= closed.verdict.gamma:
+                kept.times["backoff"] += started - t0      # with the closed form's design, not kept
+                return kept
+            break
     if closed is not None:
+        closed.times["backoff"] = time.perf_counter() - started      # the back-off's solves, not kept
         return closed
+    solution.times["backoff"] = time.perf_counter() - t0    # the solves of a back-off that kept nothing
     if finish["certify"] and solution.analysis is None and not failed:
         certify_point(solution, finish["plan"])     # no back-off point: the optimum's certificate
     if failed:                                   # never advise what was just tried

@@ -321,7 +321,7 @@ PRECISE_SF_UNCONFIRMED_STATES = 24
 analysis of the delivered design proves the stiff loop's storage by the 120-digit Hamiltonian
 (24 states, one actuator, gains ~1e10: loops 8 % above their levels by SLICOT in doubles, every
 design certified within 1.6e-5 of the proved optimum).  Above it the loop's level must be
-confirmed in doubles (:func:`_confirmed_in_doubles`): at 32 states with one actuator the analysis
+confirmed in doubles (:func:`_checkable_in_doubles`): at 32 states with one actuator the analysis
 found no storage of such a loop in 200 s, and the design went uncertified where the
 double-precision route's gain was certified."""
 PRECISE_SF_CONFIRM = 1e-6
@@ -331,15 +331,14 @@ any ε > 0 makes the LMI strict; ε moves the level at which a solution exists (
 above γ_e on a 16-state plant, so that no solution existed at γ_e (1 + 1e-6))."""
 
 
-def _confirmed_in_doubles(arrays: tuple, K: np.ndarray, gamma: float) -> bool:
-    """Whether the loop (A + B₂K, B₁, C₁ + D₁₂K, D₁₁) summed in doubles is stable with SLICOT's
-    H∞ norm at most γ (1 + :data:`PRECISE_SF_CONFIRM`): the design is one double-precision numerics
-    can check."""
+def _checkable_in_doubles(arrays: tuple, K: np.ndarray, gamma: float) -> bool:
+    """Whether the loop (A + B₂K, B₁, C₁ + D₁₂K, D₁₁) summed in doubles is one double-precision
+    numerics can check: stable, and above :data:`PRECISE_SF_UNCONFIRMED_STATES` states with SLICOT's
+    H∞ norm (+∞ when not stable) at most γ (1 + :data:`PRECISE_SF_CONFIRM`)."""
     A, B1, B2, C1, D11, D12 = arrays
-    if not is_stable(A + B2 @ K, "continuous"):
-        return False
-    norm = hinf_norm(A + B2 @ K, B1, C1 + D12 @ K, D11, "continuous")
-    return norm is not None and norm <= gamma * (1 + PRECISE_SF_CONFIRM)
+    if A.shape[0] <= PRECISE_SF_UNCONFIRMED_STATES:
+        return is_stable(A + B2 @ K, "continuous")
+    return hinf_norm(A + B2 @ K, B1, C1 + D12 @ K, D11, "continuous") <= gamma * (1 + PRECISE_SF_CONFIRM)
 
 
 def _existence_level(exists, lo: float, hi: float, steps: int = 40) -> float:
@@ -365,7 +364,7 @@ def _precise_state_feedback_point(instance: Instance, arrays: tuple, plant, leve
     only at r = 1e-3, 9.5e-4 above the double-precision gain's), skipping a level whose
     gain, rounded to the doubles it is delivered in, closes a loop that is unstable summed in doubles
     or, above :data:`PRECISE_SF_UNCONFIRMED_STATES` states, whose level doubles do not confirm
-    (:func:`_confirmed_in_doubles`; the exact loop is stable, but no double-precision check of the
+    (:func:`_checkable_in_doubles`; the exact loop is stable, but no double-precision check of the
     design — SLICOT's norm, the balancing — could then see it); None when none is proved.
     ``arrays``: the plant (A, B₁, B₂, C₁, D₁₁, D₁₂) in doubles; ``plant()``: in balls as written."""
     form = instance.theorem.state_feedback
@@ -379,9 +378,7 @@ def _precise_state_feedback_point(instance: Instance, arrays: tuple, plant, leve
         if found is None:
             continue
         K, X = found
-        rounded = np.array([[float(x) for x in row] for row in K])
-        if not (is_stable(A + B2 @ rounded, "continuous") if A.shape[0] <= PRECISE_SF_UNCONFIRMED_STATES
-                else _confirmed_in_doubles(arrays, rounded, gamma)):
+        if not _checkable_in_doubles(arrays, np.array([[float(x) for x in row] for row in K]), gamma):
             continue    # the delivered gain's loop, summed in doubles, must be one numerics can check
         Y, W = gain_point(PreciseMatrix.of(X), K, gamma)
         sol = _certified_point(instance, {form.Y.name: Y, form.W.name: W, form.level.name: gamma})
